@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Set up contact_sim from nothing, in this checkout:
+#   1. a virtual environment in .venv (the venv root doubles as the ament prefix),
+#   2. the pinned ROS 2 Kilted wheels, numpy/scipy, the test and build tools,
+#   3. the package itself, editable (source edits take effect without reinstalling),
+#   4. a `colcon build --symlink-install` into the venv, so that
+#      ament_index_python.get_package_prefix("contact_sim") resolves to .venv and
+#      .venv/lib/contact_sim/ holds the executables, as `ros2 run` expects,
+#   5. `source .venv/bin/activate` then also sets AMENT_PREFIX_PATH and ROS_LOG_DIR defaults.
+# Re-running it is safe and quick.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+root=$(pwd)
+python=${PYTHON:-python3}
+
+if [ ! -x .venv/bin/python ]; then
+    "$python" -m venv .venv
+fi
+.venv/bin/python -m pip install --quiet -c constraints.txt -r requirements.txt
+.venv/bin/python -m pip install --quiet --no-deps --no-build-isolation -e .
+
+# The ament prefix: the venv root. colcon writes the resource-index marker, share/contact_sim
+# and the lib/contact_sim executables (symlinked to this source tree) there.
+(
+    export VIRTUAL_ENV="$root/.venv" PATH="$root/.venv/bin:$PATH"
+    unset AMENT_PREFIX_PATH
+    unset COLCON_PREFIX_PATH
+    colcon --log-base build/log build --symlink-install --merge-install \
+        --install-base .venv --build-base build --base-paths . \
+        --event-handlers console_direct- summary- >/dev/null
+)
+
+marker='# contact_sim: ament prefix'
+if ! grep -qF "$marker" .venv/bin/activate; then
+    cat >> .venv/bin/activate <<'HOOK'
+# contact_sim: ament prefix (the venv root is where ROS tools look for packages)
+AMENT_PREFIX_PATH="$VIRTUAL_ENV${AMENT_PREFIX_PATH:+:$AMENT_PREFIX_PATH}"
+export AMENT_PREFIX_PATH
+HOOK
+fi
+echo "contact_sim is set up: source .venv/bin/activate"

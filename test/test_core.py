@@ -1,0 +1,135 @@
+"""The core library: laws, materials, Hertz geometry, validation."""
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import contact_sim as cs
+
+
+def test_importing_contact_sim_does_not_import_rclpy():
+    code = ('import sys, contact_sim, contact_sim.cli; '
+            'assert "rclpy" not in sys.modules, "rclpy imported"')
+    subprocess.run([sys.executable, '-c', code], check=True)
+
+
+def test_hertz_stiffness_steel_sphere_on_cast_iron_plate_matches_hand_computation():
+    # By hand: 1/E* = (1 - 0.30²)/207 GPa + (1 - 0.26²)/100 GPa = 1.372014e-11 1/Pa
+    # E* = 72.8856 GPa; k = 4/3 · E* · √0.0127 = 1.095172e10 N/m^1.5
+    e_star = cs.effective_modulus(cs.MATERIALS['steel'], cs.MATERIALS['cast_iron'])
+    assert e_star == pytest.approx(7.288557e10, rel=1e-6)
+    k = cs.hertz_stiffness(e_star, cs.equivalent_radius(0.0127))
+    assert k == pytest.approx(1.095172e10, rel=1e-6)
+    contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron', 0.0127,
+                                        damping_factor=2.0e5)
+    assert contact.stiffness == pytest.approx(k, rel=1e-12)
+    assert contact.damping == pytest.approx(2.0e5 * math.sqrt(0.0127), rel=1e-12)  # eq. 9
+
+
+def test_equivalent_radius_of_two_spheres_and_of_a_plate():
+    assert cs.equivalent_radius(0.015, 0.015) == pytest.approx(0.0075)
+    assert cs.equivalent_radius(0.01, 0.03) == pytest.approx(0.0075)
+    assert cs.equivalent_radius(0.02) == 0.02
+    assert cs.equivalent_radius(math.inf, 0.02) == 0.02
+
+
+def test_reduced_mass():
+    assert cs.reduced_mass(2.0) == 2.0
+    assert cs.reduced_mass(2.0, 2.0) == 1.0
+    assert cs.reduced_mass(1.0, 3.0) == pytest.approx(0.75)
+
+
+def test_named_laws_have_the_papers_exponents():
+    assert (cs.AZAD_FEATHERSTONE.n, cs.AZAD_FEATHERSTONE.p, cs.AZAD_FEATHERSTONE.q) == (1.5, 0.5, 1)
+    assert (cs.HUNT_CROSSLEY.n, cs.HUNT_CROSSLEY.p, cs.HUNT_CROSSLEY.q) == (1.5, 1.5, 1)
+    assert (cs.LEE_WANG.n, cs.LEE_WANG.p, cs.LEE_WANG.q) == (1.5, 1.0, 1)
+    assert (cs.LINEAR.n, cs.LINEAR.p, cs.LINEAR.q) == (1.0, 0.0, 1)
+    assert set(cs.LAWS) == {'azad_featherstone', 'hunt_crossley', 'lee_wang', 'linear'}
+
+
+@pytest.mark.parametrize('law', list(cs.LAWS.values()), ids=list(cs.LAWS))
+def test_force_is_zero_outside_contact_and_never_pulls(law):
+    z = np.array([-1e-3, 0.0, 1e-4, 1e-4, 1e-4])
+    zdot = np.array([5.0, 5.0, 0.0, -1e5, 1.0])
+    f = law.force(z, zdot, 1e9, 1e5)
+    assert f[0] == 0.0 and f[1] == 0.0          # no contact where z <= 0
+    assert f[2] == pytest.approx(1e9 * 1e-4 ** law.n)  # pure spring at rest
+    assert f[3] == 0.0                          # fast separation: clamped, not pulling
+    assert f[4] > f[2]                          # approach adds damping force
+    assert np.all(f >= 0.0)
+
+
+def test_azad_featherstone_force_is_eq_11():
+    z, zdot, k, lam = 2e-5, -0.3, 1e10, 1e5
+    expected = max(0.0, math.sqrt(z) * (k * z + lam * zdot))
+    assert cs.AZAD_FEATHERSTONE.force(z, zdot, k, lam) == pytest.approx(expected, rel=1e-12)
+
+
+def test_force_broadcasts_and_returns_arrays():
+    z = np.linspace(-1e-4, 1e-4, 5).reshape(5, 1)
+    zdot = np.linspace(-1, 1, 3).reshape(1, 3)
+    f = cs.AZAD_FEATHERSTONE.force(z, zdot, 1e10, 1e5)
+    assert f.shape == (5, 3)
+    assert isinstance(cs.LINEAR.force(0.1, 0.0, 1.0, 0.0), np.ndarray)
+    contact = cs.Contact(cs.HUNT_CROSSLEY, 1e9, 10.0)
+    assert contact.force(np.zeros((2, 4)), 1.0).shape == (2, 4)
+
+
+def test_material_library_has_the_papers_materials_with_sources():
+    for name in ('steel', 'cast_iron', 'brass', 'cork', 'lead', 'aluminium', 'glass', 'nylon'):
+        material = cs.MATERIALS[name]
+        assert material.source and material.source != 'user supplied'
+    custom = cs.Material('rubber', 5e6, 0.49, 1100.0)
+    assert cs.get_material(custom) is custom
+    with pytest.raises(ValueError, match=r"material = 'unobtainium' is unknown: allowed one of"):
+        cs.get_material('unobtainium')
+
+
+@pytest.mark.parametrize('kwargs, field, pattern', [
+    (dict(youngs_modulus=-1.0), 'youngs_modulus', r'youngs_modulus = -1\.0 is out of range: allowed 0 < youngs_modulus'),
+    (dict(youngs_modulus=0.0), 'youngs_modulus', r'allowed 0 < youngs_modulus'),
+    (dict(youngs_modulus=float('nan')), 'youngs_modulus', r'youngs_modulus = nan is not finite'),
+    (dict(poisson_ratio=0.5), 'poisson_ratio', r'poisson_ratio = 0\.5 is out of range: allowed -1 < poisson_ratio < 0\.5'),
+    (dict(poisson_ratio=-1.0), 'poisson_ratio', r'allowed -1 < poisson_ratio < 0\.5'),
+    (dict(density=0.0), 'density', r'density = 0\.0 is out of range: allowed 0 < density'),
+    (dict(density='heavy'), 'density', r"density = 'heavy' is not a number"),
+])
+def test_material_validation_names_field_value_and_range(kwargs, field, pattern):
+    args = dict(name='x', youngs_modulus=1e9, poisson_ratio=0.3, density=1000.0)
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=pattern):
+        cs.Material(**args)
+
+
+@pytest.mark.parametrize('call, pattern', [
+    (lambda: cs.ContactLaw('x', 0.0, 0.5, 1.0), r'n = 0\.0 is out of range: allowed 0 < n'),
+    (lambda: cs.ContactLaw('x', 1.5, -0.5, 1.0), r'p = -0\.5 is out of range: allowed 0 <= p'),
+    (lambda: cs.ContactLaw('x', 1.5, 0.5, 0.0), r'q = 0\.0 is out of range: allowed 0 < q'),
+    (lambda: cs.ContactLaw('x', math.inf, 0.5, 1.0), r'n = inf is not finite'),
+    (lambda: cs.Contact(cs.LINEAR, -5.0, 1.0), r'stiffness = -5\.0 is out of range: allowed 0 < stiffness'),
+    (lambda: cs.Contact(cs.LINEAR, 5.0, -1.0), r'damping = -1\.0 is out of range: allowed 0 <= damping'),
+    (lambda: cs.Contact('bouncy', 5.0, 1.0), r"law = 'bouncy' is unknown: allowed one of"),
+    (lambda: cs.equivalent_radius(-0.01), r'radius = -0\.01 is out of range: allowed 0 < radius'),
+    (lambda: cs.equivalent_radius(0.01, 0.0), r'plate_radius = 0\.0 is out of range'),
+    (lambda: cs.equivalent_radius(math.inf, math.inf), r'at least one radius must be finite'),
+    (lambda: cs.reduced_mass(float('nan')), r'mass = nan is not finite'),
+    (lambda: cs.hertz_stiffness(1e9, 0.0), r'radius = 0\.0 is out of range'),
+    (lambda: cs.Contact.from_materials(cs.LINEAR, 'steel', 'steel', 0.01),
+     r"law = 'linear' has n = 1: Hertz stiffness needs n = 1\.5"),
+    (lambda: cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'steel', 0.01,
+                                       damping_factor=-2.0),
+     r'damping_factor = -2\.0 is out of range: allowed 0 <= damping_factor'),
+])
+def test_constructors_reject_bad_values_with_field_value_and_range(call, pattern):
+    with pytest.raises(ValueError, match=pattern):
+        call()
+
+
+def test_values_are_frozen():
+    contact = cs.Contact(cs.LINEAR, 1.0, 0.0)
+    with pytest.raises(AttributeError):
+        contact.stiffness = 2.0
+    with pytest.raises(AttributeError):
+        cs.MATERIALS['steel'].density = 1.0

@@ -1,0 +1,48 @@
+"""The package is where ROS tools look for it, and the README's commands are the ones CI runs."""
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+EXECUTABLES = ['contact-sim']
+
+
+def test_ament_index_resolves_the_package_and_its_executables():
+    # Exactly the lookup `ros2 run contact_sim <exe>` performs.
+    from ament_index_python.packages import get_package_prefix, get_package_share_directory
+    prefix = Path(get_package_prefix('contact_sim'))
+    for exe in EXECUTABLES:
+        path = prefix / 'lib' / 'contact_sim' / exe
+        assert path.is_file(), f'{path} missing: run scripts/setup.sh'
+        assert os.access(path, os.X_OK)
+    share = Path(get_package_share_directory('contact_sim'))
+    assert (share / 'package.xml').is_file()
+
+
+def test_installed_executable_runs_the_checkout_code():
+    from ament_index_python.packages import get_package_prefix
+    exe = Path(get_package_prefix('contact_sim')) / 'lib' / 'contact_sim' / 'contact-sim'
+    out = subprocess.run([str(exe), 'materials'], capture_output=True, text=True, check=True)
+    assert 'steel' in out.stdout
+
+
+def test_readme_starts_with_the_two_commands_and_ci_runs_the_second():
+    readme = (ROOT / 'README.md').read_text()
+    blocks = re.findall(r'```bash\n(.*?)\n```', readme, flags=re.S)
+    assert blocks[0].startswith('./scripts/setup.sh')
+    ci = (ROOT / '.ci' / 'run').read_text()
+    assert 'test-command' in ci and 'scripts/setup.sh' in ci
+    marker = readme.index('<!-- test-command -->')
+    assert readme.index(blocks[1]) > marker
+
+
+def test_package_xml_declares_the_runtime_dependencies():
+    xml = (ROOT / 'package.xml').read_text()
+    assert '<package format="3">' in xml
+    for dep in ('rclpy', 'std_msgs', 'geometry_msgs', 'python3-numpy', 'python3-scipy'):
+        assert f'<exec_depend>{dep}</exec_depend>' in xml
+    assert '<build_type>ament_python</build_type>' in xml
