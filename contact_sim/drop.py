@@ -1,0 +1,408 @@
+"""A sphere dropped on a plate, bouncing until it rests: an event-driven, steppable engine.
+
+The motion alternates between three kinds of phase:
+
+* flight (the clamped force is zero): ballistic, z(t) = z₀ + ż₀ t + ½ g t², solved in closed form
+  with no integrator steps, including the time at which the force switches on again;
+* contact: integrated exactly by ``phase.PhaseIntegrator`` up to the located lift-off;
+* rest: once the energy above static equilibrium is too small for the force ever to vanish again
+  (permanent contact) and the oscillation amplitude about the static deflection
+  z₀ = (m g / k)^(1/n) has decayed below ``settle_tolerance * z₀``, the motion is the linearised
+  damped oscillator about z₀, in closed form, so a resting sphere costs nothing to advance.
+
+``DropSimulation.advance(t)`` moves to time t and returns what happened on the way, so the same
+engine serves a batch run (``simulate_drop``) and a real-time loop.  Units: SI; z > 0 is
+penetration, ż > 0 is downward motion (approach), height above the plate is -z.
+"""
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .phase import PhaseIntegrator, energy_above_rest, lift_off_energy, static_penetration
+from .validation import require_nonnegative, require_positive, require_real
+
+DROP_RTOL = 1e-10
+
+
+@dataclass(frozen=True)
+class DropState:
+    """The sphere at one instant: time (s), penetration z (m), rate ż (m/s), force F (N)."""
+
+    time: float
+    penetration: float
+    penetration_rate: float
+    force: float
+
+    @property
+    def in_contact(self):
+        return self.force > 0.0
+
+
+@dataclass(frozen=True)
+class Samples:
+    """Sampled trajectory: equal-length arrays of t (s), z (m), ż (m/s) and F (N)."""
+
+    time: np.ndarray
+    penetration: np.ndarray
+    penetration_rate: np.ndarray
+    force: np.ndarray
+
+    @classmethod
+    def from_points(cls, points):
+        arr = np.asarray(points, dtype=float).reshape(-1, 4)
+        return cls(*(arr[:, i].copy() for i in range(4)))
+
+    @classmethod
+    def concatenate(cls, parts):
+        return cls(*(np.concatenate([getattr(p, f) for p in parts]) if parts else np.empty(0)
+                     for f in ('time', 'penetration', 'penetration_rate', 'force')))
+
+
+@dataclass(frozen=True)
+class ImpactRecord:
+    """One contact phase: when it began (s), speeds (m/s), restitution, duration (s), peak (N).
+
+    The final, permanent contact has rebound_speed = restitution = 0 and contact_duration = inf.
+    """
+
+    time: float
+    impact_speed: float
+    rebound_speed: float
+    restitution: float
+    contact_duration: float
+    peak_force: float
+    max_penetration: float
+
+    @property
+    def permanent(self):
+        return math.isinf(self.contact_duration)
+
+
+@dataclass(frozen=True)
+class Advance:
+    """What one ``DropSimulation.advance`` call produced."""
+
+    samples: Samples
+    impacts: tuple
+    apex_heights: tuple = ()
+
+
+@dataclass
+class _Flight:
+    start: float
+    penetration: float
+    rate: float
+    contact_time: float  # absolute time the force switches on again (inf: never)
+
+    def state(self, t, gravity):
+        dt = t - self.start
+        return (self.penetration + self.rate * dt + 0.5 * gravity * dt * dt,
+                self.rate + gravity * dt)
+
+
+@dataclass
+class _Rest:
+    """Linearised damped oscillation about the static deflection, in closed form."""
+
+    start: float
+    rest_depth: float
+    offset: float
+    rate: float
+    decay: float      # a = c / 2m
+    natural_sq: float  # ω₀² = k' / m
+    contact: object = field(repr=False)
+
+    def state(self, t):
+        dt = t - self.start
+        a, w0sq = self.decay, self.natural_sq
+        disc = w0sq - a * a
+        if disc > 0.0:
+            w = math.sqrt(disc)
+            c, s = math.cos(w * dt), math.sin(w * dt) / w
+        elif disc < 0.0:
+            w = math.sqrt(-disc)
+            c, s = math.cosh(w * dt), math.sinh(w * dt) / w
+        else:
+            c, s = 1.0, dt
+        e = math.exp(-a * dt)
+        y = e * (self.offset * c + (self.rate + a * self.offset) * s)
+        v = e * (self.rate * c - (a * self.rate + w0sq * self.offset) * s)
+        return self.rest_depth + y, v
+
+
+def _first_upward_root(func, t_max, samples=64):
+    """First t in (0, t_max] where ``func`` goes from <= 0 to > 0; ``None`` if none is seen."""
+    ts = np.linspace(0.0, t_max, samples + 1)
+    prev_t, prev_v = ts[0], func(ts[0])
+    for t in ts[1:]:
+        v = func(t)
+        if v > 0.0 and prev_v <= 0.0:
+            return brentq(func, prev_t, t, xtol=1e-18, rtol=1e-15)
+        prev_t, prev_v = t, v
+    return None
+
+
+class DropSimulation:
+    """A sphere of mass ``mass`` (kg) released ``height`` (m) above a plate at ``velocity``
+    (m/s, downward positive), under ``gravity`` (m/s²), with a ``Contact``.
+
+    ``advance(t)`` integrates to time t; ``state`` is the state at the current time;
+    ``set_contact`` changes the contact from the next contact phase on; ``reset`` restarts.
+    """
+
+    def __init__(self, contact, mass, height, velocity=0.0, gravity=9.81, rtol=DROP_RTOL,
+                 settle_tolerance=1e-4):
+        self.mass = require_positive('mass', mass)
+        self.gravity = require_nonnegative('gravity', gravity)
+        self.height = require_real('height', height)
+        self.velocity = require_real('velocity', velocity)
+        self.rtol = require_positive('rtol', rtol)
+        self.settle_tolerance = require_positive('settle_tolerance', settle_tolerance)
+        self._initial_contact = contact
+        self.reset()
+
+    # -- public ---------------------------------------------------------------------------
+    def reset(self, height=None, velocity=None, contact=None):
+        """Restart at t = 0 (optionally from a new height, velocity or contact)."""
+        if height is not None:
+            self.height = require_real('height', height)
+        if velocity is not None:
+            self.velocity = require_real('velocity', velocity)
+        if contact is not None:
+            self._initial_contact = contact
+        self.contact = self._initial_contact
+        self._pending_contact = None
+        self.time = 0.0
+        self.steps = 0
+        self.impacts = []
+        self.apex_heights = []
+        self.permanent_contact_time = None
+        self.settle_time = None
+        self._emitted = 0
+        self._mode = None
+        self._enter_free_motion(0.0, -self.height, self.velocity)
+
+    def set_contact(self, contact):
+        """Use ``contact`` from the next contact phase on (at once while in flight)."""
+        if isinstance(self._mode, _Flight):
+            self.contact = contact
+            self._enter_free_motion(self._mode.start, self._mode.penetration, self._mode.rate)
+        else:
+            self._pending_contact = contact
+
+    @property
+    def state(self):
+        z, zdot = self._state_at(self.time)
+        return DropState(float(self.time), float(z), float(zdot),
+                         float(self.contact.force(z, zdot)))
+
+    @property
+    def in_contact(self):
+        return isinstance(self._mode, (PhaseIntegrator, _Rest))
+
+    def advance(self, t_end):
+        """Advance to ``t_end`` (s); return the contact points passed and the impacts completed."""
+        t_end = require_real('t_end', t_end)
+        if t_end < self.time:
+            raise ValueError(f't_end = {t_end!r} is out of range: allowed t_end >= {self.time!r}')
+        points, impacts, apexes = [], [], []
+        n_impacts, n_apex = len(self.impacts), len(self.apex_heights)
+        while True:
+            mode = self._mode
+            if isinstance(mode, _Flight):
+                if mode.contact_time > t_end:
+                    break
+                z, zdot = mode.state(mode.contact_time, self.gravity)
+                self._begin_contact(mode.contact_time, max(z, 0.0), zdot)
+            elif isinstance(mode, PhaseIntegrator):
+                points.extend(self._take_points(mode, t_end))
+                if mode.lifted_off or getattr(mode, 'rest', None) is not None:
+                    finish = mode.end[0] if mode.lifted_off else mode.rest.start
+                    if finish > t_end:
+                        break
+                    self._finish_contact(mode)
+                    continue
+                if mode.time >= t_end:
+                    break
+                mode.step()
+                self._check_rest(mode)
+            else:
+                break
+        self.time = t_end
+        state = self.state
+        points.append((t_end, state.penetration, state.penetration_rate, state.force))
+        impacts = tuple(self.impacts[n_impacts:])
+        apexes = tuple(self.apex_heights[n_apex:])
+        return Advance(Samples.from_points(points), impacts, apexes)
+
+    @property
+    def total_steps(self):
+        """Integrator steps so far, the current contact phase included."""
+        extra = self._mode.steps if isinstance(self._mode, PhaseIntegrator) else 0
+        return self.steps + extra
+
+    # -- phases ---------------------------------------------------------------------------
+    def _state_at(self, t):
+        mode = self._mode
+        if isinstance(mode, _Flight):
+            return mode.state(t, self.gravity)
+        if isinstance(mode, _Rest):
+            return mode.state(t)
+        if t == mode.start_time:
+            return mode.points[0][1], mode.points[0][2]
+        return mode.state_at(t)
+
+    def _take_points(self, phase, t_end):
+        out = []
+        pts = phase.points
+        while self._emitted < len(pts) and pts[self._emitted][0] <= t_end:
+            out.append(pts[self._emitted])
+            self._emitted += 1
+        return out
+
+    def _begin_contact(self, t, z, zdot):
+        if self._pending_contact is not None:
+            self.contact, self._pending_contact = self._pending_contact, None
+        phase = PhaseIntegrator(self.contact, self.mass, self.gravity, t, z, zdot,
+                                rtol=self.rtol, atol=self.rtol * 1e-2)
+        phase.rest = None
+        phase.permanent = False
+        phase.floor = (lift_off_energy(self.contact, self.mass, self.gravity)
+                       if self.gravity > 0.0 else -math.inf)
+        self._mode = phase
+        self._emitted = 0
+
+    def _check_rest(self, phase):
+        """Mark permanent contact, and the switch to the closed-form rest solution."""
+        if self.gravity <= 0.0 or phase.lifted_off:
+            return
+        energy = phase.energy_above_rest()
+        if not phase.permanent and energy < phase.floor:
+            phase.permanent = True
+        law = self.contact.law
+        if not phase.permanent or law.q != 1.0:
+            return
+        z0 = static_penetration(self.contact, self.mass, self.gravity)
+        k_lin = law.n * self.contact.stiffness * z0 ** (law.n - 1.0)   # dF/dz at z0
+        amplitude = math.sqrt(2.0 * max(energy, 0.0) / k_lin)
+        if amplitude < self.settle_tolerance * z0:
+            z, zdot = phase.state
+            c_lin = self.contact.damping * z0 ** law.p                    # dF/dż at z0
+            phase.rest = _Rest(phase.time, z0, z - z0, zdot, c_lin / (2.0 * self.mass),
+                               k_lin / self.mass, self.contact)
+
+    def _finish_contact(self, phase):
+        self.steps += phase.steps
+        impact_time, _, impact_rate, _ = phase.points[0]
+        impact_speed = max(impact_rate, 0.0)
+        if phase.lifted_off:
+            t, z, zdot = phase.end
+            rebound = max(-zdot, 0.0)
+            record = ImpactRecord(impact_time, impact_speed, rebound,
+                                  rebound / impact_speed if impact_speed > 0.0 else 0.0,
+                                  t - impact_time, phase.peak_force, phase.max_penetration)
+            self.impacts.append(record)
+            if self._pending_contact is not None:
+                self.contact, self._pending_contact = self._pending_contact, None
+            self._enter_free_motion(t, z, zdot, after_lift_off=True)
+        else:
+            self.impacts.append(ImpactRecord(impact_time, impact_speed, 0.0, 0.0, math.inf,
+                                             phase.peak_force, phase.max_penetration))
+            self.permanent_contact_time = impact_time
+            self.settle_time = phase.rest.start
+            self._mode = phase.rest
+
+    def _enter_free_motion(self, t, z, zdot, after_lift_off=False):
+        """Start a flight at (t, z, ż), or a contact at once if the force is already on."""
+        contact, g = self.contact, self.gravity
+        if not after_lift_off and z > 0.0 and float(contact.force(z, zdot)) > 0.0:
+            self._begin_contact(t, z, zdot)
+            return
+        dt = self._time_to_contact(z, zdot)
+        self._mode = _Flight(t, z, zdot, t + dt)
+        if after_lift_off and g > 0.0 and math.isfinite(dt):
+            t_top = -zdot / g
+            lowest = z - zdot * zdot / (2.0 * g) if 0.0 < t_top < dt else min(
+                z, self._mode.state(t + dt, g)[0])
+            self.apex_heights.append(-lowest)
+
+    def _time_to_contact(self, z, zdot):
+        """Flight time (s) until the clamped force switches on again (inf: never)."""
+        g = self.gravity
+        contact, law = self.contact, self.contact.law
+        if z > 0.0:
+            # Inside the undeformed surface with zero force (after a lift-off at z > 0): the
+            # force returns when φ = k z^(n-p) + λ ż|ż|^(q-1) turns positive while z > 0.
+            if g > 0.0:
+                disc = zdot * zdot - 2.0 * g * z
+                t_out = (2.0 * z / (-zdot + math.sqrt(disc))) if disc >= 0.0 and zdot < 0.0 \
+                    else math.inf
+                t_search = min(t_out, max(-zdot / g, 0.0))
+            else:
+                t_search = -z / zdot if zdot < 0.0 else 0.0
+            if t_search > 0.0:
+                def phi(dt):
+                    zz = z + zdot * dt + 0.5 * g * dt * dt
+                    return float(law.reduced_force(zz, zdot + g * dt, contact.stiffness,
+                                                   contact.damping))
+                root = _first_upward_root(phi, t_search)
+                if root is not None:
+                    return root
+            if g == 0.0:
+                return math.inf
+            if t_search < t_out:
+                return t_search          # ż reaches 0 with z > 0: the spring pushes again
+            # the sphere leaves the undeformed surface: a flight from z = 0 going up
+            return t_out + self._time_to_contact(0.0, zdot + g * t_out)
+        if g > 0.0:
+            disc = zdot * zdot - 2.0 * g * z
+            if zdot >= 0.0:
+                return 2.0 * -z / (zdot + math.sqrt(disc)) if z < 0.0 else 0.0
+            return (-zdot + math.sqrt(disc)) / g
+        return -z / zdot if zdot > 0.0 else math.inf
+
+
+@dataclass(frozen=True)
+class DropResult:
+    """Outcome of ``simulate_drop``; ``trajectory`` is ``None`` unless a sample rate was given."""
+
+    impacts: tuple
+    apex_heights: tuple
+    permanent_contact_time: float
+    settle_time: float
+    steps: int
+    duration: float
+    trajectory: Samples = None
+
+
+def simulate_drop(contact, mass, height, gravity=9.81, duration=5.0, sample_rate=None,
+                  velocity=0.0, rtol=DROP_RTOL, settle_tolerance=1e-4):
+    """Drop a sphere from ``height`` (m) and follow it for ``duration`` (s).
+
+    With ``sample_rate`` (Hz) the result carries a trajectory sampled on that grid plus every
+    contact phase's own integrator points, so that no force peak is lost.
+    ``permanent_contact_time`` and ``settle_time`` are ``nan`` if not reached.
+    """
+    duration = require_positive('duration', duration)
+    sim = DropSimulation(contact, mass, height, velocity=velocity, gravity=gravity, rtol=rtol,
+                         settle_tolerance=settle_tolerance)
+    trajectory = None
+    if sample_rate is None:
+        sim.advance(duration)
+    else:
+        rate = require_positive('sample_rate', sample_rate)
+        grid = np.arange(1, int(math.floor(duration * rate + 1e-9)) + 1) / rate
+        if grid.size == 0 or grid[-1] < duration:
+            grid = np.append(grid, duration)
+        first = sim.state
+        parts = [Samples.from_points([(0.0, first.penetration, first.penetration_rate,
+                                       first.force)])]
+        parts.extend(sim.advance(t).samples for t in grid)
+        trajectory = Samples.concatenate(parts)
+    nan = math.nan
+    return DropResult(tuple(sim.impacts), tuple(sim.apex_heights),
+                      sim.permanent_contact_time if sim.permanent_contact_time is not None
+                      else nan, sim.settle_time if sim.settle_time is not None else nan,
+                      sim.total_steps, duration, trajectory)

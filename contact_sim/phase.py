@@ -1,0 +1,232 @@
+"""One contact phase, integrated exactly: from the instant the force switches on to lift-off.
+
+The phase is solved in dimensionless form.  With a length scale Z and a time scale T,
+x = z / Z and τ = t / T turn  m z̈ = m g - k zⁿ - λ zᵖ ż|ż|^(q-1)  into
+
+    x'' = γ - xⁿ - ζ xᵖ x'|x'|^(q-1),    γ = g T² / Z,   ζ = λ Z^(p+q-1) T^(2-q) / m,
+
+with T = √(m Z^(1-n) / k) so that the spring term has unit coefficient.  Z is the penetration at
+which the spring would store the phase's kinetic energy (or the static deflection under gravity,
+whichever is larger), so x and x' are of order one and tolerances mean the same at every speed.
+
+√z is not smooth in t at touch (z ≈ v t, so the damping force of the new law grows like √t and z
+carries a t^(5/2) term): a high-order integrator loses its order there.  Integrating in σ = √τ
+instead makes every term a power series in σ (z ≈ v σ², σ⁵, σ⁷, ...), so DOP853 keeps its 8th
+order from the first step.  Lift-off is the first instant the clamped force returns to zero:
+x = 0 or φ = x^(n-p) + ζ x'|x'|^(q-1) = 0 (the force is xᵖ φ and φ is smooth where the force
+is not); both are located on the dense output to machine precision.
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import DOP853
+from scipy.optimize import brentq
+
+DEFAULT_RTOL = 1e-12
+DEFAULT_ATOL = 1e-14
+
+
+@dataclass(frozen=True)
+class PhaseScales:
+    """Length Z (m), time T (s) and the dimensionless gravity γ and damping ζ of one phase."""
+
+    length: float
+    time: float
+    gravity: float
+    damping: float
+
+
+def phase_scales(contact, mass, gravity, penetration, penetration_rate):
+    """Scales for a phase starting at (z, ż): see the module docstring."""
+    law, k = contact.law, contact.stiffness
+    n, p, q = law.n, law.p, law.q
+    z = max(penetration, 0.0)
+    energy_speed_sq = penetration_rate ** 2 + 2.0 * k * z ** (n + 1.0) / ((n + 1.0) * mass)
+    length = (mass * energy_speed_sq / k) ** (1.0 / (n + 1.0))
+    if gravity > 0.0:
+        length = max(length, (mass * gravity / k) ** (1.0 / n))
+    if not length > 0.0:
+        raise ValueError('a contact phase needs motion or gravity: penetration_rate = 0, '
+                         'penetration <= 0 and gravity = 0 give no contact')
+    time = math.sqrt(mass * length ** (1.0 - n) / k)
+    return PhaseScales(length, time, gravity * time ** 2 / length,
+                       contact.damping * length ** (p + q - 1.0) * time ** (2.0 - q) / mass)
+
+
+class PhaseIntegrator:
+    """Steps one contact phase of a sphere (mass m) against a plate, with gravity g.
+
+    Construct at the start of contact; call ``step()`` until ``lifted_off``.  Every step
+    appends its end point to ``points`` (dimensional t, z, ż, F), as do the located peak
+    force, the maximum penetration and lift-off, so that no peak is lost between steps.
+    """
+
+    def __init__(self, contact, mass, gravity, start_time, penetration, penetration_rate,
+                 rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
+        self.contact = contact
+        self.mass = mass
+        self.start_time = start_time
+        self.scales = sc = phase_scales(contact, mass, gravity, penetration, penetration_rate)
+        law = contact.law
+        self._n, self._p, self._q = law.n, law.p, law.q
+        self._gamma, self._zeta = sc.gravity, sc.damping
+        x0, u0 = penetration / sc.length, penetration_rate * sc.time / sc.length
+        self._solver = DOP853(self._rhs, 0.0, np.array([x0, u0]), math.inf,
+                              rtol=rtol, atol=atol)
+        self.lifted_off = False
+        self.steps = 0
+        self.peak_force = self.force_of(penetration, penetration_rate)
+        if penetration <= 0.0 and law.p == 0.0 and penetration_rate > 0.0:
+            # a law with p = 0 jumps to λ ż^q at touch: the peak may be that limit z -> 0+
+            self.peak_force = max(self.peak_force, contact.damping * penetration_rate ** law.q)
+        self.peak_time = start_time
+        self.max_penetration = penetration
+        self.end = None  # (t, z, ż) at lift-off
+        self.points = [(start_time, penetration, penetration_rate, self.peak_force)]
+
+    # -- dimensionless dynamics in σ = √τ -------------------------------------------------
+    def _accel(self, x, u):
+        if x <= 0.0:
+            return self._gamma
+        f = x ** self._n + self._zeta * x ** self._p * (u if self._q == 1.0
+                                                        else math.copysign(abs(u) ** self._q, u))
+        return self._gamma - (f if f > 0.0 else 0.0)
+
+    def _rhs(self, s, y):
+        x, u = y[0], y[1]
+        return np.array([2.0 * s * u, 2.0 * s * self._accel(x, u)])
+
+    def _phi(self, x, u):
+        """x^(n-p) + ζ u|u|^(q-1): the force divided by xᵖ."""
+        ux = u if self._q == 1.0 else math.copysign(abs(u) ** self._q, u)
+        return (x if x > 0.0 else 0.0) ** (self._n - self._p) + self._zeta * ux
+
+    def _force_slope(self, x, u):
+        """x^(1-p) dF/dτ: changes sign from + to - at a force peak."""
+        n, p = self._n, self._p
+        phi = self._phi(x, u)
+        a = self._gamma - max(x, 0.0) ** p * phi
+        uq = 1.0 if self._q == 1.0 else self._q * abs(u) ** (self._q - 1.0)
+        return p * u * phi + (n - p) * max(x, 0.0) ** (n - p) * u + self._zeta * uq * x * a
+
+    # -- units --------------------------------------------------------------------------
+    def force_of(self, z, zdot):
+        return float(self.contact.force(z, zdot))
+
+    def _dimensional(self, s, y):
+        sc = self.scales
+        t = self.start_time + sc.time * s * s
+        z, zdot = float(y[0]) * sc.length, float(y[1]) * sc.length / sc.time
+        return t, z, zdot
+
+    @property
+    def time(self):
+        """Time (s) reached by the integrator (the end of its last step)."""
+        return self.start_time + self.scales.time * self._solver.t ** 2
+
+    def state_at(self, t):
+        """(z, ż) at a time t within the last step, from the dense output."""
+        s = math.sqrt(max(t - self.start_time, 0.0) / self.scales.time)
+        y = self._dense(s)
+        return self._dimensional(s, y)[1:]
+
+    @property
+    def state(self):
+        return self._dimensional(self._solver.t, self._solver.y)[1:]
+
+    def _dense(self, s):
+        sol = self._last_dense
+        return sol(min(max(s, sol.t_min), sol.t_max))
+
+    # -- stepping -----------------------------------------------------------------------
+    def step(self):
+        """Take one integrator step; locate peak, maximum penetration and lift-off in it."""
+        solver = self._solver
+        s0, y0 = solver.t, solver.y.copy()
+        message = solver.step()
+        if solver.status == 'failed':
+            raise RuntimeError(f'contact integration failed: {message}')
+        self.steps += 1
+        self._last_dense = sol = solver.dense_output()
+        s1, y1 = solver.t, solver.y
+
+        # lift-off: the first root of x or φ going down in this step
+        roots = []
+        for g in (lambda yy: yy[0], lambda yy: self._phi(yy[0], yy[1])):
+            g0, g1 = g(y0), g(y1)
+            if g0 > 0.0 and g1 <= 0.0:
+                roots.append(brentq(lambda s: g(sol(s)), s0, s1, xtol=1e-15, rtol=1e-15))
+        s_end = min(roots) if roots else s1
+
+        found = []
+        u0, u1 = y0[1], sol(s_end)[1]
+        if u0 > 0.0 and u1 <= 0.0 and s_end > s0:
+            found.append(brentq(lambda s: sol(s)[1], s0, s_end, xtol=1e-15, rtol=1e-15))
+        h0, h1 = self._force_slope(*y0), self._force_slope(*sol(s_end))
+        if h0 > 0.0 and h1 <= 0.0 and s_end > s0:
+            found.append(brentq(lambda s: self._force_slope(*sol(s)), s0, s_end,
+                                xtol=1e-15, rtol=1e-15))
+        for s in sorted(found):
+            self._record(s, sol(s))
+        if roots:
+            self.lifted_off = True
+            y_end = sol(s_end)
+            y_end[0] = max(y_end[0], 0.0)
+            t, z, zdot = self._dimensional(s_end, y_end)
+            self.end = (t, z, zdot)
+            self.points.append((t, z, zdot, 0.0))
+        else:
+            self._record(s1, y1)
+
+    def _record(self, s, y):
+        t, z, zdot = self._dimensional(s, y)
+        f = self.force_of(z, zdot)
+        self.points.append((t, z, zdot, f))
+        if f > self.peak_force:
+            self.peak_force, self.peak_time = f, t
+        self.max_penetration = max(self.max_penetration, z)
+
+    def energy_above_rest(self):
+        """Mechanical energy (J) above static equilibrium at the integrator's current state."""
+        z, zdot = self.state
+        g = self.scales.gravity * self.scales.length / self.scales.time ** 2
+        return energy_above_rest(self.contact, self.mass, g, z, zdot)
+
+
+def _potential(contact, mass, gravity, z):
+    """Spring energy k z₊^(n+1)/(n+1) minus gravity's work m g z (J)."""
+    n = contact.law.n
+    return contact.stiffness * np.maximum(z, 0.0) ** (n + 1.0) / (n + 1.0) - mass * gravity * z
+
+
+def static_penetration(contact, mass, gravity):
+    """Static deflection z0 = (m g / k)^(1/n) in m."""
+    return (mass * gravity / contact.stiffness) ** (1.0 / contact.law.n)
+
+
+def energy_above_rest(contact, mass, gravity, z, zdot):
+    """½ m ż² + potential(z) - potential(z0): a Lyapunov function of the contact (J).
+
+    It never increases (the damper only dissipates, flight conserves it), so once it is below
+    ``lift_off_energy`` the sphere can never leave the plate again.
+    """
+    z0 = static_penetration(contact, mass, gravity)
+    return (0.5 * mass * zdot ** 2 + _potential(contact, mass, gravity, z)
+            - _potential(contact, mass, gravity, z0))
+
+
+def lift_off_energy(contact, mass, gravity, margin=0.5):
+    """A lower bound (J) on the energy above rest of any state in which the force is zero.
+
+    Zero force means z <= 0, or z > 0 on the curve λ ż|ż|^(q-1) = -k z^(n-p); the minimum over
+    that curve is taken on a fine logarithmic grid and multiplied by ``margin`` for safety.
+    """
+    law = contact.law
+    z0 = static_penetration(contact, mass, gravity)
+    candidates = [energy_above_rest(contact, mass, gravity, 0.0, 0.0)]
+    if contact.damping > 0.0:
+        z = z0 * np.logspace(-8.0, 2.0, 2001)
+        speed = (contact.stiffness * z ** (law.n - law.p) / contact.damping) ** (1.0 / law.q)
+        candidates.append(float(np.min(energy_above_rest(contact, mass, gravity, z, speed))))
+    return margin * min(candidates)
