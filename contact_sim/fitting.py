@@ -1,0 +1,143 @@
+"""Damping from restitution: the inverse of ``restitution``, and least-squares fits to data.
+
+As in the paper's Fig. 5: k comes from Hertz theory, and λ is tuned so that the model's
+restitution e(v) best matches measured (speed, restitution) points, all points weighted equally.
+Units: SI (stiffness N/m^n, mass kg, speeds m/s, damping λ N·s^q/m^(p+q)).
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq, minimize_scalar
+
+from .contact import Contact
+from .laws import LAWS, get_law
+from .restitution import damping_from_group, dimensionless, master_curve, restitution
+from .validation import require_positive, require_range
+
+
+def _group_for_restitution(law, target):
+    """ζ with e(ζ) = target (e decreases monotonically in ζ)."""
+    def residual(log_zeta):
+        return float(dimensionless('restitution', law, np.array(math.exp(log_zeta)))) - target
+
+    curve = master_curve(law)
+    lo, hi = (math.log(z) for z in curve.zeta_range) if curve else (math.log(1e-5),
+                                                                        math.log(1e3))
+    while residual(lo) < 0.0:
+        lo -= 2.0
+    while residual(hi) > 0.0:
+        hi += 2.0
+    return math.exp(brentq(residual, lo, hi, xtol=1e-14, rtol=1e-14))
+
+
+def damping_for_restitution(law, stiffness, mass, restitution, speed):
+    """λ that gives exactly ``restitution`` for an impact at ``speed`` (m/s), no gravity."""
+    law = get_law(law)
+    stiffness = require_positive('stiffness', stiffness)
+    mass = require_positive('mass', mass)
+    speed = require_positive('speed', speed)
+    e = require_range('restitution', restitution, 0.0, 1.0, low_open=True)
+    if e == 1.0:
+        return 0.0
+    zeta = _group_for_restitution(law, e)
+    return float(damping_from_group(law, stiffness, mass, speed, zeta))
+
+
+@dataclass(frozen=True)
+class DampingFit:
+    """Least-squares damping for one law, with diagnostics.
+
+    ``pointwise_damping`` is the λ that would match each point alone: a law that describes the
+    data gives nearly constant values (their spread, ``pointwise_spread``, is max/min).
+    """
+
+    law: str
+    stiffness: float
+    damping: float
+    rms_residual: float
+    residuals: np.ndarray
+    pointwise_damping: np.ndarray
+    confidence_interval: tuple
+    confidence_level: float
+
+    @property
+    def pointwise_spread(self):
+        return float(np.max(self.pointwise_damping) / np.min(self.pointwise_damping))
+
+    def contact(self):
+        return Contact(get_law(self.law), self.stiffness, self.damping)
+
+
+def _check_data(speeds, restitutions):
+    v = np.asarray(speeds, dtype=float).ravel()
+    e = np.asarray(restitutions, dtype=float).ravel()
+    if v.size != e.size:
+        raise ValueError(f'speeds and restitutions have {v.size} and {e.size} values: '
+                         'allowed equal lengths')
+    if v.size < 1:
+        raise ValueError('speeds is empty: allowed at least one (speed, restitution) point')
+    for name, arr, ok, rng in (('speeds', v, np.isfinite(v) & (v > 0), '0 < speed < inf'),
+                               ('restitutions', e, np.isfinite(e) & (e > 0) & (e < 1),
+                                '0 < restitution < 1')):
+        if not np.all(ok):
+            i = int(np.flatnonzero(~ok)[0])
+            raise ValueError(f'{name}[{i}] = {arr[i]!r} is out of range: allowed {rng}')
+    return v, e
+
+
+def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95):
+    """Fit λ to measured (speed, restitution) points by least squares in e; see ``DampingFit``.
+
+    The confidence interval is the linearised one: λ ± t σ / |J|, with J = ∂e/∂λ at the optimum
+    and σ² the residual variance (N - 1 degrees of freedom; zero width for a single point).
+    """
+    law = get_law(law)
+    stiffness = require_positive('stiffness', stiffness)
+    mass = require_positive('mass', mass)
+    confidence = require_range('confidence', confidence, 0.0, 1.0, low_open=True,
+                               high_open=True)
+    v, e = _check_data(speeds, restitutions)
+    pointwise = np.array([damping_for_restitution(law, stiffness, mass, ei, vi)
+                          for vi, ei in zip(v, e)])
+
+    def model(lam):
+        return restitution(Contact(law, stiffness, lam), mass, v)
+
+    def sse(log_lam):
+        return float(np.sum((model(math.exp(log_lam)) - e) ** 2))
+
+    lo, hi = math.log(pointwise.min()), math.log(pointwise.max())
+    if hi - lo < 1e-12:
+        lam = float(pointwise[0])
+    else:
+        best = minimize_scalar(sse, bounds=(lo, hi), method='bounded',
+                               options={'xatol': 1e-10})
+        lam = math.exp(best.x)
+    residuals = model(lam) - e
+    rms = float(np.sqrt(np.mean(residuals ** 2)))
+    h = 1e-6 * lam
+    jac = (model(lam + h) - model(lam - h)) / (2 * h)
+    dof = v.size - 1
+    if dof > 0 and np.any(jac != 0.0):
+        from scipy.stats import t as student_t  # slow to import: only when needed
+        sigma = math.sqrt(float(np.sum(residuals ** 2)) / dof)
+        half = float(student_t.ppf(0.5 + confidence / 2, dof) * sigma / np.sqrt(np.sum(jac ** 2)))
+    else:
+        half = 0.0
+    return DampingFit(law.name, stiffness, lam, rms, residuals, pointwise,
+                      (lam - half, lam + half), confidence)
+
+
+def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.95):
+    """Fit each law to the same data and rank them, best (lowest rms residual) first.
+
+    ``stiffness`` is one value for every law or a mapping law name -> stiffness (the linear
+    law's k has other units than the Hertz k; its fitted restitution does not depend on k).
+    """
+    chosen = [get_law(name) for name in (laws if laws is not None else LAWS)]
+    fits = []
+    for law in chosen:
+        k = stiffness[law.name] if isinstance(stiffness, dict) else stiffness
+        fits.append(fit_damping(law, k, mass, speeds, restitutions, confidence))
+    return sorted(fits, key=lambda fit: fit.rms_residual)

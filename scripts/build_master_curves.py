@@ -1,0 +1,54 @@
+#!/usr/bin/env python3
+"""Regenerate contact_sim/data/master_curves.npz: the dimensionless impact results of every named
+law on a uniform grid in ln ζ, each point computed by the package's own exact ``simulate_impact``.
+
+    python scripts/build_master_curves.py [--step 0.02] [--zeta-min 1e-5] [--zeta-max 1e3]
+"""
+import argparse
+import math
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+from contact_sim import LAWS
+from contact_sim.restitution import QUANTITIES, TABLE_FILE, _exact_dimensionless
+
+
+def _row(args):
+    name, zeta = args
+    result = _exact_dimensionless(LAWS[name], zeta)
+    return [result[q] for q in QUANTITIES]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--step', type=float, default=0.02, help='grid step in ln(zeta)')
+    parser.add_argument('--zeta-min', type=float, default=1e-5)
+    parser.add_argument('--zeta-max', type=float, default=1e3)
+    parser.add_argument('--output', type=Path,
+                        default=Path(__file__).resolve().parents[1] / 'contact_sim' / 'data'
+                        / TABLE_FILE)
+    args = parser.parse_args()
+    lo, hi = math.log(args.zeta_min), math.log(args.zeta_max)
+    intervals = math.ceil((hi - lo) / args.step)
+    s = lo + args.step * np.arange(intervals + 1)
+    arrays = {'laws': np.array(sorted(LAWS))}
+    start = time.perf_counter()
+    with ProcessPoolExecutor() as pool:
+        for name in sorted(LAWS):
+            law = LAWS[name]
+            rows = np.array(list(pool.map(_row, [(name, z) for z in np.exp(s)], chunksize=32)))
+            arrays[f'{name}/key'] = np.array([law.n, law.p, law.q])
+            arrays[f'{name}/s'] = s
+            for i, q in enumerate(QUANTITIES):
+                arrays[f'{name}/{q}'] = rows[:, i]
+            print(f'{name}: {len(s)} points, e from {rows[0, 0]:.8f} to {rows[-1, 0]:.3e}')
+    args.output.parent.mkdir(parents=True, exist_ok=True)
+    np.savez_compressed(args.output, **arrays)
+    print(f'wrote {args.output} in {time.perf_counter() - start:.1f} s')
+
+
+if __name__ == '__main__':
+    main()
