@@ -1,0 +1,177 @@
+"""The drop engine: closed-form flight, exact contacts, permanent contact, rest, chunked stepping."""
+import math
+
+import numpy as np
+import pytest
+
+import contact_sim as cs
+
+M, H, G = 0.066, 1.0, 10.0
+
+
+@pytest.fixture(scope='module')
+def paper():
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5)
+    return contact, cs.simulate_drop(contact, M, H, gravity=G, duration=5.0)
+
+
+def test_flight_is_closed_form_and_touch_time_is_exact():
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5)
+    sim = cs.DropSimulation(contact, M, H, gravity=G)
+    t_touch = math.sqrt(2 * H / G)
+    adv = sim.advance(t_touch * 0.999)
+    assert sim.total_steps == 0                       # no integrator steps in flight
+    assert adv.samples.time.tolist() == [t_touch * 0.999]
+    assert sim.state.penetration == pytest.approx(-H + 0.5 * G * (t_touch * 0.999) ** 2, abs=1e-15)
+    sim.advance(t_touch + 1e-3)
+    first = sim.impacts[0]
+    assert first.time == pytest.approx(t_touch, rel=1e-15)
+    assert first.impact_speed == pytest.approx(math.sqrt(2 * G * H), rel=1e-14)
+
+
+def test_first_bounce_matches_a_single_impact_with_gravity(paper):
+    contact, result = paper
+    first = result.impacts[0]
+    single = cs.simulate_impact(contact, M, first.impact_speed, gravity=G)
+    assert first.restitution == pytest.approx(single.restitution, abs=1e-8)
+    assert first.contact_duration == pytest.approx(single.contact_duration, rel=1e-7)
+    assert first.peak_force == pytest.approx(single.peak_force, rel=1e-8)
+
+
+def test_paper_drop_reproduces_section_ii_c(paper):
+    contact, result = paper
+    apexes = np.array(result.apex_heights)
+    assert np.all(np.diff(apexes) < 0)                        # every bounce lower than the last
+    first_micro = int(np.argmax(apexes < 1e-3))
+    t_below = result.impacts[first_micro].time + result.impacts[first_micro].contact_duration
+    assert 2.3 < t_below < 2.5                                # paper: 2.4 s
+    assert len(apexes) - first_micro == 26                    # paper: 26 microscopic bounces
+    assert result.impacts[-1].permanent
+    assert result.impacts[-1].rebound_speed == 0.0
+    assert sum(not imp.permanent for imp in result.impacts) == len(apexes)
+    assert t_below < result.permanent_contact_time < result.settle_time < 2.8  # paper: ~2.6 s
+
+
+def test_rest_is_the_static_deflection_and_costs_no_steps(paper):
+    contact, _ = paper
+    sim = cs.DropSimulation(contact, M, H, gravity=G)
+    sim.advance(3.0)
+    steps = sim.total_steps
+    sim.advance(1000.0)
+    assert sim.total_steps == steps
+    z0 = (M * G / 1e10) ** (2 / 3)
+    assert sim.state.penetration == pytest.approx(z0, rel=1e-12)
+    assert sim.state.force == pytest.approx(M * G, rel=1e-9)
+    assert sim.state.in_contact
+
+
+def test_rest_oscillation_has_the_linearised_frequency(paper):
+    contact, result = paper
+    z0 = (M * G / contact.stiffness) ** (2 / 3)
+    f_lin = math.sqrt(1.5 * contact.stiffness * math.sqrt(z0) / M) / (2 * math.pi)
+    sim = cs.DropSimulation(contact, M, H, gravity=G)
+    start = result.settle_time - 0.004
+    sim.advance(start)
+    t = start + np.arange(1, 3201) / 400_000.0               # 8 ms at 400 kHz, across the switch
+    z = np.array([sim.advance(ti).samples.penetration[-1] for ti in t]) - z0
+    up = np.flatnonzero((z[:-1] < 0) & (z[1:] >= 0))
+    periods = np.diff(t[up])
+    assert 1.0 / periods.mean() == pytest.approx(f_lin, rel=2e-3)
+    assert np.abs(z).max() < 1e-3 * z0
+
+
+def test_chunked_stepping_gives_the_same_motion_as_one_call(paper):
+    contact, result = paper
+    sim = cs.DropSimulation(contact, M, H, gravity=G)
+    rng = np.random.default_rng(3)
+    t = 0.0
+    collected = []
+    while t < 5.0:
+        t = min(5.0, t + rng.uniform(1e-5, 0.05))
+        adv = sim.advance(t)
+        collected.extend(adv.impacts)
+    assert tuple(collected) == result.impacts == tuple(sim.impacts)
+    assert sim.total_steps == result.steps
+
+
+def test_trajectory_keeps_every_contact_peak(paper):
+    contact, result = paper
+    traj = cs.simulate_drop(contact, M, H, gravity=G, duration=2.6, sample_rate=100.0).trajectory
+    assert np.all(np.diff(traj.time) >= 0)
+    assert np.all(traj.force >= 0) and np.all(np.isfinite(traj.force))
+    for imp in result.impacts:
+        if imp.permanent:
+            continue
+        window = (traj.time >= imp.time) & (traj.time <= imp.time + imp.contact_duration)
+        assert traj.force[window].max() == pytest.approx(imp.peak_force, rel=1e-12)
+    np.testing.assert_allclose(traj.force, contact.force(traj.penetration, traj.penetration_rate),
+                               rtol=1e-12, atol=1e-9)
+
+
+def test_a_new_contact_applies_from_the_next_contact_phase():
+    soft = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5)
+    lossy = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 4e5)
+    sim = cs.DropSimulation(soft, M, H, gravity=G)
+    t_touch = math.sqrt(2 * H / G)
+    sim.advance(t_touch + 2e-5)                              # inside the first contact
+    assert sim.in_contact
+    sim.set_contact(lossy)
+    sim.advance(t_touch + 1.0)
+    first, second = sim.impacts[0], sim.impacts[1]
+    assert first.restitution == pytest.approx(
+        cs.simulate_impact(soft, M, first.impact_speed, gravity=G).restitution, abs=1e-8)
+    assert second.restitution == pytest.approx(
+        cs.simulate_impact(lossy, M, second.impact_speed, gravity=G).restitution, abs=1e-8)
+
+
+def test_reset_restarts_from_the_initial_conditions():
+    contact = cs.Contact(cs.HUNT_CROSSLEY, 1e10, 5e9)
+    sim = cs.DropSimulation(contact, M, 0.2, gravity=9.81)
+    sim.advance(1.0)
+    impacts = list(sim.impacts)
+    sim.reset()
+    assert sim.time == 0.0 and sim.impacts == [] and sim.state.penetration == -0.2
+    sim.advance(1.0)
+    assert sim.impacts == impacts
+
+
+@pytest.mark.parametrize('law', list(cs.LAWS.values()), ids=list(cs.LAWS))
+def test_every_law_bounces_and_settles(law):
+    k = 1e7 if law is cs.LINEAR else 1e9
+    lam = cs.damping_for_restitution(law, k, 0.1, 0.6, 1.0)
+    result = cs.simulate_drop(cs.Contact(law, k, lam), 0.1, 0.05, gravity=9.81, duration=3.0)
+    assert result.impacts[0].restitution == pytest.approx(
+        cs.simulate_impact(cs.Contact(law, k, lam), 0.1, result.impacts[0].impact_speed,
+                           gravity=9.81).restitution, abs=1e-8)
+    apexes = np.array(result.apex_heights)
+    assert np.all(np.diff(apexes) < 0)
+    if law is cs.HUNT_CROSSLEY:
+        # e -> 1 as v -> 0 for Hunt-Crossley (ζ = λ v / k): its bounces die out very slowly
+        assert not result.impacts[-1].permanent and len(result.impacts) > 100
+    else:
+        assert result.impacts[-1].permanent and math.isfinite(result.settle_time)
+
+
+def test_without_gravity_the_sphere_bounces_once_and_flies_away():
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5)
+    sim = cs.DropSimulation(contact, M, 0.01, velocity=2.0, gravity=0.0)
+    sim.advance(10.0)
+    assert len(sim.impacts) == 1 and sim.apex_heights == []
+    assert sim.impacts[0].restitution == pytest.approx(cs.restitution(contact, M, 2.0), abs=1e-8)
+    assert sim.state.penetration_rate < 0
+
+
+@pytest.mark.parametrize('kwargs, pattern', [
+    (dict(mass=-1.0), r'mass = -1\.0 is out of range'),
+    (dict(height=float('nan')), r'height = nan is not finite'),
+    (dict(gravity=-9.81), r'gravity = -9\.81 is out of range: allowed 0 <= gravity'),
+])
+def test_drop_rejects_bad_arguments(kwargs, pattern):
+    args = dict(contact=cs.Contact(cs.LINEAR, 1e6, 1.0), mass=1.0, height=1.0, gravity=9.81)
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=pattern):
+        cs.DropSimulation(**args)
+    sim = cs.DropSimulation(cs.Contact(cs.LINEAR, 1e6, 1.0), 1.0, 1.0)
+    sim.advance(0.5)
+    with pytest.raises(ValueError, match=r't_end = 0\.1 is out of range: allowed t_end >= 0\.5'):
+        sim.advance(0.1)
