@@ -153,7 +153,7 @@ class DropSimulation:
     """
 
     def __init__(self, contact, mass, height, velocity=0.0, gravity=9.81, rtol=DROP_RTOL,
-                 settle_tolerance=1e-4):
+                 settle_tolerance=1e-3):
         self.mass = require_positive('mass', mass)
         self.gravity = require_nonnegative('gravity', gravity)
         self.height = require_real('height', height)
@@ -378,7 +378,7 @@ class DropResult:
 
 
 def simulate_drop(contact, mass, height, gravity=9.81, duration=5.0, sample_rate=None,
-                  velocity=0.0, rtol=DROP_RTOL, settle_tolerance=1e-4):
+                  velocity=0.0, rtol=DROP_RTOL, settle_tolerance=1e-3):
     """Drop a sphere from ``height`` (m) and follow it for ``duration`` (s).
 
     With ``sample_rate`` (Hz) the result carries a trajectory sampled on that grid plus every

@@ -25,6 +25,7 @@ from scipy.optimize import brentq
 
 DEFAULT_RTOL = 1e-12
 DEFAULT_ATOL = 1e-14
+FIRST_STEP = 0.05
 
 
 @dataclass(frozen=True)
@@ -72,8 +73,11 @@ class PhaseIntegrator:
         self._n, self._p, self._q = law.n, law.p, law.q
         self._gamma, self._zeta = sc.gravity, sc.damping
         x0, u0 = penetration / sc.length, penetration_rate * sc.time / sc.length
+        # The right-hand side vanishes at σ = 0, which misleads the automatic first step;
+        # a contact lasts σ ≈ 1.8 in these units, so start at a step a few per cent of that.
         self._solver = DOP853(self._rhs, 0.0, np.array([x0, u0]), math.inf,
-                              rtol=rtol, atol=atol)
+                              rtol=rtol, atol=atol, first_step=FIRST_STEP)
+        self._last_dense = None
         self.lifted_off = False
         self.steps = 0
         self.peak_force = self.force_of(penetration, penetration_rate)
@@ -87,15 +91,16 @@ class PhaseIntegrator:
 
     # -- dimensionless dynamics in σ = √τ -------------------------------------------------
     def _accel(self, x, u):
+        # Unclamped beyond φ = 0: the phase ends at that located root anyway, and a smooth
+        # right-hand side lets the step that crosses lift-off pass without rejections.
         if x <= 0.0:
             return self._gamma
-        f = x ** self._n + self._zeta * x ** self._p * (u if self._q == 1.0
-                                                        else math.copysign(abs(u) ** self._q, u))
-        return self._gamma - (f if f > 0.0 else 0.0)
+        return self._gamma - x ** self._n - self._zeta * x ** self._p * (
+            u if self._q == 1.0 else math.copysign(abs(u) ** self._q, u))
 
     def _rhs(self, s, y):
-        x, u = y[0], y[1]
-        return np.array([2.0 * s * u, 2.0 * s * self._accel(x, u)])
+        x, u = y.tolist()
+        return np.array((2.0 * s * u, 2.0 * s * self._accel(x, u)))
 
     def _phi(self, x, u):
         """x^(n-p) + ζ u|u|^(q-1): the force divided by xᵖ."""
@@ -136,48 +141,55 @@ class PhaseIntegrator:
         return self._dimensional(self._solver.t, self._solver.y)[1:]
 
     def _dense(self, s):
+        """y(s) inside the last step, from its dense output (built on first use)."""
+        if self._last_dense is None:
+            self._last_dense = self._solver.dense_output()
         sol = self._last_dense
         return sol(min(max(s, sol.t_min), sol.t_max))
 
     # -- stepping -----------------------------------------------------------------------
     def step(self):
-        """Take one integrator step; locate peak, maximum penetration and lift-off in it."""
+        """Take one integrator step; locate peak, maximum penetration and lift-off in it.
+
+        Events are tested at the step's ends first; the dense output (which costs extra
+        stages) is built only for a step that holds a root, or when a state inside is asked.
+        """
         solver = self._solver
         s0, y0 = solver.t, solver.y.copy()
         message = solver.step()
         if solver.status == 'failed':
             raise RuntimeError(f'contact integration failed: {message}')
         self.steps += 1
-        self._last_dense = sol = solver.dense_output()
+        self._last_dense = None
         s1, y1 = solver.t, solver.y
 
         # lift-off: the first root of x or φ going down in this step
         roots = []
         for g in (lambda yy: yy[0], lambda yy: self._phi(yy[0], yy[1])):
-            g0, g1 = g(y0), g(y1)
-            if g0 > 0.0 and g1 <= 0.0:
-                roots.append(brentq(lambda s: g(sol(s)), s0, s1, xtol=1e-15, rtol=1e-15))
+            if g(y0) > 0.0 and g(y1) <= 0.0:
+                roots.append(self._root(g, s0, s1))
         s_end = min(roots) if roots else s1
+        y_end = self._dense(s_end) if roots else y1
 
         found = []
-        u0, u1 = y0[1], sol(s_end)[1]
-        if u0 > 0.0 and u1 <= 0.0 and s_end > s0:
-            found.append(brentq(lambda s: sol(s)[1], s0, s_end, xtol=1e-15, rtol=1e-15))
-        h0, h1 = self._force_slope(*y0), self._force_slope(*sol(s_end))
-        if h0 > 0.0 and h1 <= 0.0 and s_end > s0:
-            found.append(brentq(lambda s: self._force_slope(*sol(s)), s0, s_end,
-                                xtol=1e-15, rtol=1e-15))
+        if s_end > s0:
+            for g in (lambda yy: yy[1], lambda yy: self._force_slope(yy[0], yy[1])):
+                if g(y0) > 0.0 and g(y_end) <= 0.0:     # maximum penetration, force peak
+                    found.append(self._root(g, s0, s_end))
         for s in sorted(found):
-            self._record(s, sol(s))
+            self._record(s, self._dense(s))
         if roots:
             self.lifted_off = True
-            y_end = sol(s_end)
             y_end[0] = max(y_end[0], 0.0)
             t, z, zdot = self._dimensional(s_end, y_end)
             self.end = (t, z, zdot)
             self.points.append((t, z, zdot, 0.0))
         else:
             self._record(s1, y1)
+
+    def _root(self, g, s0, s1):
+        """The root of g(y(s)) in [s0, s1] on the dense output, to machine precision."""
+        return brentq(lambda s: g(self._dense(s)), s0, s1, xtol=1e-15, rtol=1e-15)
 
     def _record(self, s, y):
         t, z, zdot = self._dimensional(s, y)

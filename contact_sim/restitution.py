@@ -16,7 +16,8 @@ linear ζ = λ / √(m k) (velocity independent).  Two parameter sets with the s
   u = 1 - ζ e solves u - ln u = 1 + ζ - ln(1 + ζ): u = -W₀(-exp(-1 - ζ + ln(1 + ζ)))
   (Lambert W), polished by Newton's method on the well-conditioned form.
 * The clamped linear law separates when x + ζ x' = 0, which gives e = exp(-ζ τc / 2) with
-  τc = atan2(ζ ω, ζ²/2 - 1) / ω, ω = √(1 - ζ²/4) (and the analytic continuation past ζ = 2).
+  τc = atan2(ζ ω, ζ²/2 - 1) / ω, ω = √(1 - ζ²/4), and past critical damping (ζ > 2)
+  τc = ln(ζ²/2 - 1 + ζκ) / κ, κ = √(ζ²/4 - 1).
 * Everything else comes from master curves tabulated by ``simulate_impact`` on a uniform grid in
   ln ζ (``scripts/build_master_curves.py``), interpolated by cubic splines.  Outside the table
   the exact path is used, never an extrapolation.
@@ -86,6 +87,50 @@ def hunt_crossley_restitution(zeta):
     return s / zeta
 
 
+def hunt_crossley_restitution_scalar(zeta):
+    """``hunt_crossley_restitution`` for one float in plain Python (a few µs).
+
+    Newton's method on a convex function from the side where it converges monotonically:
+    in s = 1 - u from s = √(2c) when c < 1, in u from u = exp(-1 - c) otherwise.
+    """
+    c = (zeta * zeta * (0.5 - zeta * (1 / 3 - zeta * (0.25 - zeta * (0.2 - zeta / 6)))))
+    if zeta >= 1e-3:
+        c = zeta - math.log1p(zeta)
+    if c < 1.0:
+        s = min(math.sqrt(2.0 * c), 0.95)
+        for _ in range(60):
+            f = (s * s * (0.5 + s * (1 / 3 + s * (0.25 + s * (0.2 + s / 6)))) if s < 1e-3
+                 else -s - math.log1p(-s)) - c
+            step = f * (1.0 - s) / s
+            s -= step
+            if abs(step) <= 1e-16 * s:
+                break
+        return s / zeta
+    u = math.exp(-1.0 - c)
+    if u == 0.0:                      # u underflows: e = (1 - u) / ζ = 1 / ζ to the last bit
+        return 1.0 / zeta
+    for _ in range(60):
+        step = (u - math.log(u) - 1.0 - c) / (1.0 - 1.0 / u)
+        u -= step
+        if abs(step) <= 1e-16 * u:
+            break
+    return (1.0 - u) / zeta
+
+
+def linear_restitution_scalar(zeta):
+    """``linear_restitution_and_duration(ζ)[0]`` for one float in plain Python."""
+    disc = 1.0 - zeta * zeta / 4.0
+    if disc > 0.0:
+        w = math.sqrt(disc)
+        tau = math.atan2(zeta * w, zeta * zeta / 2.0 - 1.0) / w
+    elif disc < 0.0:
+        kappa = math.sqrt(-disc)
+        tau = math.log(zeta * zeta / 2.0 - 1.0 + zeta * kappa) / kappa   # = atanh(ζκ/(ζ²/2-1))/κ
+    else:
+        tau = 2.0
+    return math.exp(-zeta * tau / 2.0)
+
+
 def linear_restitution_and_duration(zeta):
     """Exact (e, τc) of the clamped linear law for ζ = λ / √(m k) > 0; τc in units √(m/k)."""
     zeta = np.asarray(zeta, dtype=float)
@@ -95,7 +140,8 @@ def linear_restitution_and_duration(zeta):
     w = np.sqrt(np.where(under, disc, 1.0))
     kappa = np.sqrt(np.where(over, -disc, 1.0))
     tau_under = np.arctan2(zeta * w, zeta ** 2 / 2.0 - 1.0) / w
-    tau_over = np.arctanh(np.where(over, zeta * kappa / (zeta ** 2 / 2.0 - 1.0), 0.0)) / kappa
+    # atanh(ζκ / (ζ²/2 - 1)) = ln(ζ²/2 - 1 + ζκ), since (ζ²/2 - 1)² - (ζκ)² = 1
+    tau_over = np.log(np.where(over, zeta ** 2 / 2.0 - 1.0 + zeta * kappa, 1.0)) / kappa
     tau = np.where(under, tau_under, np.where(over, tau_over, 2.0))
     return np.exp(-zeta * tau / 2.0), tau
 
@@ -229,7 +275,12 @@ def _scalar_restitution(contact, mass, speed):
     law = contact.law
     length = (mass * speed * speed / contact.stiffness) ** (1.0 / (law.n + 1.0))
     zeta = contact.damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
-    if zeta > 0.0 and _law_key(law) not in ((1.5, 1.5, 1.0), (1.0, 0.0, 1.0)):
+    key = _law_key(law)
+    if zeta > 0.0 and key == (1.5, 1.5, 1.0):
+        return hunt_crossley_restitution_scalar(zeta)
+    if zeta > 0.0 and key == (1.0, 0.0, 1.0):
+        return linear_restitution_scalar(zeta)
+    if zeta > 0.0:
         curve = master_curve(law)
         if curve is not None:
             value = curve.evaluate_scalar('restitution', zeta)

@@ -181,3 +181,14 @@ def test_bad_speeds_are_rejected_with_the_range(bad):
         cs.restitution(contact, 0.066, bad)
     with pytest.raises(ValueError, match='speed'):
         cs.simulate_impact(contact, 0.066, bad)
+
+
+def test_scalar_closed_forms_equal_the_vectorised_ones():
+    from contact_sim.restitution import (hunt_crossley_restitution_scalar,
+                                         linear_restitution_scalar)
+    zetas = np.concatenate([[1e-9, 1e-4, 1e-3, 0.5, 1.0, 1.99, 2.0, 2.01], np.geomspace(1e-6, 1e4, 97)])
+    for zeta in zetas:
+        assert hunt_crossley_restitution_scalar(zeta) == pytest.approx(
+            float(hunt_crossley_restitution(zeta)), rel=1e-13, abs=1e-15)
+        assert linear_restitution_scalar(zeta) == pytest.approx(
+            float(linear_restitution_and_duration(zeta)[0]), rel=1e-13, abs=1e-300)
