@@ -82,7 +82,7 @@ def _check_data(speeds, restitutions):
                                 '0 < restitution < 1')):
         if not np.all(ok):
             i = int(np.flatnonzero(~ok)[0])
-            raise ValueError(f'{name}[{i}] = {arr[i]!r} is out of range: allowed {rng}')
+            raise ValueError(f'{name}[{i}] = {float(arr[i])!r} is out of range: allowed {rng}')
     return v, e
 
 

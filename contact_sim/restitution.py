@@ -258,7 +258,7 @@ def _dimensional(quantity, contact, mass, speeds):
     scalar = np.ndim(speeds) == 0
     v = np.asarray(speeds, dtype=float)
     if v.size and not (np.all(np.isfinite(v)) and np.all(v > 0.0)):
-        bad = v[~(np.isfinite(v) & (v > 0.0))].flat[0]
+        bad = float(v[~(np.isfinite(v) & (v > 0.0))].flat[0])
         raise ValueError(f'speed = {bad!r} is out of range: allowed 0 < speed < inf (m/s)')
     k, lam = contact.stiffness, contact.damping
     zeta = damping_group(law, k, mass, v, lam)

@@ -1,0 +1,76 @@
+"""Damping from restitution: the exact inverse, least-squares fits, law comparison."""
+import numpy as np
+import pytest
+
+import contact_sim as cs
+
+K, M = 1.1e10, 0.0675   # steel ball (R = 12.7 mm) on cast iron, roughly
+
+
+@pytest.mark.parametrize('law', list(cs.LAWS.values()), ids=list(cs.LAWS))
+@pytest.mark.parametrize('e', [0.02, 0.5, 0.95, 0.999])
+def test_damping_for_restitution_inverts_the_exact_restitution(law, e):
+    k = 1e7 if law is cs.LINEAR else K
+    lam = cs.damping_for_restitution(law, k, M, e, 0.8)
+    assert lam > 0
+    assert cs.simulate_impact(cs.Contact(law, k, lam), M, 0.8).restitution == pytest.approx(e, abs=1e-8)
+
+
+def test_damping_for_restitution_of_one_is_zero_and_bad_values_are_named():
+    assert cs.damping_for_restitution('azad_featherstone', K, M, 1.0, 1.0) == 0.0
+    with pytest.raises(ValueError, match=r'restitution = 1\.5 is out of range: allowed 0 < restitution <= 1'):
+        cs.damping_for_restitution('azad_featherstone', K, M, 1.5, 1.0)
+    with pytest.raises(ValueError, match=r'speed = -1\.0 is out of range'):
+        cs.damping_for_restitution('azad_featherstone', K, M, 0.5, -1.0)
+
+
+def test_fit_recovers_the_damping_of_model_data_exactly():
+    speeds = np.geomspace(0.05, 5.0, 12)
+    truth = cs.Contact(cs.AZAD_FEATHERSTONE, K, 7.5e4)
+    fit = cs.fit_damping('azad_featherstone', K, M, speeds, cs.restitution(truth, M, speeds))
+    assert fit.damping == pytest.approx(7.5e4, rel=1e-7)
+    assert fit.rms_residual < 1e-9
+    np.testing.assert_allclose(fit.pointwise_damping, 7.5e4, rtol=1e-7)
+    assert fit.pointwise_spread == pytest.approx(1.0, abs=1e-6)
+    lo, hi = fit.confidence_interval
+    assert lo <= fit.damping <= hi and hi - lo < 1e-3 * fit.damping
+
+
+def test_fit_with_noise_has_a_confidence_interval_that_covers_the_truth():
+    rng = np.random.default_rng(5)
+    speeds = np.geomspace(0.05, 5.0, 30)
+    truth = cs.Contact(cs.AZAD_FEATHERSTONE, K, 7.5e4)
+    data = cs.restitution(truth, M, speeds) + rng.normal(0.0, 0.005, speeds.size)
+    fit = cs.fit_damping('azad_featherstone', K, M, speeds, data)
+    lo, hi = fit.confidence_interval
+    assert lo < 7.5e4 < hi
+    assert fit.rms_residual == pytest.approx(np.sqrt(np.mean(fit.residuals ** 2)))
+    assert fit.residuals.shape == (30,) and fit.pointwise_damping.shape == (30,)
+    # the least-squares optimum: moving λ either way makes the squared error worse
+    for factor in (0.99, 1.01):
+        other = cs.restitution(cs.Contact(cs.AZAD_FEATHERSTONE, K, fit.damping * factor), M, speeds)
+        assert np.sum((other - data) ** 2) > np.sum(fit.residuals ** 2)
+
+
+def test_compare_laws_ranks_the_generating_law_first():
+    speeds = np.geomspace(0.05, 5.0, 15)
+    data = cs.restitution(cs.Contact(cs.AZAD_FEATHERSTONE, K, 7.5e4), M, speeds)
+    fits = cs.compare_laws({'azad_featherstone': K, 'hunt_crossley': K, 'lee_wang': K,
+                            'linear': 1e7}, M, speeds, data)
+    assert [f.law for f in fits][0] == 'azad_featherstone'
+    assert fits[0].rms_residual < 1e-9 < fits[1].rms_residual
+    hc = next(f for f in fits if f.law == 'hunt_crossley')
+    assert hc.pointwise_spread > 5.0        # Hunt-Crossley needs a very different λ per point
+    assert len(fits) == 4
+
+
+@pytest.mark.parametrize('speeds, restitutions, pattern', [
+    ([1.0, 2.0], [0.5], r'speeds and restitutions have 2 and 1 values'),
+    ([1.0, -2.0], [0.5, 0.4], r'speeds\[1\] = -2\.0 is out of range: allowed 0 < speed < inf'),
+    ([1.0, 2.0], [0.5, 1.2], r'restitutions\[1\] = 1\.2 is out of range: allowed 0 < restitution < 1'),
+    ([1.0, float('nan')], [0.5, 0.4], r'speeds\[1\] = nan is out of range'),
+    ([], [], r'speeds is empty'),
+])
+def test_fit_rejects_bad_data_naming_the_point(speeds, restitutions, pattern):
+    with pytest.raises(ValueError, match=pattern):
+        cs.fit_damping('azad_featherstone', K, M, speeds, restitutions)
