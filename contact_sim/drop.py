@@ -185,10 +185,16 @@ class DropSimulation:
         self._enter_free_motion(0.0, -self.height, self.velocity)
 
     def set_contact(self, contact):
-        """Use ``contact`` from the next contact phase on (at once while in flight)."""
-        if isinstance(self._mode, _Flight):
+        """Use ``contact`` from the next contact phase on: at once in flight or at rest (a
+        resting sphere then settles onto the new contact), after lift-off during a bounce."""
+        mode = self._mode
+        if isinstance(mode, _Flight):
             self.contact = contact
-            self._enter_free_motion(self._mode.start, self._mode.penetration, self._mode.rate)
+            self._enter_free_motion(mode.start, mode.penetration, mode.rate)
+        elif isinstance(mode, _Rest):
+            z, zdot = mode.state(self.time)
+            self.contact = contact
+            self._begin_contact(self.time, z, zdot)
         else:
             self._pending_contact = contact
 

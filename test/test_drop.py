@@ -175,3 +175,14 @@ def test_drop_rejects_bad_arguments(kwargs, pattern):
     sim.advance(0.5)
     with pytest.raises(ValueError, match=r't_end = 0\.1 is out of range: allowed t_end >= 0\.5'):
         sim.advance(0.1)
+
+
+def test_a_resting_sphere_settles_onto_a_new_contact():
+    sim = cs.DropSimulation(cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5), M, H, gravity=G)
+    sim.advance(3.0)
+    softer = cs.Contact(cs.AZAD_FEATHERSTONE, 1e8, 1e4)
+    n_impacts = len(sim.impacts)
+    sim.set_contact(softer)
+    sim.advance(4.0)
+    assert sim.state.penetration == pytest.approx((M * G / 1e8) ** (2 / 3), rel=1e-6)
+    assert len(sim.impacts) == n_impacts + 1 and sim.impacts[-1].permanent
