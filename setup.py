@@ -24,6 +24,8 @@ setup(
     entry_points={
         'console_scripts': [
             'contact-sim = contact_sim.cli:main',
+            'contact_sim_node = contact_sim.node:main',
+            'contact_sim_record = contact_sim.node:record_main',
         ],
     },
 )

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-EXECUTABLES = ['contact-sim']
+EXECUTABLES = ['contact-sim', 'contact_sim_node', 'contact_sim_record']
 
 
 def test_ament_index_resolves_the_package_and_its_executables():

@@ -1,0 +1,650 @@
+"""The node with real ROS: ``contact_sim_node`` runs as its own process, started through its console
+entry point (the executable ``ros2 run`` would start), and this test process talks to it through
+a separate rclpy client node.
+
+Isolation: a ROS_DOMAIN_ID derived from this process's pid, localhost-only discovery and a
+temporary ROS_LOG_DIR. Every wait is on a condition with a deadline, never a fixed sleep. One node
+process serves the whole module; tests that change it put it back.
+"""
+import math
+import os
+import re
+import signal
+import subprocess
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+CONFIG = ROOT / 'config'
+TIMEOUT = 20.0          # s, for anything that waits on DDS discovery or on the node
+NODE = '/contact_sim'
+
+rclpy = pytest.importorskip('rclpy')
+
+import contact_sim as cs  # noqa: E402
+from contact_sim import node as cs_node  # noqa: E402
+from geometry_msgs.msg import PoseStamped, TwistStamped, Vector3Stamped, WrenchStamped  # noqa: E402
+from rcl_interfaces.msg import Log, Parameter, ParameterType, ParameterValue  # noqa: E402
+from rcl_interfaces.srv import GetParameters, SetParameters, SetParametersAtomically  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
+from rosgraph_msgs.msg import Clock  # noqa: E402
+from std_msgs.msg import Float64MultiArray  # noqa: E402
+from std_srvs.srv import Trigger  # noqa: E402
+
+TOPICS = {
+    f'{NODE}/wrench': WrenchStamped,
+    f'{NODE}/contact': Vector3Stamped,
+    f'{NODE}/pose': PoseStamped,
+    f'{NODE}/twist': TwistStamped,
+    f'{NODE}/impact': Float64MultiArray,
+    '/clock': Clock,
+}
+TYPE_NAMES = {
+    f'{NODE}/wrench': 'geometry_msgs/msg/WrenchStamped',
+    f'{NODE}/contact': 'geometry_msgs/msg/Vector3Stamped',
+    f'{NODE}/pose': 'geometry_msgs/msg/PoseStamped',
+    f'{NODE}/twist': 'geometry_msgs/msg/TwistStamped',
+    f'{NODE}/impact': 'std_msgs/msg/Float64MultiArray',
+    '/clock': 'rosgraph_msgs/msg/Clock',
+}
+DEEP = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10000,
+                  reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+ROSOUT = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
+                    reliability=ReliabilityPolicy.RELIABLE,
+                    durability=DurabilityPolicy.TRANSIENT_LOCAL)
+FIELDS = cs_node.IMPACT_FIELDS
+
+
+# ------------------------------------------------------------------------------------------
+# processes
+# ------------------------------------------------------------------------------------------
+
+def executable(name):
+    """The installed console entry point, found exactly as ``ros2 run contact_sim <name>`` does."""
+    from ament_index_python.packages import get_package_prefix
+    path = Path(get_package_prefix('contact_sim')) / 'lib' / 'contact_sim' / name
+    assert path.is_file(), f'{path} missing: run scripts/setup.sh'
+    return str(path)
+
+
+def _shm_in_use():
+    used = set()
+    for proc in Path('/proc').iterdir():
+        if not proc.name.isdigit():
+            continue
+        try:
+            used.update(line.split()[-1] for line in (proc / 'maps').read_text().splitlines()
+                        if '/dev/shm/' in line)
+            for fd in (proc / 'fd').iterdir():
+                target = os.readlink(fd)
+                if target.startswith('/dev/shm/'):
+                    used.add(target)
+        except OSError:
+            continue
+    return used
+
+
+def _clean_shm(since):
+    """After a SIGKILL: remove shared-memory files made since ``since`` that no process uses."""
+    used = _shm_in_use()
+    for path in [*Path('/dev/shm').glob('*fastdds*'), *Path('/dev/shm').glob('*fastrtps*')]:
+        try:
+            if path.stat().st_mtime >= since and str(path) not in used:
+                path.unlink()
+        except OSError:
+            pass
+
+
+class Process:
+    """A console entry point in its own session (process group), output in a file."""
+
+    def __init__(self, name, args, env, workdir):
+        self.name = name
+        self.log = Path(workdir) / f'{name}-{time.monotonic_ns()}.log'
+        self.started = time.time()
+        with open(self.log, 'w') as out:
+            self.popen = subprocess.Popen([executable(name), *args], env=env, stdout=out,
+                                          stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+                                          start_new_session=True, cwd=workdir)
+
+    def output(self):
+        return self.log.read_text(errors='replace')
+
+    def stop(self, timeout=TIMEOUT):
+        """SIGINT to the process group; SIGKILL (and /dev/shm clean-up) only if it hangs."""
+        if self.popen.poll() is None:
+            os.killpg(self.popen.pid, signal.SIGINT)
+            try:
+                self.popen.wait(timeout)
+            except subprocess.TimeoutExpired:
+                os.killpg(self.popen.pid, signal.SIGKILL)
+                self.popen.wait(TIMEOUT)
+                _clean_shm(self.started)
+                pytest.fail(f'{self.name} ignored SIGINT for {timeout} s:\n{self.output()}')
+        return self.popen.returncode, self.output()
+
+
+def assert_clean_exit(process):
+    code, output = process.stop()
+    assert code == 0, f'{process.name} exited with {code}:\n{output}'
+    assert 'Traceback' not in output, output
+
+
+# ------------------------------------------------------------------------------------------
+# the client side
+# ------------------------------------------------------------------------------------------
+
+class Client:
+    """An rclpy node in the test process with helpers that wait on conditions."""
+
+    def __init__(self):
+        self.node = rclpy.create_node('contact_sim_test_client')
+        self.executor = SingleThreadedExecutor()
+        self.executor.add_node(self.node)
+        self.messages = {topic: [] for topic in TOPICS}
+        self.rosout = []
+        for topic, msg_type in TOPICS.items():
+            self.node.create_subscription(msg_type, topic, self.messages[topic].append, DEEP)
+        self.node.create_subscription(Log, '/rosout', self.rosout.append, ROSOUT)
+        self._clients = {}
+
+    def spin_until(self, condition, what, timeout=TIMEOUT):
+        deadline = time.monotonic() + timeout
+        while not condition():
+            if time.monotonic() > deadline:
+                pytest.fail(f'timed out after {timeout} s waiting for {what}')
+            self.executor.spin_once(timeout_sec=0.05)
+
+    def spin_for(self, seconds):
+        """Keep receiving for a while (used only to collect more data, never to wait for DDS)."""
+        deadline = time.monotonic() + seconds
+        while time.monotonic() < deadline:
+            self.executor.spin_once(timeout_sec=0.02)
+
+    def call(self, srv_type, name, request, timeout=TIMEOUT):
+        client = self._clients.get(name)
+        if client is None:
+            client = self._clients[name] = self.node.create_client(srv_type, name)
+        deadline = time.monotonic() + timeout
+        self.spin_until(client.service_is_ready, f'service {name}', timeout)
+        while True:
+            # A server that has just appeared may not have matched its reply writer to us yet
+            # and then drops the reply: ask again after a while (every call here is idempotent
+            # or, like ~/reset, harmless to repeat).
+            future = client.call_async(request)
+            retry = min(time.monotonic() + 3.0, deadline)
+            self.spin_until(lambda: future.done() or time.monotonic() > retry,
+                            f'a response from {name}', timeout)
+            if future.done():
+                return future.result()
+            client.remove_pending_request(future)
+            if time.monotonic() > deadline:
+                pytest.fail(f'timed out after {timeout} s waiting for a response from {name}')
+
+    def set_parameters(self, node, atomically=False, **values):
+        params = [Parameter(name=k, value=parameter_value(v)) for k, v in values.items()]
+        if atomically:
+            return [self.call(SetParametersAtomically, f'{node}/set_parameters_atomically',
+                              SetParametersAtomically.Request(parameters=params)).result]
+        return self.call(SetParameters, f'{node}/set_parameters',
+                         SetParameters.Request(parameters=params)).results
+
+    def get_parameters(self, node, names):
+        response = self.call(GetParameters, f'{node}/get_parameters',
+                             GetParameters.Request(names=list(names)))
+        return dict(zip(names, (value_of(v) for v in response.values)))
+
+    def query(self, names, node=NODE):
+        response = self.call(GetParameters, f'{node}/query_restitution',
+                             GetParameters.Request(names=list(names)))
+        return response.values
+
+    def count(self, topic):
+        return len(self.messages[topic])
+
+    def clock_seconds(self):
+        self.spin_until(lambda: self.messages['/clock'], 'a /clock message')
+        return stamp_s(self.messages['/clock'][-1].clock)
+
+
+def parameter_value(value):
+    if isinstance(value, bool):
+        return ParameterValue(type=ParameterType.PARAMETER_BOOL, bool_value=value)
+    if isinstance(value, int):
+        return ParameterValue(type=ParameterType.PARAMETER_INTEGER, integer_value=value)
+    if isinstance(value, float):
+        return ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=value)
+    return ParameterValue(type=ParameterType.PARAMETER_STRING, string_value=value)
+
+
+def value_of(value):
+    return {ParameterType.PARAMETER_BOOL: lambda v: v.bool_value,
+            ParameterType.PARAMETER_INTEGER: lambda v: v.integer_value,
+            ParameterType.PARAMETER_DOUBLE: lambda v: v.double_value,
+            ParameterType.PARAMETER_STRING: lambda v: v.string_value}.get(
+                value.type, lambda v: None)(value)
+
+
+def stamp_ns(stamp):
+    return stamp.sec * 1_000_000_000 + stamp.nanosec
+
+
+def stamp_s(stamp):
+    return stamp_ns(stamp) * 1e-9
+
+
+def impacts_after(client, ns):
+    out = []
+    for msg in client.messages[f'{NODE}/impact']:
+        record = dict(zip(FIELDS, msg.data))
+        if cs_node.to_ns(record['time']) >= ns:
+            out.append(record)
+    return out
+
+
+def default_contact_and_mass():
+    """The default configuration, built here from the library alone (not through the node)."""
+    contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron', 0.0127,
+                                        damping_factor=8.87e5)
+    return contact, cs.sphere_mass(cs.MATERIALS['steel'].density, 0.0127)
+
+
+# ------------------------------------------------------------------------------------------
+# fixtures
+# ------------------------------------------------------------------------------------------
+
+@pytest.fixture(scope='module')
+def workdir():
+    with tempfile.TemporaryDirectory(prefix='contact_sim_test_') as path:
+        yield Path(path)
+
+
+@pytest.fixture(scope='module')
+def ros_env(workdir):
+    """Environment for every ROS process of this module, the test process included."""
+    saved = dict(os.environ)
+    os.environ.update({
+        'ROS_DOMAIN_ID': str(1 + os.getpid() % 101),
+        'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST',
+        'ROS_LOG_DIR': str(workdir / 'ros_log'),
+        'RCUTILS_LOGGING_BUFFERED_STREAM': '0',
+        'RCUTILS_COLORIZED_OUTPUT': '0',
+        'PYTHONUNBUFFERED': '1',
+    })
+    os.environ.pop('ROS_LOCALHOST_ONLY', None)
+    yield dict(os.environ)
+    os.environ.clear()
+    os.environ.update(saved)
+
+
+@pytest.fixture(scope='module')
+def client(ros_env):
+    rclpy.init()
+    client = Client()
+    yield client
+    client.node.destroy_node()
+    rclpy.try_shutdown()
+
+
+@pytest.fixture(scope='module')
+def sim(ros_env, client, workdir):
+    """contact_sim_node on its built-in defaults (steel ball, cast-iron plate, 1 m, real time)."""
+    process = Process('contact_sim_node', [], ros_env, workdir)
+    client.spin_until(lambda: client.count(f'{NODE}/pose') >= 5 or process.popen.poll() is not None,
+                      'the node to publish')
+    assert process.popen.poll() is None, process.output()
+    yield process
+    assert_clean_exit(process)
+
+
+def reset(client):
+    """Restart the drop; returns the simulated time (ns) the new drop starts at."""
+    response = client.call(Trigger, f'{NODE}/reset', Trigger.Request())
+    assert response.success, response.message
+    match = re.search(r'at t = ([0-9.]+) s', response.message)
+    assert match, response.message
+    return cs_node.to_ns(float(match.group(1)))
+
+
+# ------------------------------------------------------------------------------------------
+# tests
+# ------------------------------------------------------------------------------------------
+
+def test_topics_and_services_have_the_declared_types(sim, client):
+    def graph():
+        return dict(client.node.get_topic_names_and_types())
+    client.spin_until(lambda: all(t in graph() for t in TOPICS), 'all topics in the graph')
+    topics = graph()
+    for topic, type_name in TYPE_NAMES.items():
+        assert topics[topic] == [type_name], topic
+    services = dict(client.node.get_service_names_and_types())
+    assert services[f'{NODE}/query_restitution'] == ['rcl_interfaces/srv/GetParameters']
+    assert services[f'{NODE}/reset'] == ['std_srvs/srv/Trigger']
+
+
+def test_stamps_are_simulated_time_monotonic_and_framed(sim, client):
+    start = {topic: client.count(topic) for topic in TOPICS}
+    wall0, sim0 = time.monotonic(), client.clock_seconds()
+    client.spin_until(lambda: client.count(f'{NODE}/pose') >= start[f'{NODE}/pose'] + 100,
+                      '100 more poses')
+    rate = (client.clock_seconds() - sim0) / (time.monotonic() - wall0)
+    assert 0.3 < rate < 3.0, f'real_time_factor 1 ran at {rate:.2f} x real time'
+    for topic in TOPICS:
+        new = client.messages[topic][start[topic]:]
+        if topic.endswith('impact'):
+            times = [m.data[0] for m in new]
+            assert all(np.isfinite(m.data).all() or m.data[4] == math.inf for m in new)
+        elif topic == '/clock':
+            times = [stamp_ns(m.clock) for m in new]
+        else:
+            times = [stamp_ns(m.header.stamp) for m in new]
+            assert {m.header.frame_id for m in new} == {'plate'}, topic
+        assert all(b > a for a, b in zip(times, times[1:])), f'{topic} stamps not increasing'
+    poses = client.messages[f'{NODE}/pose'][start[f'{NODE}/pose']:]
+    clocks = {stamp_ns(m.clock) for m in client.messages['/clock']}
+    assert {stamp_ns(p.header.stamp) for p in poses[:-5]} <= clocks  # /clock = pose stamps
+    for p in poses:
+        assert math.isfinite(p.pose.position.z) and p.pose.orientation.w == 1.0
+
+
+def test_reset_restarts_the_drop_and_time_keeps_running(sim, client):
+    before = client.clock_seconds()
+    t0 = reset(client)
+    assert t0 >= cs_node.to_ns(before)
+    client.spin_until(lambda: impacts_after(client, t0), 'the first impact after the reset')
+    first = impacts_after(client, t0)[0]
+    # released from rest 1 m above the plate: touches after sqrt(2 h / g) at sqrt(2 g h)
+    assert first['time'] - t0 * 1e-9 == pytest.approx(math.sqrt(2 * 1.0 / 9.81), abs=1e-6)
+    assert first['impact_speed'] == pytest.approx(math.sqrt(2 * 9.81 * 1.0), rel=1e-9)
+    poses = [p for p in client.messages[f'{NODE}/pose'] if stamp_ns(p.header.stamp) > t0]
+    early = [p for p in poses if stamp_ns(p.header.stamp) - t0 < 100_000_000]
+    assert early, 'no pose within 0.1 s of the reset'
+    for p in early:  # centre height R + h - g t^2 / 2 while falling
+        t = (stamp_ns(p.header.stamp) - t0) * 1e-9
+        assert p.pose.position.z == pytest.approx(0.0127 + 1.0 - 9.81 * t * t / 2, abs=1e-9)
+    twists = [m for m in client.messages[f'{NODE}/twist'] if t0 < stamp_ns(m.header.stamp)]
+    t = (stamp_ns(twists[0].header.stamp) - t0) * 1e-9
+    assert twists[0].twist.linear.z == pytest.approx(-9.81 * t, abs=1e-9)  # up is +z
+
+
+def test_wrench_shows_every_impact_with_its_peak(sim, client):
+    t0 = reset(client)
+    client.spin_until(lambda: len(impacts_after(client, t0)) >= 6, 'six impacts', timeout=30)
+    impacts = impacts_after(client, t0)
+    last_end = impacts[-1]['time'] + impacts[-1]['contact_duration']
+    for topic in (f'{NODE}/wrench', f'{NODE}/contact'):
+        client.spin_until(lambda: stamp_s(client.messages[topic][-1].header.stamp) > last_end,
+                          f'the {topic} samples of the last impact')
+    samples = [(stamp_ns(m.header.stamp), m.wrench.force.z) for m in
+               client.messages[f'{NODE}/wrench'] if stamp_ns(m.header.stamp) >= t0]
+    stamps = np.array([s for s, _ in samples])
+    forces = np.array([f for _, f in samples])
+    assert np.all(forces >= 0.0) and np.all(np.isfinite(forces))
+    covered = np.zeros(len(samples), dtype=bool)
+    for i, impact in enumerate(impacts):
+        lo = cs_node.to_ns(impact['time']) - 2
+        hi = cs_node.to_ns(impact['time'] + impact['contact_duration']) + 2
+        inside = (stamps >= lo) & (stamps <= hi)
+        covered |= inside
+        assert inside.sum() >= 5, f'impact {i}: only {inside.sum()} wrench samples'
+        assert forces[inside].max() == pytest.approx(impact['peak_force'], rel=1e-9), \
+            f'impact {i}: the wrench misses the peak'
+        assert impact['restitution'] == pytest.approx(
+            impact['rebound_speed'] / impact['impact_speed'], rel=1e-12)
+        assert 0.0 < impact['restitution'] < 1.0
+        assert 2e-5 < impact['contact_duration'] < 1e-3  # steel on iron: about 0.1 ms
+    # no force outside the reported contacts, up to the end of the last one
+    before_end = stamps <= cs_node.to_ns(last_end) + 2
+    assert not np.any((forces > 0.0) & ~covered & before_end)
+    # the speeds chain: a bounce starts at about the previous rebound speed, never faster (the
+    # sphere lifts off slightly inside the undeformed surface and climbs out against gravity)
+    for a, b in zip(impacts, impacts[1:]):
+        assert b['impact_speed'] <= a['rebound_speed']
+        assert b['impact_speed'] == pytest.approx(a['rebound_speed'], rel=1e-3)
+    # the contact state follows the wrench: same stamps, in contact exactly while F > 0
+    contact = {stamp_ns(m.header.stamp): m.vector for m in client.messages[f'{NODE}/contact']
+               if stamp_ns(m.header.stamp) >= t0}
+    for ns, force in samples:
+        if ns <= cs_node.to_ns(last_end):
+            assert contact[ns].z == (1.0 if force > 0 else 0.0)
+
+
+def test_query_restitution_answers_a_batch_with_bad_names(sim, client):
+    contact, mass = default_contact_and_mass()
+    good = {'2.5': ('restitution', 2.5), 'restitution:0.5': ('restitution', 0.5),
+            'contact_duration:1': ('contact_duration', 1.0), 'peak_force:1': ('peak_force', 1.0),
+            'max_penetration:1': ('max_penetration', 1.0), ' 1e-2 ': ('restitution', 0.01)}
+    bad = ['abc', '-1', '0', 'inf', 'nan', 'speed:1', 'restitution:', '', ':2']
+    names = ['2.5', 'abc', 'restitution:0.5', '-1', 'contact_duration:1', '0', 'inf',
+             'peak_force:1', 'nan', 'speed:1', 'max_penetration:1', 'restitution:', '', ':2',
+             ' 1e-2 ']
+    values = client.query(names)
+    assert len(values) == len(names)
+    for name, value in zip(names, values):
+        if name in bad:
+            assert value.type == ParameterType.PARAMETER_NOT_SET, name
+            continue
+        assert value.type == ParameterType.PARAMETER_DOUBLE, name
+        quantity, speed = good[name]
+        exact = getattr(cs.simulate_impact(contact, mass, speed), quantity)
+        assert value.double_value == pytest.approx(exact, rel=1e-6), name
+    # one warning per bad name, naming it, in the node's log (/rosout)
+    def warned(name):
+        return any(m.level == Log.WARN and m.name == 'contact_sim' and repr(name) in m.msg
+                   for m in client.rosout)
+    client.spin_until(lambda: all(warned(n) for n in bad), 'a warning for each bad name')
+    assert not any(warned(n) for n in good)
+    assert client.query([]) == []
+
+
+def test_bad_parameters_are_rejected_with_reasons_and_the_node_goes_on(sim, client):
+    names = list(cs_node.PARAMETER_NAMES)
+    before = client.get_parameters(NODE, names)
+    answer_before = client.query(['restitution:1'])[0].double_value
+    cases = [
+        (dict(sphere_youngs_modulus=-1.0), 'sphere_youngs_modulus'),
+        (dict(plate_youngs_modulus=float('nan')), 'plate_youngs_modulus'),
+        (dict(sphere_poisson_ratio=0.5),
+         'sphere_poisson_ratio = 0.5 is out of range: allowed -1 < sphere_poisson_ratio < 0.5'),
+        (dict(plate_material='unobtainium'),
+         "plate_material = 'unobtainium' is unknown: allowed one of"),
+        (dict(contact_law='bouncy'), "contact_law = 'bouncy' is unknown: allowed one of"),
+        (dict(contact_law='linear'), 'Hertz stiffness needs n = 1.5'),
+        (dict(initial_velocity=float('nan')), 'initial_velocity = nan is not finite'),
+        (dict(damping_factor=float('inf')), 'damping_factor = inf is not finite'),
+        (dict(sphere_radius=0.0), 'sphere_radius = 0.0 is out of range: allowed 0 < sphere_radius'),
+        (dict(gravity=-9.81), 'gravity'),
+        (dict(publish_rate=50.0), 'read-only'),
+        (dict(frame_id='world'), 'read-only'),
+        (dict(gravity=10), 'type'),
+    ]
+    for values, reason in cases:
+        (result,) = client.set_parameters(NODE, **values)
+        assert not result.successful, values
+        assert reason in result.reason, (values, result.reason)
+        assert next(iter(values)) in result.reason or 'type' in reason, result.reason
+    # an atomic change with one bad value changes nothing at all
+    (result,) = client.set_parameters(NODE, atomically=True, sphere_material='custom',
+                                      sphere_youngs_modulus=-5.0)
+    assert not result.successful and 'sphere_youngs_modulus' in result.reason
+    assert client.get_parameters(NODE, names) == before
+    assert client.query(['restitution:1'])[0].double_value == answer_before
+    n = client.count(f'{NODE}/pose')
+    client.spin_until(lambda: client.count(f'{NODE}/pose') >= n + 20, 'the node to keep publishing')
+    assert sim.popen.poll() is None
+
+
+def test_accepted_changes_take_effect(sim, client):
+    contact, mass = default_contact_and_mass()
+    steel_iron = client.query(['restitution:1'])[0].double_value
+    assert steel_iron == pytest.approx(cs.simulate_impact(contact, mass, 1.0).restitution, rel=1e-6)
+    try:
+        (result,) = client.set_parameters(NODE, plate_material='brass')
+        assert result.successful, result.reason
+        brass = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'brass', 0.0127,
+                                          damping_factor=8.87e5)
+        (value,) = client.query(['restitution:1'])
+        assert value.double_value == pytest.approx(
+            cs.simulate_impact(brass, mass, 1.0).restitution, rel=1e-6)
+        # an override, then the paper's contact: k = 1e10, lambda = 1e5 with m = 66 g
+        (result,) = client.set_parameters(NODE, atomically=True, stiffness=1e10, damping=1e5,
+                                          sphere_mass=0.066)
+        assert result.successful, result.reason
+        paper = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5)
+        (value,) = client.query(['peak_force:4.47'])
+        assert value.double_value == pytest.approx(
+            cs.simulate_impact(paper, 0.066, 4.47).peak_force, rel=1e-6)
+    finally:
+        (result,) = client.set_parameters(NODE, atomically=True, plate_material='cast_iron',
+                                          stiffness=0.0, damping=0.0, sphere_mass=0.0)
+        assert result.successful, result.reason
+    assert client.query(['restitution:1'])[0].double_value == steel_iron
+
+
+def test_real_time_factor_zero_runs_as_fast_as_possible(sim, client):
+    def rate(wall):
+        """Simulated s per wall s over about ``wall`` s, read from ~/reset's replies (topics
+        may lag behind in this process's queues; a reply tells the node's time when sent)."""
+        sim0, wall0 = reset(client), time.monotonic()
+        client.spin_until(lambda: time.monotonic() - wall0 > wall, f'{wall} s')
+        sim1, wall1 = reset(client), time.monotonic()
+        return (sim1 - sim0) * 1e-9 / (wall1 - wall0)
+
+    try:
+        (result,) = client.set_parameters(NODE, real_time_factor=0.0)
+        assert result.successful, result.reason
+        assert rate(1.0) > 2.0
+        assert client.query(['1'])[0].type == ParameterType.PARAMETER_DOUBLE  # still serving
+    finally:
+        (result,) = client.set_parameters(NODE, real_time_factor=1.0)
+        assert result.successful, result.reason
+    assert 0.5 < rate(1.0) < 1.5
+    (result,) = client.set_parameters(NODE, real_time_factor=2.0)
+    try:
+        assert result.successful, result.reason
+        assert 1.2 < rate(1.0) < 3.0
+    finally:
+        (result,) = client.set_parameters(NODE, real_time_factor=1.0)
+        assert result.successful, result.reason
+
+
+def test_recorder_writes_a_bag_that_reads_back(sim, client, ros_env, workdir):
+    from rosbags.highlevel import AnyReader
+    bag = workdir / 'recorded'
+    recorder = Process('contact_sim_record', ['-o', str(bag)], ros_env, workdir)
+    timed = Process('contact_sim_record', ['-o', str(workdir / 'timed'), '-s', 'sqlite3',
+                                           '--duration', '4'], ros_env, workdir)
+    try:
+        def receiving():  # the recorder logs matches and the first message on each topic
+            out = recorder.output()
+            return all(f'matched {t}' in out and (t.endswith('impact') or f'receiving {t}' in out)
+                       for t in TOPICS) or recorder.popen.poll() is not None
+        client.spin_until(receiving, 'the recorder to receive')
+        assert recorder.popen.poll() is None, recorder.output()
+        t0 = reset(client)
+        client.spin_until(lambda: len(impacts_after(client, t0)) >= 3, 'three impacts')
+        n = client.count(f'{NODE}/pose')
+        client.spin_until(lambda: client.count(f'{NODE}/pose') >= n + 10, 'ten more poses')
+    finally:
+        assert_clean_exit(recorder)
+    assert (bag / 'metadata.yaml').is_file() and list(bag.glob('*.mcap'))
+    with AnyReader([bag]) as reader:
+        types = {c.topic: c.msgtype for c in reader.connections}
+        assert types == TYPE_NAMES
+        recorded = {topic: [] for topic in TOPICS}
+        for connection, timestamp, raw in reader.messages():
+            msg = reader.deserialize(raw, connection.msgtype)
+            recorded[connection.topic].append((timestamp, msg))
+        counts = {c.topic: c.msgcount for c in reader.connections}
+    for topic, items in recorded.items():
+        assert counts[topic] == len(items) > 0, topic
+    # same messages as the client got, over the window both were surely listening
+    for topic, items in recorded.items():
+        if topic.endswith('impact'):
+            bag_ns = [cs_node.to_ns(m.data[0]) for _, m in items]
+            got = [cs_node.to_ns(m.data[0]) for m in client.messages[topic]]
+        elif topic == '/clock':
+            bag_ns = [stamp_ns(m.clock) for _, m in items]
+            got = [stamp_ns(m.clock) for m in client.messages[topic]]
+        else:
+            bag_ns = [stamp_ns(m.header.stamp) for _, m in items]
+            got = [stamp_ns(m.header.stamp) for m in client.messages[topic]]
+        assert [ts for ts, _ in items] == bag_ns  # bag time = simulated time
+        end = min(bag_ns[-1], got[-1])
+        window = [ns for ns in got if t0 <= ns <= end]
+        assert [ns for ns in bag_ns if t0 <= ns <= end] == window, topic
+        if topic.endswith('impact'):
+            assert len(window) >= 3
+    # --duration stops by itself; an sqlite3 bag reads back too
+    assert timed.popen.wait(TIMEOUT) == 0, timed.output()
+    assert list((workdir / 'timed').glob('*.db3'))
+    with AnyReader([workdir / 'timed']) as reader:
+        # (what it got depends on how much of its 4 s discovery took)
+        assert {c.topic: c.msgtype for c in reader.connections}.items() <= TYPE_NAMES.items()
+        assert all(len(raw) > 0 for _, _, raw in reader.messages())
+    peaks = [m.data[5] for _, m in recorded[f'{NODE}/impact'] if cs_node.to_ns(m.data[0]) >= t0]
+    forces = [m.wrench.force.z for _, m in recorded[f'{NODE}/wrench']]
+    assert max(peaks) == pytest.approx(max(forces), rel=1e-12)
+
+
+def _yaml_parameters(path):
+    data = yaml.safe_load(path.read_text())
+    (section,) = data.values()
+    return section['ros__parameters']
+
+
+def test_default_yaml_equals_the_built_in_defaults():
+    values = _yaml_parameters(CONFIG / 'default.yaml')
+    assert values == cs_node.DEFAULTS
+    for path in sorted(CONFIG.glob('*.yaml')):
+        values = {**cs_node.DEFAULTS, **_yaml_parameters(path)}
+        assert set(values) == set(cs_node.DEFAULTS), path.name  # no unknown keys
+        cs_node.build_model(values)  # valid
+
+
+def test_every_config_file_loads_with_params_file(client, ros_env, workdir):
+    files = sorted(CONFIG.glob('*.yaml'))
+    assert len(files) >= 8
+    processes = {}
+    try:
+        for path in files:
+            name = 'cfg_' + path.stem
+            processes[name] = (path, Process('contact_sim_node', [
+                '--ros-args', '-r', f'__node:={name}', '--params-file', str(path),
+                '-p', 'publish_clock:=false', '-p', 'publish_rate:=10.0'], ros_env, workdir))
+        for name, (path, process) in processes.items():
+            expected = {**_yaml_parameters(path), 'publish_clock': False, 'publish_rate': 10.0}
+            got = client.get_parameters(f'/{name}', list(expected))
+            assert got == expected, path.name
+            assert 'ignoring unknown parameters' not in process.output()
+        # the paper's drop experiment: k = 1e10, lambda = 1e5, m = 66 g
+        paper = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5)
+        (value,) = client.query(['restitution:4.47'], node='/cfg_paper_drop')
+        assert value.double_value == pytest.approx(
+            cs.simulate_impact(paper, 0.066, 4.47).restitution, rel=1e-6)
+    finally:
+        for _, process in processes.values():
+            assert_clean_exit(process)
+
+
+def test_invalid_startup_parameters_exit_with_a_reason(ros_env, workdir):
+    cases = {'contact_law:=bouncy': "contact_law = 'bouncy' is unknown",
+             'sphere_poisson_ratio:=0.7': 'sphere_poisson_ratio',
+             'sphere_material:=unobtainium': "sphere_material = 'unobtainium' is unknown"}
+    processes = {arg: Process('contact_sim_node', ['--ros-args', '-p', arg], ros_env, workdir)
+                 for arg in cases}
+    for arg, process in processes.items():
+        try:
+            code = process.popen.wait(TIMEOUT)
+        except subprocess.TimeoutExpired:
+            process.stop()
+            pytest.fail(f'{arg}: the node kept running')
+        output = process.output()
+        assert code == 2, output
+        assert 'Traceback' not in output and cases[arg] in output, output
