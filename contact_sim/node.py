@@ -10,7 +10,7 @@ comes from the core library (``import contact_sim as cs``). Data flows one way:
 Frames and signs (REP 103, SI units): the plate frame (``frame_id``, default ``plate``) has z up
 and the plate's surface (the top of the lower sphere, for two spheres) at z = 0. The sphere moves
 along that z axis only. Penetration z > 0 means the undeformed bodies overlap; its rate ż > 0 means
-approach. docs/node.md documents every topic, service and parameter.
+approach. README.md documents every topic, service and parameter.
 """
 import argparse
 import math
@@ -470,7 +470,7 @@ def _reliable(depth):
 SAMPLE_QOS = _reliable(10000)  # ~/wrench, ~/contact: a whole bouncing phase fits
 STATE_QOS = _reliable(100)
 IMPACT_QOS = _reliable(1000)
-CLOCK_QOS = _reliable(10)  # also matches rclpy's best-effort /clock subscribers
+CLOCK_QOS = _reliable(100)  # also matches rclpy's best-effort /clock subscribers
 
 
 class StartupError(Exception):
