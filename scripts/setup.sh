@@ -6,7 +6,9 @@
 #   4. a `colcon build --symlink-install` into the venv, so that
 #      ament_index_python.get_package_prefix("contact_sim") resolves to .venv and
 #      .venv/lib/contact_sim/ holds the executables, as `ros2 run` expects,
-#   5. `source .venv/bin/activate` then also sets AMENT_PREFIX_PATH and ROS_LOG_DIR defaults.
+#   5. `source .venv/bin/activate` then also sets AMENT_PREFIX_PATH and puts
+#      .venv/lib/contact_sim (the executables: contact_sim_node, contact_sim_record, contact-sim)
+#      on PATH.
 # Re-running it is safe and quick.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -30,12 +32,14 @@ fi
         --event-handlers console_direct- summary- >/dev/null
 )
 
-marker='# contact_sim: ament prefix'
+marker='# contact_sim: ament prefix (the venv root'
 if ! grep -qF "$marker" .venv/bin/activate; then
     cat >> .venv/bin/activate <<'HOOK'
-# contact_sim: ament prefix (the venv root is where ROS tools look for packages)
+# contact_sim: ament prefix (the venv root is where ROS tools look for packages), and the
+# package's executables, in <prefix>/lib/contact_sim where `ros2 run` looks for them
 AMENT_PREFIX_PATH="$VIRTUAL_ENV${AMENT_PREFIX_PATH:+:$AMENT_PREFIX_PATH}"
-export AMENT_PREFIX_PATH
+PATH="$VIRTUAL_ENV/lib/contact_sim:$PATH"
+export AMENT_PREFIX_PATH PATH
 HOOK
 fi
 echo "contact_sim is set up: source .venv/bin/activate"

@@ -46,3 +46,13 @@ def test_package_xml_declares_the_runtime_dependencies():
     for dep in ('rclpy', 'std_msgs', 'geometry_msgs', 'python3-numpy', 'python3-scipy'):
         assert f'<exec_depend>{dep}</exec_depend>' in xml
     assert '<build_type>ament_python</build_type>' in xml
+
+
+def test_activating_the_venv_puts_the_executables_on_path():
+    # The README's first command ends with a bare `contact_sim_node`.
+    venv = ROOT / '.venv'
+    script = f'source "{venv}/bin/activate" && command -v ' + ' && command -v '.join(EXECUTABLES)
+    out = subprocess.run(['bash', '-c', script], capture_output=True, text=True, check=True,
+                         env={k: v for k, v in os.environ.items() if k != 'VIRTUAL_ENV'})
+    found = out.stdout.split()
+    assert found == [str(venv / 'lib' / 'contact_sim' / exe) for exe in EXECUTABLES]
