@@ -15,12 +15,12 @@ engine serves a batch run (``simulate_drop``) and a real-time loop.  Units: SI; 
 penetration, ż > 0 is downward motion (approach), height above the plate is -z.
 """
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq
 
-from .phase import PhaseIntegrator, energy_above_rest, lift_off_energy, static_penetration
+from .phase import PhaseIntegrator, lift_off_energy
 from .validation import require_nonnegative, require_positive, require_real
 
 DROP_RTOL = 1e-10
@@ -112,24 +112,42 @@ class _Rest:
     rate: float
     decay: float      # a = c / 2m
     natural_sq: float  # ω₀² = k' / m
-    contact: object = field(repr=False)
 
     def state(self, t):
         dt = t - self.start
         a, w0sq = self.decay, self.natural_sq
         disc = w0sq - a * a
-        if disc > 0.0:
+        if disc > 0.0:                      # underdamped
             w = math.sqrt(disc)
-            c, s = math.cos(w * dt), math.sin(w * dt) / w
-        elif disc < 0.0:
-            w = math.sqrt(-disc)
-            c, s = math.cosh(w * dt), math.sinh(w * dt) / w
-        else:
-            c, s = 1.0, dt
-        e = math.exp(-a * dt)
-        y = e * (self.offset * c + (self.rate + a * self.offset) * s)
-        v = e * (self.rate * c - (a * self.rate + w0sq * self.offset) * s)
+            e = math.exp(-a * dt)
+            ec, es = e * math.cos(w * dt), e * math.sin(w * dt) / w
+        elif disc < 0.0:                    # overdamped: e^(-a t) cosh, sinh without overflow
+            w = math.sqrt(-disc)            # w < a
+            slow, fast = math.exp((w - a) * dt), math.exp(-(w + a) * dt)
+            ec, es = 0.5 * (slow + fast), 0.5 * (slow - fast) / w
+        else:                               # critically damped
+            e = math.exp(-a * dt)
+            ec, es = e, e * dt
+        y = self.offset * ec + (self.rate + a * self.offset) * es
+        v = self.rate * ec - (a * self.rate + w0sq * self.offset) * es
         return self.rest_depth + y, v
+
+
+@dataclass
+class _Contact:
+    """A contact phase in progress: its integrator and what the drop engine knows of it."""
+
+    integrator: PhaseIntegrator
+    floor: float              # below this energy above rest the force can never vanish (J)
+    permanent: bool = False
+    rest: _Rest = None        # set when the oscillation has decayed: the closed form takes over
+
+    @property
+    def finish_time(self):
+        """When the phase ends (lift-off or the switch to rest), or ``None`` if not yet known."""
+        if self.integrator.lifted_off:
+            return self.integrator.end[0]
+        return self.rest.start if self.rest is not None else None
 
 
 def _first_upward_root(func, t_max, samples=64):
@@ -188,13 +206,13 @@ class DropSimulation:
         """Use ``contact`` from the next contact phase on: at once in flight or at rest (a
         resting sphere then settles onto the new contact), after lift-off during a bounce."""
         mode = self._mode
-        if isinstance(mode, _Flight):
+        if isinstance(mode, (_Flight, _Rest)):
+            z, zdot = self._state_at(self.time)
             self.contact = contact
-            self._enter_free_motion(mode.start, mode.penetration, mode.rate)
-        elif isinstance(mode, _Rest):
-            z, zdot = mode.state(self.time)
-            self.contact = contact
-            self._begin_contact(self.time, z, zdot)
+            if isinstance(mode, _Rest):
+                self._begin_contact(self.time, z, zdot)
+            else:   # the new contact may push at once (after a lift-off at z > 0)
+                self._enter_free_motion(self.time, z, zdot)
         else:
             self._pending_contact = contact
 
@@ -206,15 +224,20 @@ class DropSimulation:
 
     @property
     def in_contact(self):
-        return isinstance(self._mode, (PhaseIntegrator, _Rest))
+        return isinstance(self._mode, (_Contact, _Rest))
 
-    def advance(self, t_end):
-        """Advance to ``t_end`` (s); return the contact points passed and the impacts completed."""
+    def advance(self, t_end, max_steps=None):
+        """Advance to ``t_end`` (s); return the contact points passed and the impacts completed.
+
+        With ``max_steps``, stop early once that many integrator steps have been taken in this
+        call (then ``time < t_end``; call again to go on): a bound on the work of one call.
+        """
         t_end = require_real('t_end', t_end)
         if t_end < self.time:
             raise ValueError(f't_end = {t_end!r} is out of range: allowed t_end >= {self.time!r}')
-        points, impacts, apexes = [], [], []
+        points = []
         n_impacts, n_apex = len(self.impacts), len(self.apex_heights)
+        budget = math.inf if max_steps is None else max_steps
         while True:
             mode = self._mode
             if isinstance(mode, _Flight):
@@ -222,17 +245,23 @@ class DropSimulation:
                     break
                 z, zdot = mode.state(mode.contact_time, self.gravity)
                 self._begin_contact(mode.contact_time, max(z, 0.0), zdot)
-            elif isinstance(mode, PhaseIntegrator):
-                points.extend(self._take_points(mode, t_end))
-                if mode.lifted_off or getattr(mode, 'rest', None) is not None:
-                    finish = mode.end[0] if mode.lifted_off else mode.rest.start
+            elif isinstance(mode, _Contact):
+                phase = mode.integrator
+                points.extend(self._take_points(phase, t_end))
+                finish = mode.finish_time
+                if finish is not None:
                     if finish > t_end:
                         break
                     self._finish_contact(mode)
                     continue
-                if mode.time >= t_end:
+                if phase.time >= t_end:
                     break
-                mode.step()
+                if budget <= 0:
+                    t_end = phase.time          # out of budget: stop where the integrator is
+                    points.extend(self._take_points(phase, t_end))
+                    break
+                phase.step()
+                budget -= 1
                 self._check_rest(mode)
             else:
                 break
@@ -246,7 +275,7 @@ class DropSimulation:
     @property
     def total_steps(self):
         """Integrator steps so far, the current contact phase included."""
-        extra = self._mode.steps if isinstance(self._mode, PhaseIntegrator) else 0
+        extra = self._mode.integrator.steps if isinstance(self._mode, _Contact) else 0
         return self.steps + extra
 
     # -- phases ---------------------------------------------------------------------------
@@ -256,9 +285,12 @@ class DropSimulation:
             return mode.state(t, self.gravity)
         if isinstance(mode, _Rest):
             return mode.state(t)
-        if t == mode.start_time:
-            return mode.points[0][1], mode.points[0][2]
-        return mode.state_at(t)
+        phase = mode.integrator
+        if t == phase.start_time:
+            return phase.points[0][1], phase.points[0][2]
+        if t == phase.time:
+            return phase.state
+        return phase.state_at(t)
 
     def _take_points(self, phase, t_end):
         out = []
@@ -273,33 +305,34 @@ class DropSimulation:
             self.contact, self._pending_contact = self._pending_contact, None
         phase = PhaseIntegrator(self.contact, self.mass, self.gravity, t, z, zdot,
                                 rtol=self.rtol, atol=self.rtol * 1e-2)
-        phase.rest = None
-        phase.permanent = False
-        phase.floor = (lift_off_energy(self.contact, self.mass, self.gravity)
-                       if self.gravity > 0.0 else -math.inf)
-        self._mode = phase
+        floor = (lift_off_energy(self.contact, self.mass, self.gravity)
+                 if self.gravity > 0.0 else -math.inf)
+        self._mode = _Contact(phase, floor)
         self._emitted = 0
 
-    def _check_rest(self, phase):
+    def _check_rest(self, mode):
         """Mark permanent contact, and the switch to the closed-form rest solution."""
+        phase = mode.integrator
         if self.gravity <= 0.0 or phase.lifted_off:
             return
         energy = phase.energy_above_rest()
-        if not phase.permanent and energy < phase.floor:
-            phase.permanent = True
+        if not mode.permanent and energy < mode.floor:
+            mode.permanent = True
+            self.permanent_contact_time = phase.start_time
         law = self.contact.law
-        if not phase.permanent or law.q != 1.0:
-            return
-        z0 = static_penetration(self.contact, self.mass, self.gravity)
+        if not mode.permanent or law.q != 1.0:
+            return   # (q != 1 has no linear damping at rest: it is integrated all the way)
+        z0 = self.contact.static_penetration(self.mass * self.gravity)
         k_lin = law.n * self.contact.stiffness * z0 ** (law.n - 1.0)   # dF/dz at z0
         amplitude = math.sqrt(2.0 * max(energy, 0.0) / k_lin)
         if amplitude < self.settle_tolerance * z0:
             z, zdot = phase.state
             c_lin = self.contact.damping * z0 ** law.p                    # dF/dż at z0
-            phase.rest = _Rest(phase.time, z0, z - z0, zdot, c_lin / (2.0 * self.mass),
-                               k_lin / self.mass, self.contact)
+            mode.rest = _Rest(phase.time, z0, z - z0, zdot, c_lin / (2.0 * self.mass),
+                              k_lin / self.mass)
 
-    def _finish_contact(self, phase):
+    def _finish_contact(self, mode):
+        phase = mode.integrator
         self.steps += phase.steps
         impact_time, _, impact_rate, _ = phase.points[0]
         impact_speed = max(impact_rate, 0.0)
@@ -317,8 +350,8 @@ class DropSimulation:
             self.impacts.append(ImpactRecord(impact_time, impact_speed, 0.0, 0.0, math.inf,
                                              phase.peak_force, phase.max_penetration))
             self.permanent_contact_time = impact_time
-            self.settle_time = phase.rest.start
-            self._mode = phase.rest
+            self.settle_time = mode.rest.start
+            self._mode = mode.rest
 
     def _enter_free_motion(self, t, z, zdot, after_lift_off=False):
         """Start a flight at (t, z, ż), or a contact at once if the force is already on."""

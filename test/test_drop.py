@@ -186,3 +186,48 @@ def test_a_resting_sphere_settles_onto_a_new_contact():
     sim.advance(4.0)
     assert sim.state.penetration == pytest.approx((M * G / 1e8) ** (2 / 3), rel=1e-6)
     assert len(sim.impacts) == n_impacts + 1 and sim.impacts[-1].permanent
+
+
+def test_set_contact_during_a_flight_never_goes_back_in_time():
+    soft = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5)
+    sim = cs.DropSimulation(soft, M, H, gravity=G)
+    sim.advance(0.7)                                    # in flight after the first bounce
+    assert not sim.in_contact
+    sim.set_contact(cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 5e5))
+    adv = sim.advance(2.0)
+    assert np.all(adv.samples.time >= 0.7)
+    assert all(imp.time > 0.7 for imp in adv.impacts) and len(adv.impacts) >= 1
+    assert all(imp.impact_speed > 0.5 for imp in adv.impacts[:1])
+
+
+def test_step_budget_stops_early_and_resumes_to_the_same_motion(paper):
+    contact, result = paper
+    sim = cs.DropSimulation(contact, M, H, gravity=G)
+    calls = 0
+    while sim.time < 5.0:
+        sim.advance(5.0, max_steps=50)
+        calls += 1
+    assert calls > result.steps // 50
+    assert tuple(sim.impacts) == result.impacts and sim.total_steps == result.steps
+
+
+@pytest.mark.parametrize('damping_factor', [1e8, 1e10])
+def test_heavy_damping_is_integrated_as_a_stiff_problem_and_rests(damping_factor):
+    contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron', 0.0127,
+                                        damping_factor=damping_factor)
+    result = cs.simulate_drop(contact, 0.0674, 1.0, gravity=9.81, duration=10.0)
+    assert result.steps < 5000 and math.isfinite(result.settle_time)
+    assert result.impacts[-1].permanent
+
+
+def test_overdamped_rest_stays_finite_for_ever():
+    # steel on cork: the linearised rest oscillator is overdamped
+    contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cork', 0.0165,
+                                        damping_factor=8.87e5)
+    sim = cs.DropSimulation(contact, 0.1, 0.1, gravity=9.81)
+    sim.advance(1.0)
+    assert math.isfinite(sim.settle_time)
+    for t in (2.0, 10.0, 1e6):
+        sim.advance(t)
+        assert sim.state.penetration == pytest.approx(contact.static_penetration(0.1 * 9.81),
+                                                      rel=1e-9)
