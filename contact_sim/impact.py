@@ -48,6 +48,6 @@ def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_st
             return ImpactResult(0.0, 0.0, math.inf, phase.peak_force, phase.max_penetration,
                                 phase.steps, 1, 'came to rest in permanent contact (no bounce)')
     t_end, _, zdot_end = phase.end
-    rebound = max(-zdot_end, 0.0)
+    rebound = min(max(-zdot_end, 0.0), speed)   # the contact only dissipates: e <= 1
     return ImpactResult(rebound / speed, rebound, t_end, phase.peak_force, phase.max_penetration,
                         phase.steps, 0, 'lifted off')

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .validation import require_nonnegative, require_positive
+from .validation import require_positive, require_range
 
 
 @dataclass(frozen=True)
@@ -27,7 +27,8 @@ class ContactLaw:
         if not isinstance(self.name, str) or not self.name:
             raise ValueError(f'name = {self.name!r} is invalid: allowed a non-empty string')
         object.__setattr__(self, 'n', require_positive('n', self.n))
-        object.__setattr__(self, 'p', require_nonnegative('p', self.p))
+        # p <= n keeps the force divided by z^p finite at touch (it is the lift-off test)
+        object.__setattr__(self, 'p', require_range('p', self.p, 0.0, self.n))
         object.__setattr__(self, 'q', require_positive('q', self.q))
 
     def reduced_force(self, z, zdot, k, damping):

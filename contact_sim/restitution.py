@@ -35,6 +35,7 @@ from .impact import simulate_impact
 from .validation import require_positive
 
 QUANTITIES = ('restitution', 'duration', 'peak_force', 'max_penetration')
+ZETA_MAX = 1e8   # beyond this damping group (e < 1e-10) the exact integration is not attempted
 TABLE_FILE = 'master_curves.npz'
 
 
@@ -233,23 +234,26 @@ def dimensionless(quantity, law, zeta):
     out = np.full(zeta.shape, np.nan)
     todo = np.ones(zeta.shape, dtype=bool)
     positive = zeta > 0.0
+    if quantity == 'restitution':      # no damping: perfectly elastic, exactly
+        out = np.where(positive, out, 1.0)
+        todo = positive
     if key == (1.5, 1.5, 1.0) and quantity == 'restitution':
         out = np.where(positive, hunt_crossley_restitution(np.where(positive, zeta, 1.0)), out)
-        todo = ~positive
+        todo &= ~positive
     elif key == (1.0, 0.0, 1.0) and quantity in ('restitution', 'duration'):
         e, tau = linear_restitution_and_duration(np.where(positive, zeta, 1.0))
         out = np.where(positive, e if quantity == 'restitution' else tau, out)
-        todo = ~positive
+        todo &= ~positive
     else:
         curve = master_curve(law)
         if curve is not None:
             value, inside = curve.evaluate(quantity, np.where(positive, zeta, 1.0))
             inside &= positive
             out = np.where(inside, value, out)
-            todo = ~inside
+            todo &= ~inside
     for z in np.unique(zeta[todo]):
         out[todo & (zeta == z)] = _exact_dimensionless(law, z)[quantity]
-    return out
+    return np.minimum(out, 1.0) if quantity == 'restitution' else out
 
 
 def _dimensional(quantity, contact, mass, speeds):
@@ -261,8 +265,16 @@ def _dimensional(quantity, contact, mass, speeds):
         bad = float(v[~(np.isfinite(v) & (v > 0.0))].flat[0])
         raise ValueError(f'speed = {bad!r} is out of range: allowed 0 < speed < inf (m/s)')
     k, lam = contact.stiffness, contact.damping
-    zeta = damping_group(law, k, mass, v, lam)
-    length, time = impact_scales(law, k, mass, v)
+    with np.errstate(all='ignore'):
+        zeta = damping_group(law, k, mass, v, lam)
+        length, time = impact_scales(law, k, mass, v)
+    ok = (zeta <= ZETA_MAX) & (length > 0.0) & np.isfinite(length) & (time > 0.0) \
+        & np.isfinite(time)
+    if not np.all(ok):
+        bad = float(np.broadcast_to(v, ok.shape)[~ok].flat[0])
+        raise ValueError(f'speed = {bad!r} is out of range for mass = {mass!r} kg and this '
+                         f'contact: allowed speeds whose impact scales Z, T are finite and whose '
+                         f'damping group is at most zeta = {ZETA_MAX:g}')
     value = dimensionless(quantity, law, zeta)
     scale = {'restitution': 1.0, 'duration': time, 'peak_force': k * length ** law.n,
              'max_penetration': length}[quantity]
@@ -275,6 +287,8 @@ def _scalar_restitution(contact, mass, speed):
     law = contact.law
     length = (mass * speed * speed / contact.stiffness) ** (1.0 / (law.n + 1.0))
     zeta = contact.damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
+    if not (zeta <= ZETA_MAX and 0.0 < length < math.inf):
+        return _dimensional('restitution', contact, mass, speed)   # raises, naming the speed
     key = _law_key(law)
     if zeta > 0.0 and key == (1.5, 1.5, 1.0):
         return hunt_crossley_restitution_scalar(zeta)
@@ -285,7 +299,7 @@ def _scalar_restitution(contact, mass, speed):
         if curve is not None:
             value = curve.evaluate_scalar('restitution', zeta)
             if value is not None:
-                return value
+                return min(value, 1.0)
     return float(dimensionless('restitution', law, np.array(zeta)))
 
 
@@ -296,7 +310,8 @@ def restitution(contact, mass, speeds):
     array of the same shape.  Agrees with ``simulate_impact`` to 1e-8 or better.
     """
     if isinstance(speeds, (int, float)) and not isinstance(speeds, bool) \
-            and math.isfinite(speeds) and speeds > 0.0 and mass > 0.0:
+            and math.isfinite(speeds) and speeds > 0.0 \
+            and isinstance(mass, (int, float)) and 0.0 < mass < math.inf:
         return _scalar_restitution(contact, float(mass), float(speeds))
     return _dimensional('restitution', contact, mass, speeds)
 
