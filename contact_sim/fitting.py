@@ -11,7 +11,7 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from .contact import Contact
-from .laws import LAWS, get_law
+from .laws import LAWS, ContactLaw, get_law
 from .restitution import damping_from_group, dimensionless, master_curve, restitution
 from .validation import require_positive, require_range
 
@@ -52,7 +52,7 @@ class DampingFit:
     data gives nearly constant values (their spread, ``pointwise_spread``, is max/min).
     """
 
-    law: str
+    law: ContactLaw
     stiffness: float
     damping: float
     rms_residual: float
@@ -66,7 +66,7 @@ class DampingFit:
         return float(np.max(self.pointwise_damping) / np.min(self.pointwise_damping))
 
     def contact(self):
-        return Contact(get_law(self.law), self.stiffness, self.damping)
+        return Contact(self.law, self.stiffness, self.damping)
 
 
 def _check_data(speeds, restitutions):
@@ -89,8 +89,8 @@ def _check_data(speeds, restitutions):
 def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95):
     """Fit λ to measured (speed, restitution) points by least squares in e; see ``DampingFit``.
 
-    The confidence interval is the linearised one: λ ± t σ / |J|, with J = ∂e/∂λ at the optimum
-    and σ² the residual variance (N - 1 degrees of freedom; zero width for a single point).
+    The confidence interval is linearised in ln λ: λ exp(± t σ / |J|), with J = ∂e/∂ln λ at the
+    optimum and σ² the residual variance (N - 1 degrees of freedom; zero width for one point).
     """
     law = get_law(law)
     stiffness = require_positive('stiffness', stiffness)
@@ -116,8 +116,9 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95):
         lam = math.exp(best.x)
     residuals = model(lam) - e
     rms = float(np.sqrt(np.mean(residuals ** 2)))
-    h = 1e-6 * lam
-    jac = (model(lam + h) - model(lam - h)) / (2 * h)
+    # linearised in ln λ, so the interval stays positive: ln λ ± t σ / |∂e/∂ln λ|
+    h = 1e-6
+    jac = (model(lam * math.exp(h)) - model(lam * math.exp(-h))) / (2 * h)
     dof = v.size - 1
     if dof > 0 and np.any(jac != 0.0):
         from scipy.stats import t as student_t  # slow to import: only when needed
@@ -125,8 +126,8 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95):
         half = float(student_t.ppf(0.5 + confidence / 2, dof) * sigma / np.sqrt(np.sum(jac ** 2)))
     else:
         half = 0.0
-    return DampingFit(law.name, stiffness, lam, rms, residuals, pointwise,
-                      (lam - half, lam + half), confidence)
+    return DampingFit(law, stiffness, lam, rms, residuals, pointwise,
+                      (lam * math.exp(-half), lam * math.exp(half)), confidence)
 
 
 def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.95):

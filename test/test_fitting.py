@@ -57,9 +57,9 @@ def test_compare_laws_ranks_the_generating_law_first():
     data = cs.restitution(cs.Contact(cs.AZAD_FEATHERSTONE, K, 7.5e4), M, speeds)
     fits = cs.compare_laws({'azad_featherstone': K, 'hunt_crossley': K, 'lee_wang': K,
                             'linear': 1e7}, M, speeds, data)
-    assert [f.law for f in fits][0] == 'azad_featherstone'
+    assert [f.law.name for f in fits][0] == 'azad_featherstone'
     assert fits[0].rms_residual < 1e-9 < fits[1].rms_residual
-    hc = next(f for f in fits if f.law == 'hunt_crossley')
+    hc = next(f for f in fits if f.law.name == 'hunt_crossley')
     assert hc.pointwise_spread > 5.0        # Hunt-Crossley needs a very different λ per point
     assert len(fits) == 4
 
@@ -74,3 +74,19 @@ def test_compare_laws_ranks_the_generating_law_first():
 def test_fit_rejects_bad_data_naming_the_point(speeds, restitutions, pattern):
     with pytest.raises(ValueError, match=pattern):
         cs.fit_damping('azad_featherstone', K, M, speeds, restitutions)
+
+
+def test_fit_of_a_custom_law_gives_back_its_contact():
+    law = cs.ContactLaw('q2', 1.5, 0.5, 2.0)
+    speeds = np.array([0.2, 0.5, 1.0])
+    data = np.array([cs.simulate_impact(cs.Contact(law, K, 3e4), M, v).restitution for v in speeds])
+    fit = cs.fit_damping(law, K, M, speeds, data)
+    assert fit.contact() == cs.Contact(law, K, fit.damping)
+    assert fit.damping == pytest.approx(3e4, rel=1e-6)
+
+
+def test_confidence_interval_stays_positive_for_scattered_data():
+    speeds = np.geomspace(0.05, 5.0, 6)
+    data = np.array([0.9, 0.3, 0.85, 0.2, 0.8, 0.25])
+    lo, hi = cs.fit_damping('azad_featherstone', K, M, speeds, data).confidence_interval
+    assert 0 < lo < hi
