@@ -218,6 +218,7 @@ def _material(values, body):
 
 
 def _contact(values, sphere, plate, radius, plate_radius):
+    """The Contact: Hertz k and λ = λ* √R (eqs. 5, 6, 9, 10), unless overridden."""
     try:
         law = cs.get_law(values['contact_law'])
     except ValueError as error:
@@ -225,23 +226,19 @@ def _contact(values, sphere, plate, radius, plate_radius):
     damping_factor = require_nonnegative('damping_factor', values['damping_factor'])
     stiffness = require_nonnegative('stiffness', values['stiffness'])
     damping = require_nonnegative('damping', values['damping'])
+    if law.n != 1.5 and stiffness == 0.0:
+        raise ValueError(f'contact_law = {law.name!r} has n = {law.n:g}: Hertz stiffness needs '
+                         'n = 1.5; set stiffness > 0 (N/m^n) to give k directly')
     try:
-        r = cs.equivalent_radius(radius, plate_radius)
+        # with a stiffness override any law goes: Hertz is then used for λ = λ* √R only
+        hertz = cs.Contact.from_materials(law if law.n == 1.5 else cs.AZAD_FEATHERSTONE, sphere,
+                                          plate, radius, plate_radius, damping_factor)
     except ValueError as error:
         raise _renamed(error, radius='sphere_radius') from None
-    if stiffness == 0.0:
-        try:
-            stiffness = cs.Contact.from_materials(law, sphere, plate, radius, plate_radius,
-                                                  damping_factor).stiffness
-        except ValueError as error:
-            raise ValueError(f'{_renamed(error, law="contact_law")}; or set stiffness > 0 '
-                             '(N/m^n) to give k directly') from None
-    if damping == 0.0:
-        damping = damping_factor * math.sqrt(r)
-    return cs.Contact(law, stiffness, damping)
+    return cs.Contact(law, stiffness or hertz.stiffness, damping or hertz.damping)
 
 
-def build_model(values):
+def _build_model(values):
     """Validate parameter values (a dict name -> value) and build the Model.
 
     Raises ValueError naming the parameter, its value and the allowed range (the core library's
@@ -270,6 +267,22 @@ def build_model(values):
         sphere=sphere, plate=plate, plate_radius=plate_radius)
     make_simulation(model)  # the engine's own checks, e.g. on mass, height and gravity
     return model
+
+
+def build_model(values):
+    """``_build_model``, with arithmetic overflow from extreme values turned into a ValueError."""
+    try:
+        return _build_model(values)
+    except ArithmeticError as error:
+        def departure(name):   # orders of magnitude away from the default
+            value, default = values[name], DEFAULTS[name]
+            if isinstance(value, bool) or not isinstance(value, float) or not value > 0.0 \
+                    or not isinstance(default, float) or not 0.0 < default < INF:
+                return -1.0
+            return abs(math.log10(value / default))
+        name = max(DEFAULTS, key=departure)
+        raise ValueError(f'{name} = {values[name]!r} overflows the model ({error}): allowed '
+                         f'physically sensible magnitudes') from None
 
 
 def make_simulation(model):
@@ -473,6 +486,9 @@ IMPACT_QOS = _reliable(1000)
 CLOCK_QOS = _reliable(100)  # also matches rclpy's best-effort /clock subscribers
 
 
+TICK_STEP_BUDGET = 5000  # integrator steps per tick at most, so services and Ctrl-C stay live
+
+
 class StartupError(Exception):
     """The initial parameters are invalid: the node cannot start."""
 
@@ -584,11 +600,15 @@ class ContactSimNode(Node):
         if not target > self._sim.time:
             return
         try:
-            advance = self._sim.advance(target)
+            advance = self._sim.advance(target, max_steps=TICK_STEP_BUDGET)
         except Exception as error:  # keep the node alive and the last good state
             self.get_logger().error(f'simulation step to t = {target:.9f} s failed: {error}',
                                     throttle_duration_sec=5.0)
             return
+        if self._sim.time < target:  # the budget ran out: go on at the next tick
+            self.get_logger().warning(
+                f'simulation is behind its target time ({self._sim.time:.6f} s < {target:.6f} s)'
+                f': more than {TICK_STEP_BUDGET} integrator steps per tick', throttle_duration_sec=5.0)
         self._publish(advance)
 
     def _publish(self, advance):

@@ -648,3 +648,16 @@ def test_invalid_startup_parameters_exit_with_a_reason(ros_env, workdir):
         output = process.output()
         assert code == 2, output
         assert 'Traceback' not in output and cases[arg] in output, output
+
+
+@pytest.mark.parametrize('path', sorted(CONFIG.glob('*.yaml')), ids=lambda p: p.stem)
+def test_every_preset_simulates_to_rest_without_error(path):
+    model = cs_node.build_model({**cs_node.DEFAULTS, **_yaml_parameters(path)})
+    sim = cs_node.make_simulation(model)
+    for t in np.arange(0.5, 10.01, 0.5):
+        while sim.time < t:
+            sim.advance(t, max_steps=20000)
+        state = sim.state
+        assert all(math.isfinite(v) for v in (state.penetration, state.penetration_rate,
+                                              state.force))
+    assert math.isfinite(sim.settle_time), path.name
