@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Sec. II-C of Azad & Featherstone (2014): a 66 g sphere dropped from 1 m onto a plate,
-g = 10 m/s², k = 1e10 N/m^1.5, λ = 1e5 N·s/m², the new law (eq. 11), simulated for 5 s.
+g = 10 m/s², k = 1e10 N/m^1.5, λ = 1e5 N·s/m^1.5, the new law (eq. 11), simulated for 5 s.
 
 The paper (Simulink ode23t, rtol 1e-5) reports: bounce apex heights fall below 1 mm after
 2.4 s; 26 microscopic bounces follow before permanent contact; the resonant frequency at rest
