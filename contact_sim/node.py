@@ -73,6 +73,7 @@ def _custom(body, field, default, description, rng, constraint):
 
 _LAWS = ', '.join(sorted(cs.LAWS))
 _MATERIALS = ', '.join(sorted(cs.MATERIALS))
+_STEEL, _IRON = cs.MATERIALS['steel'], cs.MATERIALS['cast_iron']   # the default pair
 _CONTACT_NOTE = 'takes effect from the next contact phase'
 _RESET_NOTE = 'takes effect at the next ~/reset'
 
@@ -84,11 +85,14 @@ PARAMETERS = (
          f'Material of the falling sphere: a library name or custom; elastic constants '
          f'{_CONTACT_NOTE}, a density-derived mass at the next ~/reset',
          constraints=f'one of: {_MATERIALS}, custom'),
-    _custom('sphere', 'youngs_modulus', 207e9, "Young's modulus E [Pa]", (0.0, INF),
+    _custom('sphere', 'youngs_modulus', _STEEL.youngs_modulus, "Young's modulus E [Pa]",
+            (0.0, INF),
             '0 < sphere_youngs_modulus'),
-    _custom('sphere', 'poisson_ratio', 0.30, 'Poisson ratio nu [-]', (-1.0, 0.5),
+    _custom('sphere', 'poisson_ratio', _STEEL.poisson_ratio, 'Poisson ratio nu [-]',
+            (-1.0, 0.5),
             '-1 < sphere_poisson_ratio < 0.5'),
-    _custom('sphere', 'density', 7850.0, 'Density rho [kg/m^3]', (0.0, INF), '0 < sphere_density'),
+    _custom('sphere', 'density', _STEEL.density, 'Density rho [kg/m^3]', (0.0, INF),
+            '0 < sphere_density'),
     Spec('sphere_radius', 0.0127,
          f'Sphere radius R1 [m]; the Hertz stiffness {_CONTACT_NOTE}, a density-derived mass at '
          'the next ~/reset', (0.0, INF), constraints='0 < sphere_radius < inf'),
@@ -98,11 +102,13 @@ PARAMETERS = (
     Spec('plate_material', 'cast_iron',
          f'Material of the plate (or of the lower sphere); {_CONTACT_NOTE}',
          constraints=f'one of: {_MATERIALS}, custom'),
-    _custom('plate', 'youngs_modulus', 100e9, "Young's modulus E [Pa]", (0.0, INF),
+    _custom('plate', 'youngs_modulus', _IRON.youngs_modulus, "Young's modulus E [Pa]",
+            (0.0, INF),
             '0 < plate_youngs_modulus'),
-    _custom('plate', 'poisson_ratio', 0.26, 'Poisson ratio nu [-]', (-1.0, 0.5),
+    _custom('plate', 'poisson_ratio', _IRON.poisson_ratio, 'Poisson ratio nu [-]',
+            (-1.0, 0.5),
             '-1 < plate_poisson_ratio < 0.5'),
-    _custom('plate', 'density', 7300.0,
+    _custom('plate', 'density', _IRON.density,
             'Density rho [kg/m^3] (the plate is immovable: its mass never enters)', (0.0, INF),
             '0 < plate_density'),
     Spec('plate_radius', INF,
@@ -608,7 +614,8 @@ class ContactSimNode(Node):
         if self._sim.time < target:  # the budget ran out: go on at the next tick
             self.get_logger().warning(
                 f'simulation is behind its target time ({self._sim.time:.6f} s < {target:.6f} s)'
-                f': more than {TICK_STEP_BUDGET} integrator steps per tick', throttle_duration_sec=5.0)
+                f': more than {TICK_STEP_BUDGET} integrator steps per tick',
+                throttle_duration_sec=5.0)
         self._publish(advance)
 
     def _publish(self, advance):

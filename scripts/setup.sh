@@ -32,9 +32,10 @@ fi
         --event-handlers console_direct- summary- >/dev/null
 )
 
-marker='# contact_sim: ament prefix (the venv root'
+marker='# contact_sim activation hook v2'
 if ! grep -qF "$marker" .venv/bin/activate; then
     cat >> .venv/bin/activate <<'HOOK'
+# contact_sim activation hook v2
 # contact_sim: ament prefix (the venv root is where ROS tools look for packages), and the
 # package's executables, in <prefix>/lib/contact_sim where `ros2 run` looks for them
 AMENT_PREFIX_PATH="$VIRTUAL_ENV${AMENT_PREFIX_PATH:+:$AMENT_PREFIX_PATH}"

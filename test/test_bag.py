@@ -5,8 +5,10 @@ import sys
 
 import pytest
 import yaml
-from rosbags.highlevel import AnyReader
-from rosbags.typesys import Stores, get_typestore
+
+pytest.importorskip('rosbags', reason='the optional recording extra (pip install rosbags)')
+from rosbags.highlevel import AnyReader  # noqa: E402
+from rosbags.typesys import Stores, get_typestore  # noqa: E402
 
 from contact_sim.bag import BagWriter, write_bag
 

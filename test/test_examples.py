@@ -42,8 +42,9 @@ def test_fig3_linear_law_is_flat_and_nonlinear_laws_decrease():
 
 def test_fig4_new_law_is_nearly_linear_in_log_speed_and_hunt_crossley_is_not():
     ex = load('restitution_curves')
-    for (lam_new, e_new), (lam_hc, e_hc) in zip(ex.fig4()['azad_featherstone'],
-                                                ex.fig4()['hunt_crossley']):
+    curves = ex.fig4()
+    for (_, e_new), (_, e_hc) in zip(curves['azad_featherstone'],
+                                     curves['hunt_crossley']):
         dev_new, _ = ex.log_linearity(e_new)
         dev_hc, _ = ex.log_linearity(e_hc)
         assert dev_new < 0.01 and dev_hc > 0.05

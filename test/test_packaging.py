@@ -2,10 +2,8 @@
 import os
 import re
 import subprocess
-import sys
 from pathlib import Path
 
-import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 EXECUTABLES = ['contact-sim', 'contact_sim_node', 'contact_sim_record']
