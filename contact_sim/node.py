@@ -65,10 +65,15 @@ class Spec:
     constraints: str = ''        # the exact rule, as the core library enforces it
 
 
-def _custom(body, field, default, description, rng, constraint):
-    return Spec(f'{body}_{field}', default,
-                f'{description} of the {body} when {body}_material is custom (otherwise checked '
-                'but unused)', rng, constraints=constraint)
+def _custom_material(body, material, density_note=''):
+    """The three constants of a custom material for ``body``, defaulting to ``material``'s."""
+    def spec(field, description, rng, constraint):
+        return Spec(f'{body}_{field}', getattr(material, field),
+                    f'{description} of the {body} when {body}_material is custom (otherwise '
+                    'checked but unused)', rng, constraints=constraint.format(f'{body}_{field}'))
+    return (spec('youngs_modulus', "Young's modulus E [Pa]", (0.0, INF), '0 < {}'),
+            spec('poisson_ratio', 'Poisson ratio nu [-]', (-1.0, 0.5), '-1 < {} < 0.5'),
+            spec('density', 'Density rho [kg/m^3]' + density_note, (0.0, INF), '0 < {}'))
 
 
 _LAWS = ', '.join(sorted(cs.LAWS))
@@ -85,14 +90,7 @@ PARAMETERS = (
          f'Material of the falling sphere: a library name or custom; elastic constants '
          f'{_CONTACT_NOTE}, a density-derived mass at the next ~/reset',
          constraints=f'one of: {_MATERIALS}, custom'),
-    _custom('sphere', 'youngs_modulus', _STEEL.youngs_modulus, "Young's modulus E [Pa]",
-            (0.0, INF),
-            '0 < sphere_youngs_modulus'),
-    _custom('sphere', 'poisson_ratio', _STEEL.poisson_ratio, 'Poisson ratio nu [-]',
-            (-1.0, 0.5),
-            '-1 < sphere_poisson_ratio < 0.5'),
-    _custom('sphere', 'density', _STEEL.density, 'Density rho [kg/m^3]', (0.0, INF),
-            '0 < sphere_density'),
+    *_custom_material('sphere', _STEEL),
     Spec('sphere_radius', 0.0127,
          f'Sphere radius R1 [m]; the Hertz stiffness {_CONTACT_NOTE}, a density-derived mass at '
          'the next ~/reset', (0.0, INF), constraints='0 < sphere_radius < inf'),
@@ -102,15 +100,7 @@ PARAMETERS = (
     Spec('plate_material', 'cast_iron',
          f'Material of the plate (or of the lower sphere); {_CONTACT_NOTE}',
          constraints=f'one of: {_MATERIALS}, custom'),
-    _custom('plate', 'youngs_modulus', _IRON.youngs_modulus, "Young's modulus E [Pa]",
-            (0.0, INF),
-            '0 < plate_youngs_modulus'),
-    _custom('plate', 'poisson_ratio', _IRON.poisson_ratio, 'Poisson ratio nu [-]',
-            (-1.0, 0.5),
-            '-1 < plate_poisson_ratio < 0.5'),
-    _custom('plate', 'density', _IRON.density,
-            'Density rho [kg/m^3] (the plate is immovable: its mass never enters)', (0.0, INF),
-            '0 < plate_density'),
+    *_custom_material('plate', _IRON, ' (the plate is immovable: its mass never enters)'),
     Spec('plate_radius', INF,
          f'Radius R2 of the body struck [m]: .inf = flat plate, finite = a fixed second sphere '
          f'(1/R = 1/R1 + 1/R2, eq. 10); {_CONTACT_NOTE}', (0.0, INF),
