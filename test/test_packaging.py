@@ -2,8 +2,8 @@
 import os
 import re
 import subprocess
+import sys
 from pathlib import Path
-
 
 ROOT = Path(__file__).resolve().parents[1]
 EXECUTABLES = ['contact-sim', 'contact_sim_node', 'contact_sim_record']
@@ -54,3 +54,24 @@ def test_activating_the_venv_puts_the_executables_on_path():
                          env={k: v for k, v in os.environ.items() if k != 'VIRTUAL_ENV'})
     found = out.stdout.split()
     assert found == [str(venv / 'lib' / 'contact_sim' / exe) for exe in EXECUTABLES]
+
+
+def test_the_checkout_builds_with_plain_colcon_in_a_ros_workspace(tmp_path):
+    # What a user with ROS installed does: the package in src/ of a workspace, `colcon build`.
+    src = tmp_path / 'src' / 'contact_sim'
+    files = subprocess.run(['git', 'ls-files'], cwd=ROOT, capture_output=True, text=True,
+                           check=True).stdout.split()
+    for name in files:
+        (src / name).parent.mkdir(parents=True, exist_ok=True)
+        (src / name).write_bytes((ROOT / name).read_bytes())
+    env = {k: v for k, v in os.environ.items()
+           if k not in ('AMENT_PREFIX_PATH', 'COLCON_PREFIX_PATH')}
+    colcon = Path(sys.executable).parent / 'colcon'
+    subprocess.run([str(colcon), 'build', '--event-handlers', 'console_direct-'], cwd=tmp_path,
+                   env=env, check=True, capture_output=True)
+    prefix = tmp_path / 'install' / 'contact_sim'
+    for exe in EXECUTABLES:
+        assert (prefix / 'lib' / 'contact_sim' / exe).is_file()
+    assert (prefix / 'share' / 'ament_index' / 'resource_index' / 'packages' / 'contact_sim').is_file()
+    assert (prefix / 'share' / 'contact_sim' / 'config' / 'default.yaml').is_file()
+    assert list(prefix.glob('lib/python*/site-packages/contact_sim/data/master_curves.npz'))
