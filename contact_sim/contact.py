@@ -31,6 +31,14 @@ class Contact:
         """Equilibrium depth z0 = (W / k)^(1/n) in m under a steady load W (N)."""
         return (require_nonnegative('load', load) / self.stiffness) ** (1.0 / self.law.n)
 
+    def rest_linearisation(self, load):
+        """(z0, k', c') at static equilibrium under ``load`` W (N): the depth z0 (m), and
+        k' = dF/dz = n k z0^(n-1) (N/m) and c' = dF/dż = λ z0^p (N·s/m) for q = 1, so that small
+        motions about z0 obey m ÿ + c' ẏ + k' y = 0."""
+        law = self.law
+        z0 = self.static_penetration(load)
+        return (z0, law.n * self.stiffness * z0 ** (law.n - 1.0), self.damping * z0 ** law.p)
+
     @classmethod
     def from_materials(cls, law, sphere, plate, radius, plate_radius=math.inf,
                        damping_factor=0.0):

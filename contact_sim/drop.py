@@ -322,12 +322,10 @@ class DropSimulation:
         law = self.contact.law
         if not mode.permanent or law.q != 1.0:
             return   # (q != 1 has no linear damping at rest: it is integrated all the way)
-        z0 = self.contact.static_penetration(self.mass * self.gravity)
-        k_lin = law.n * self.contact.stiffness * z0 ** (law.n - 1.0)   # dF/dz at z0
+        z0, k_lin, c_lin = self.contact.rest_linearisation(self.mass * self.gravity)
         amplitude = math.sqrt(2.0 * max(energy, 0.0) / k_lin)
         if amplitude < self.settle_tolerance * z0:
             z, zdot = phase.state
-            c_lin = self.contact.damping * z0 ** law.p                    # dF/dż at z0
             mode.rest = _Rest(phase.time, z0, z - z0, zdot, c_lin / (2.0 * self.mass),
                               k_lin / self.mass)
 

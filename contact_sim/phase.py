@@ -89,7 +89,6 @@ class PhaseIntegrator:
         if penetration <= 0.0 and law.p == 0.0 and penetration_rate > 0.0:
             # a law with p = 0 jumps to λ ż^q at touch: the peak may be that limit z -> 0+
             self.peak_force = max(self.peak_force, contact.damping * penetration_rate ** law.q)
-        self.peak_time = start_time
         self.max_penetration = penetration
         self.end = None  # (t, z, ż) at lift-off
         self.points = [(start_time, penetration, penetration_rate, self.peak_force)]
@@ -200,8 +199,7 @@ class PhaseIntegrator:
         t, z, zdot = self._dimensional(s, y)
         f = self.force_of(z, zdot)
         self.points.append((t, z, zdot, f))
-        if f > self.peak_force:
-            self.peak_force, self.peak_time = f, t
+        self.peak_force = max(self.peak_force, f)
         self.max_penetration = max(self.max_penetration, z)
 
     def energy_above_rest(self):

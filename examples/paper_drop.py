@@ -28,10 +28,7 @@ def rest_frequency(contact, mass, gravity):
     k' = dF/dz = n k z0^(n-1), c' = dF/dż = λ z0^p; undamped f0 = √(k'/m)/2π, damped
     fd = √(k'/m - (c'/2m)²)/2π.  Returns (z0, f0, fd).
     """
-    law = contact.law
-    z0 = (mass * gravity / contact.stiffness) ** (1.0 / law.n)
-    k_lin = law.n * contact.stiffness * z0 ** (law.n - 1.0)
-    c_lin = contact.damping * z0 ** law.p
+    z0, k_lin, c_lin = contact.rest_linearisation(mass * gravity)
     w0_sq = k_lin / mass
     return (z0, math.sqrt(w0_sq) / (2 * math.pi),
             math.sqrt(w0_sq - (c_lin / (2 * mass)) ** 2) / (2 * math.pi))
