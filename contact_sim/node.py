@@ -668,15 +668,15 @@ class ContactSimNode(Node):
         return response
 
 
-def spin_until_signal(node, stop_after=None, progress=None):
+def spin_until_signal(node, stop_after=None, drain=None, drain_timeout=10.0):
     """Spin ``node`` until SIGINT or SIGTERM (or ``stop_after`` wall seconds), then return.
 
     The signals only set a flag, checked between executor turns, so a callback is never cut off
     and the context is shut down after spinning has stopped, not under the executor's feet.
-    With ``progress`` (a callable returning a count of work done), spinning goes on after the
-    stop, without waiting, while there is work ready (at most 5 s; a second signal ends it at
-    once), so what has already arrived is still handled. rclpy must be initialised with
-    ``SignalHandlerOptions.NO``.
+    With ``drain`` (called once at the stop; it returns a predicate that is true when nothing
+    more is needed), spinning goes on after the stop until that predicate holds, for at most
+    ``drain_timeout`` wall seconds; a second signal ends it at once. Returns True unless the
+    drain timed out. rclpy must be initialised with ``SignalHandlerOptions.NO``.
     """
     stop = []
     previous = {sig: signal.signal(sig, lambda *_: stop.append(True))
@@ -684,20 +684,23 @@ def spin_until_signal(node, stop_after=None, progress=None):
     deadline = math.inf if stop_after is None else time.monotonic() + stop_after
     executor = SingleThreadedExecutor(context=node.context)
     executor.add_node(node)
+    drained = True
     try:
         while not stop and node.context.ok() and time.monotonic() < deadline:
             executor.spin_once(timeout_sec=0.1)
-        if progress is not None:  # handle what is already waiting, without blocking
-            limit, idle = time.monotonic() + 5.0, 0
-            while idle < 2 and len(stop) < 2 and node.context.ok() and time.monotonic() < limit:
-                count = progress()
-                executor.spin_once(timeout_sec=0.0)
-                idle = idle + 1 if progress() == count else 0
+        if drain is not None and node.context.ok():
+            done, limit = drain(), time.monotonic() + drain_timeout
+            while not done() and len(stop) < 2 and node.context.ok():
+                if time.monotonic() > limit:
+                    drained = False
+                    break
+                executor.spin_once(timeout_sec=0.05)
     finally:
         executor.remove_node(node)
         executor.shutdown()
         for sig, handler in previous.items():
             signal.signal(sig, handler)
+    return drained
 
 
 def main(args=None):
@@ -753,6 +756,14 @@ def message_time_ns(msg):
     return stamp.sec * 1_000_000_000 + stamp.nanosec
 
 
+def covered_time_ns(msg):
+    """How far in simulated time (ns) a message shows the simulation: its time, or for an
+    impact the end of its contact (its start if the contact is permanent)."""
+    if isinstance(msg, Float64MultiArray) and len(msg.data) >= 5 and math.isfinite(msg.data[4]):
+        return max(0, to_ns(msg.data[0] + msg.data[4]))
+    return message_time_ns(msg)
+
+
 class Recorder(Node):
     """Subscribes to a contact_sim node's topics (and /clock) and writes them to a rosbag2 file.
 
@@ -775,10 +786,14 @@ class Recorder(Node):
                                      partial(self._on_message, topic, type_name(msg_type)), qos,
                                      event_callbacks=events)
         self.topics = [topic for topic, _, _ in topics]
+        self.covered_ns = {}   # topic -> simulated time (ns) its recorded messages reach
+        self.publishers_matched = {}  # topic -> number of matched publishers
+        self.cut_ns = None     # set at the stop: see cut()
         self.get_logger().info(f'recording {", ".join(self.topics)} to {self.bag.path} '
                                f'({storage})')
 
     def _on_matched(self, topic, status):
+        self.publishers_matched[topic] = status.current_count
         if status.current_count_change > 0:
             self.get_logger().info(f'matched {topic}: {status.current_count} publisher(s)')
 
@@ -786,6 +801,40 @@ class Recorder(Node):
         if topic not in self.bag.counts:
             self.get_logger().info(f'receiving {topic}')
         self.bag.write(topic, msgtype, message_time_ns(msg), serialize_message(msg))
+        covered = covered_time_ns(msg)
+        self.covered_ns[topic] = max(self.covered_ns.get(topic, 0), covered)
+        if isinstance(msg, Float64MultiArray) and len(msg.data):
+            self.get_logger().debug(f'recorded the impact at t = {msg.data[0]:.9f} s')
+            if self.cut_ns is not None:  # stopping: its whole contact goes in too
+                self.cut_ns = max(self.cut_ns, covered)
+
+    def cut(self):
+        """At a stop: a predicate that holds once the bag is a consistent cut of the simulation.
+
+        DDS delivers each topic in order but not in step with the others: when the stop comes,
+        one topic can lag seconds behind (a backlog, or a lost sample waiting for its repair).
+        The cut is the latest simulated time any topic has reached, an impact counting up to the
+        end of its contact; it holds once every topic with a matched publisher has reached it
+        too, except the sparse ~/impact. An impact that arrives meanwhile moves the cut on to
+        the end of its contact. So every recorded impact has its whole wrench trace, and every
+        continuous topic reaches the same simulated time.
+        """
+        if not self.covered_ns:
+            return lambda: True
+        self.cut_ns = max(self.covered_ns.values())
+        behind = self.lagging()
+        if behind:
+            self.get_logger().info(f'stopping: waiting for {", ".join(behind)} to reach '
+                                   f't = {self.cut_ns * 1e-9:.9f} s (signal again to stop now)')
+        return lambda: not self.lagging()
+
+    def lagging(self):
+        """The continuous topics with a publisher whose messages do not reach the cut yet."""
+        if self.cut_ns is None:
+            return []
+        return [topic for topic in self.topics if not topic.endswith('/impact')
+                and self.publishers_matched.get(topic, 0) > 0
+                and self.covered_ns.get(topic, -1) < self.cut_ns]
 
     def close(self):
         self.bag.close()
@@ -823,8 +872,10 @@ def record_main(args=None):
     code = 0
     try:
         recorder = Recorder(output, options.storage, options.node, clock=not options.no_clock)
-        spin_until_signal(recorder, stop_after=options.duration,
-                          progress=lambda: sum(recorder.bag.counts.values()))
+        if not spin_until_signal(recorder, stop_after=options.duration, drain=recorder.cut):
+            recorder.get_logger().warning(
+                f'stopped before {", ".join(recorder.lagging())} caught up: the bag ends '
+                f'earlier on those topics')
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except ValueError as error:  # e.g. the output directory exists

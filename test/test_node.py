@@ -537,7 +537,8 @@ def test_real_time_factor_zero_runs_as_fast_as_possible(sim, client):
 def test_recorder_writes_a_bag_that_reads_back(sim, client, ros_env, workdir):
     from rosbags.highlevel import AnyReader
     bag = workdir / 'recorded'
-    recorder = Process('contact_sim_record', ['-o', str(bag)], ros_env, workdir)
+    recorder = Process('contact_sim_record', ['-o', str(bag), '--ros-args', '--log-level',
+                                              'contact_sim_record:=debug'], ros_env, workdir)
     timed = Process('contact_sim_record', ['-o', str(workdir / 'timed'), '-s', 'sqlite3',
                                            '--duration', '4'], ros_env, workdir)
     try:
@@ -551,6 +552,11 @@ def test_recorder_writes_a_bag_that_reads_back(sim, client, ros_env, workdir):
         client.spin_until(lambda: len(impacts_after(client, t0)) >= 3, 'three impacts')
         n = client.count(f'{NODE}/pose')
         client.spin_until(lambda: client.count(f'{NODE}/pose') >= n + 10, 'ten more poses')
+
+        def recorded_impacts():  # the recorder may lag behind this client: wait for it too
+            times = re.findall(r'recorded the impact at t = ([0-9.]+) s', recorder.output())
+            return sum(cs_node.to_ns(float(t)) >= t0 for t in times)
+        client.spin_until(lambda: recorded_impacts() >= 3, 'the recorder to record 3 impacts')
     finally:
         assert_clean_exit(recorder)
     assert (bag / 'metadata.yaml').is_file() and list(bag.glob('*.mcap'))
@@ -588,9 +594,73 @@ def test_recorder_writes_a_bag_that_reads_back(sim, client, ros_env, workdir):
         # (what it got depends on how much of its 4 s discovery took)
         assert {c.topic: c.msgtype for c in reader.connections}.items() <= TYPE_NAMES.items()
         assert all(len(raw) > 0 for _, _, raw in reader.messages())
-    peaks = [m.data[5] for _, m in recorded[f'{NODE}/impact'] if cs_node.to_ns(m.data[0]) >= t0]
-    forces = [m.wrench.force.z for _, m in recorded[f'{NODE}/wrench']]
-    assert max(peaks) == pytest.approx(max(forces), rel=1e-12)
+    # the stop is a consistent cut: every recorded impact has its whole wrench trace, peak
+    # included, and every continuous topic reaches the end of the last recorded contact
+    log = recorder.output()
+    assert 'stopped before' not in log, log
+    wrench = np.array([(ts, m.wrench.force.z) for ts, m in recorded[f'{NODE}/wrench']])
+    impacts = [dict(zip(FIELDS, m.data)) for _, m in recorded[f'{NODE}/impact']
+               if math.isfinite(m.data[4])]  # (not the final, permanent contact)
+    ends = [cs_node.to_ns(i['time'] + i['contact_duration']) for i in impacts]
+    assert sum(cs_node.to_ns(i['time']) >= t0 for i in impacts) >= 3
+    for impact, end in zip(impacts, ends):
+        start = cs_node.to_ns(impact['time'])
+        if start < wrench[0, 0]:
+            continue  # it began before the recorder got its first wrench
+        inside = (wrench[:, 0] >= start) & (wrench[:, 0] <= end + 2)
+        assert inside.any() and wrench[inside, 1].max() == pytest.approx(
+            impact['peak_force'], rel=1e-12), (impact, log)
+    for topic, items in recorded.items():
+        if not topic.endswith('impact'):
+            assert items[-1][0] >= max(ends), (topic, log)
+
+
+def test_recorder_stops_on_a_consistent_cut(tmp_path):
+    """The stop waits until every continuous topic with a publisher reaches the furthest
+    simulated time any topic shows, an impact counting to the end of its contact."""
+    context = rclpy.Context()
+    context.init()
+    recorder = cs_node.Recorder(tmp_path / 'bag', context=context)
+    try:
+        topics = recorder.topics
+        wrench, contact, pose = (f'{NODE}/{name}' for name in ('wrench', 'contact', 'pose'))
+        impact = f'{NODE}/impact'
+        for topic in topics:
+            recorder.publishers_matched[topic] = 1
+        recorder.publishers_matched['/clock'] = 0  # no publisher: never waited for
+        assert recorder.cut()()  # nothing recorded yet: nothing to wait for
+        record = cs.ImpactRecord(time=1.0, impact_speed=1.0, rebound_speed=0.5, restitution=0.5,
+                                 contact_duration=2e-4, peak_force=10.0, max_penetration=1e-6)
+        messages = [(wrench, cs_node.wrench_msg(1_000_000_000, 0.0, 'plate')),
+                    (contact, cs_node.contact_msg(1_000_100_000, 1e-7, 1.0, 5.0, 'plate')),
+                    (impact, cs_node.impact_msg(record, 0.0))]
+        for topic, msg in messages:
+            recorder._on_message(topic, cs_node.type_name(type(msg)), msg)
+        assert recorder.covered_ns[impact] == 1_000_200_000  # the end of the contact
+        done = recorder.cut()
+        assert recorder.cut_ns == 1_000_200_000
+        assert sorted(recorder.lagging()) == sorted(t for t in topics
+                                                    if t not in (impact, '/clock'))
+        assert not done()
+        for topic, msg in [(wrench, cs_node.wrench_msg(1_000_200_000, 0.0, 'plate')),
+                           (contact, cs_node.contact_msg(1_000_300_000, 0.0, 0.0, 0.0, 'plate')),
+                           (pose, cs_node.pose_msg(1_000_300_000, 0.01, 0.0, 'plate'))]:
+            recorder._on_message(topic, cs_node.type_name(type(msg)), msg)
+        assert recorder.lagging() == [f'{NODE}/twist'] and not done()
+        msg = cs_node.twist_msg(1_000_250_000, 0.0, 'plate')
+        recorder._on_message(f'{NODE}/twist', cs_node.type_name(type(msg)), msg)
+        assert done()
+        # an impact that arrives while stopping moves the cut on to the end of its contact
+        later = cs_node.impact_msg(cs.ImpactRecord(1.001, 0.5, 0.25, 0.5, 2e-4, 5.0, 1e-7), 0.0)
+        recorder._on_message(impact, cs_node.type_name(type(later)), later)
+        assert recorder.cut_ns == 1_001_200_000 and not done()
+        permanent = cs_node.impact_msg(
+            cs.ImpactRecord(2.0, 0.1, 0.0, 0.0, math.inf, 1.0, 1e-7), 0.0)
+        assert cs_node.covered_time_ns(permanent) == 2_000_000_000
+    finally:
+        recorder.close()
+        recorder.destroy_node()
+        context.try_shutdown()
 
 
 def _yaml_parameters(path):
