@@ -262,7 +262,38 @@ def _build_model(values):
         frame_id=frame_id, publish_clock=bool(values['publish_clock']),
         sphere=sphere, plate=plate, plate_radius=plate_radius)
     make_simulation(model)  # the engine's own checks, e.g. on mass, height and gravity
+    _require_shallow_contact(model, stiffness_given=values['stiffness'] > 0.0)
     return model
+
+
+def _require_shallow_contact(model, stiffness_given):
+    """Reject a contact so soft that the drop would sink the sphere deeper than its radius.
+
+    Hertz contact (and every law here) assumes z << R. Undamped, the first impact at speed
+    v1 = sqrt(v0² + 2 g h) stops at the depth z where k z^(n+1)/(n+1) = m v1²/2 + m g z, so
+    z <= R holds when k >= (n+1)(m v1²/2 + m g R) / R^(n+1). Damping only makes z smaller, so
+    this bound is sufficient (and independent of λ).
+    """
+    n, radius = model.contact.law.n, model.radius
+    speed_sq = model.velocity ** 2 + 2.0 * model.gravity * model.height
+    energy = 0.5 * model.mass * speed_sq + model.mass * model.gravity * radius
+    minimum = (n + 1.0) * energy / radius ** (n + 1.0)
+    k = model.contact.stiffness
+    if k >= minimum:
+        return
+    field = 'stiffness' if stiffness_given else \
+        'the Hertz stiffness (from the materials\' moduli and Poisson ratios)'
+    allowed = f'allowed stiffness >= {minimum:.4g} N/m^{n:g}'
+    # or, with this k, the highest drop: m v1²/2 <= k R^(n+1)/(n+1) - m g R
+    top_speed_sq = 2.0 * (k * radius ** (n + 1.0) / (n + 1.0)
+                          - model.mass * model.gravity * radius) / model.mass
+    if model.gravity > 0.0 and top_speed_sq > model.velocity ** 2:
+        highest = (top_speed_sq - model.velocity ** 2) / (2.0 * model.gravity)
+        allowed += f' or initial_height <= {highest:.4g} m'
+    raise ValueError(
+        f'{field} = {k:.4g} N/m^{n:g} is too small for this drop: a {model.mass:.4g} kg sphere '
+        f'hitting at {math.sqrt(speed_sq):.4g} m/s would sink more than its radius '
+        f'({radius:g} m) into the plate, where no contact law here applies; {allowed}')
 
 
 def build_model(values):

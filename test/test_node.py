@@ -460,6 +460,7 @@ def test_bad_parameters_are_rejected_with_reasons_and_the_node_goes_on(sim, clie
         (dict(damping_factor=float('inf')), 'damping_factor = inf is not finite'),
         (dict(sphere_radius=0.0), 'sphere_radius = 0.0 is out of range: allowed 0 < sphere_radius'),
         (dict(gravity=-9.81), 'gravity'),
+        (dict(stiffness=5e4), 'allowed stiffness >= 9.2'),  # the sphere would sink below R
         (dict(publish_rate=50.0), 'read-only'),
         (dict(frame_id='world'), 'read-only'),
         (dict(gravity=10), 'type'),
@@ -731,3 +732,34 @@ def test_every_preset_simulates_to_rest_without_error(path):
         assert all(math.isfinite(v) for v in (state.penetration, state.penetration_rate,
                                               state.force))
     assert math.isfinite(sim.settle_time), path.name
+
+
+def test_a_contact_too_soft_for_the_drop_is_rejected_at_the_exact_bound():
+    """k below (n+1)(m v1²/2 + m g R)/R^(n+1) lets the undamped sphere sink deeper than its
+    radius R: such a value is rejected with the bound, and the bound is where the depth is R."""
+    values = {**cs_node.DEFAULTS, 'stiffness': 5e4}
+    with pytest.raises(ValueError) as error:
+        cs_node.build_model(values)
+    match = re.search(r'allowed stiffness >= ([0-9.e+]+) N/m\^1.5 or initial_height <= '
+                      r'([0-9.e+]+) m', str(error.value))
+    assert match and str(error.value).startswith('stiffness = 5e+04'), error.value
+    minimum, highest = float(match.group(1)), float(match.group(2))
+    model = cs_node.build_model({**values, 'stiffness': minimum * 1.001})
+    cs_node.build_model({**values, 'initial_height': highest * 0.999})  # accepted
+    radius = model.radius
+
+    def first_depth(stiffness, height=model.height):
+        undamped = cs.Contact(model.contact.law, stiffness, 0.0)
+        sim = cs.DropSimulation(undamped, model.mass, height, gravity=model.gravity)
+        while not sim.advance(sim.time + 0.1).impacts:
+            pass
+        return sim.impacts[0].max_penetration
+
+    assert first_depth(minimum * 1.01) < radius < first_depth(minimum * 0.99)
+    assert first_depth(5e4, highest * 0.99) < radius < first_depth(5e4, highest * 1.01)
+    # the Hertz stiffness of soft custom materials is checked the same way
+    soft = {**cs_node.DEFAULTS, 'sphere_material': 'custom', 'sphere_youngs_modulus': 1e3}
+    with pytest.raises(ValueError, match='Hertz stiffness .* is too small for this drop'):
+        cs_node.build_model(soft)
+    # no drop (no gravity, no speed), no bound
+    cs_node.build_model({**values, 'stiffness': 1e-300, 'gravity': 0.0, 'initial_velocity': 0.0})
