@@ -706,8 +706,8 @@ def spin_until_signal(node, stop_after=None, drain=None, drain_timeout=10.0):
     and the context is shut down after spinning has stopped, not under the executor's feet.
     With ``drain`` (called once at the stop; it returns a predicate that is true when nothing
     more is needed), spinning goes on after the stop until that predicate holds, for at most
-    ``drain_timeout`` wall seconds; a second signal ends it at once. Returns True unless the
-    drain timed out. rclpy must be initialised with ``SignalHandlerOptions.NO``.
+    ``drain_timeout`` wall seconds; a signal during it (a second one, after a signal) ends it at
+    once. Returns True unless the drain timed out. rclpy must be initialised with ``SignalHandlerOptions.NO``.
     """
     stop = []
     previous = {sig: signal.signal(sig, lambda *_: stop.append(True))
@@ -720,8 +720,8 @@ def spin_until_signal(node, stop_after=None, drain=None, drain_timeout=10.0):
         while not stop and node.context.ok() and time.monotonic() < deadline:
             executor.spin_once(timeout_sec=0.1)
         if drain is not None and node.context.ok():
-            done, limit = drain(), time.monotonic() + drain_timeout
-            while not done() and len(stop) < 2 and node.context.ok():
+            done, limit, signals = drain(), time.monotonic() + drain_timeout, len(stop)
+            while not done() and len(stop) == signals and node.context.ok():
                 if time.monotonic() > limit:
                     drained = False
                     break
@@ -856,7 +856,7 @@ class Recorder(Node):
         behind = self.lagging()
         if behind:
             self.get_logger().info(f'stopping: waiting for {", ".join(behind)} to reach '
-                                   f't = {self.cut_ns * 1e-9:.9f} s (signal again to stop now)')
+                                   f't = {self.cut_ns * 1e-9:.9f} s (Ctrl-C to stop now)')
         return lambda: not self.lagging()
 
     def lagging(self):

@@ -664,6 +664,35 @@ def test_recorder_stops_on_a_consistent_cut(tmp_path):
         context.try_shutdown()
 
 
+def test_the_stop_drain_ends_when_done_on_timeout_or_on_a_signal():
+    context = rclpy.Context()
+    context.init()
+    node = rclpy.create_node('drain_test', context=context)
+    handler = signal.getsignal(signal.SIGINT)
+    try:
+        calls = []
+
+        def done_after_three():
+            calls.append(1)
+            return len(calls) > 3
+        assert cs_node.spin_until_signal(node, stop_after=0.0, drain=lambda: done_after_three)
+        assert len(calls) == 4
+        start = time.monotonic()
+        assert not cs_node.spin_until_signal(node, stop_after=0.0, drain=lambda: lambda: False,
+                                             drain_timeout=0.3)
+        assert time.monotonic() - start >= 0.3
+        # Ctrl-C while draining (here after a --duration stop) ends the wait at once
+        start = time.monotonic()
+        assert cs_node.spin_until_signal(
+            node, stop_after=0.0, drain=lambda: lambda: os.kill(os.getpid(), signal.SIGINT),
+            drain_timeout=30.0)
+        assert time.monotonic() - start < 10.0
+        assert signal.getsignal(signal.SIGINT) is handler  # restored
+    finally:
+        node.destroy_node()
+        context.try_shutdown()
+
+
 def _yaml_parameters(path):
     data = yaml.safe_load(path.read_text())
     (section,) = data.values()
