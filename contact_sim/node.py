@@ -262,36 +262,41 @@ def _build_model(values):
         frame_id=frame_id, publish_clock=bool(values['publish_clock']),
         sphere=sphere, plate=plate, plate_radius=plate_radius)
     make_simulation(model)  # the engine's own checks, e.g. on mass, height and gravity
-    _require_shallow_contact(model, stiffness_given=values['stiffness'] > 0.0)
+    require_shallow_contact(contact, radius, model, stiffness_given=values['stiffness'] > 0.0)
     return model
 
 
-def _require_shallow_contact(model, stiffness_given):
-    """Reject a contact so soft that the drop would sink the sphere deeper than its radius.
+def require_shallow_contact(contact, radius, drop, stiffness_given, running=False):
+    """Reject a contact so soft that a drop would sink the sphere deeper than its radius.
 
-    Hertz contact (and every law here) assumes z << R. Undamped, the first impact at speed
+    ``drop`` has the drop's ``mass`` (kg), ``gravity`` (m/s²), ``height`` (m) and downward
+    ``velocity`` (m/s): a Model, or the running DropSimulation (``running=True``). Hertz contact
+    (and every law here) assumes z << R. Undamped, the first impact at speed
     v1 = sqrt(v0² + 2 g h) stops at the depth z where k z^(n+1)/(n+1) = m v1²/2 + m g z, so
     z <= R holds when k >= (n+1)(m v1²/2 + m g R) / R^(n+1). Damping only makes z smaller, so
-    this bound is sufficient (and independent of λ).
+    this bound is sufficient (and independent of λ). Without gravity a sphere thrown upwards or
+    at rest never lands: nothing to check.
     """
-    n, radius = model.contact.law.n, model.radius
-    speed_sq = model.velocity ** 2 + 2.0 * model.gravity * model.height
-    energy = 0.5 * model.mass * speed_sq + model.mass * model.gravity * radius
-    minimum = (n + 1.0) * energy / radius ** (n + 1.0)
-    k = model.contact.stiffness
+    mass, gravity, height, velocity = drop.mass, drop.gravity, drop.height, drop.velocity
+    if gravity == 0.0 and velocity <= 0.0:
+        return
+    n = contact.law.n
+    speed_sq = velocity ** 2 + 2.0 * gravity * height
+    minimum = (n + 1.0) * (0.5 * mass * speed_sq + mass * gravity * radius) / radius ** (n + 1.0)
+    k = contact.stiffness
     if k >= minimum:
         return
     field = 'stiffness' if stiffness_given else \
         'the Hertz stiffness (from the materials\' moduli and Poisson ratios)'
     allowed = f'allowed stiffness >= {minimum:.4g} N/m^{n:g}'
     # or, with this k, the highest drop: m v1²/2 <= k R^(n+1)/(n+1) - m g R
-    top_speed_sq = 2.0 * (k * radius ** (n + 1.0) / (n + 1.0)
-                          - model.mass * model.gravity * radius) / model.mass
-    if model.gravity > 0.0 and top_speed_sq > model.velocity ** 2:
-        highest = (top_speed_sq - model.velocity ** 2) / (2.0 * model.gravity)
+    top_speed_sq = 2.0 * (k * radius ** (n + 1.0) / (n + 1.0) - mass * gravity * radius) / mass
+    if not running and gravity > 0.0 and top_speed_sq > velocity ** 2:
+        highest = (top_speed_sq - velocity ** 2) / (2.0 * gravity)
         allowed += f' or initial_height <= {highest:.4g} m'
+    which = 'the running drop (until ~/reset)' if running else 'this drop'
     raise ValueError(
-        f'{field} = {k:.4g} N/m^{n:g} is too small for this drop: a {model.mass:.4g} kg sphere '
+        f'{field} = {k:.4g} N/m^{n:g} is too small for {which}: a {mass:.4g} kg sphere '
         f'hitting at {math.sqrt(speed_sq):.4g} m/s would sink more than its radius '
         f'({radius:g} m) into the plate, where no contact law here applies; {allowed}')
 
@@ -573,8 +578,12 @@ class ContactSimNode(Node):
         ours = [p for p in parameters if p.name in DEFAULTS]
         if not ours:
             return SetParametersResult(successful=True)
+        values = self._values(ours)
         try:
-            build_model(self._values(ours))
+            model = build_model(values)
+            # a new contact acts from the next contact phase of the running drop
+            require_shallow_contact(model.contact, model.radius, self._sim,
+                                    values['stiffness'] > 0.0, running=True)
         except Exception as error:  # any failure rejects the change, never the node
             names = ', '.join(p.name for p in ours)
             return SetParametersResult(successful=False, reason=f'rejected {names}: {error}')
@@ -707,7 +716,8 @@ def spin_until_signal(node, stop_after=None, drain=None, drain_timeout=10.0):
     With ``drain`` (called once at the stop; it returns a predicate that is true when nothing
     more is needed), spinning goes on after the stop until that predicate holds, for at most
     ``drain_timeout`` wall seconds; a signal during it (a second one, after a signal) ends it at
-    once. Returns True unless the drain timed out. rclpy must be initialised with ``SignalHandlerOptions.NO``.
+    once. Returns whether the predicate held in the end (True without ``drain``). rclpy must be
+    initialised with ``SignalHandlerOptions.NO``.
     """
     stop = []
     previous = {sig: signal.signal(sig, lambda *_: stop.append(True))
@@ -719,12 +729,10 @@ def spin_until_signal(node, stop_after=None, drain=None, drain_timeout=10.0):
     try:
         while not stop and node.context.ok() and time.monotonic() < deadline:
             executor.spin_once(timeout_sec=0.1)
-        if drain is not None and node.context.ok():
+        if drain is not None:
             done, limit, signals = drain(), time.monotonic() + drain_timeout, len(stop)
-            while not done() and len(stop) == signals and node.context.ok():
-                if time.monotonic() > limit:
-                    drained = False
-                    break
+            while not (drained := done()) and len(stop) == signals and node.context.ok() \
+                    and time.monotonic() < limit:
                 executor.spin_once(timeout_sec=0.05)
     finally:
         executor.remove_node(node)
@@ -775,13 +783,23 @@ def type_name(msg_type):
     return f'{msg_type.__module__.split(".")[0]}/msg/{msg_type.__name__}'
 
 
+_MAX_NS = 2 ** 63 - 1  # a bag timestamp is a signed 64-bit count of ns
+
+
+def _bag_ns(seconds):
+    """Seconds -> ns clamped to [0, 2^63 - 1]; NaN -> 0 (an impact array from any publisher)."""
+    if not seconds > 0.0:
+        return 0
+    return _MAX_NS if seconds * 1e9 >= _MAX_NS else to_ns(seconds)
+
+
 def message_time_ns(msg):
     """The simulated time a message belongs to, in ns: its header stamp, /clock's value, or an
     impact's ``time`` field."""
     if isinstance(msg, ClockMsg):
         stamp = msg.clock
     elif isinstance(msg, Float64MultiArray):
-        return max(0, to_ns(msg.data[0])) if len(msg.data) else 0
+        return _bag_ns(msg.data[0]) if len(msg.data) else 0
     else:
         stamp = msg.header.stamp
     return stamp.sec * 1_000_000_000 + stamp.nanosec
@@ -791,7 +809,7 @@ def covered_time_ns(msg):
     """How far in simulated time (ns) a message shows the simulation: its time, or for an
     impact the end of its contact (its start if the contact is permanent)."""
     if isinstance(msg, Float64MultiArray) and len(msg.data) >= 5 and math.isfinite(msg.data[4]):
-        return max(0, to_ns(msg.data[0] + msg.data[4]))
+        return _bag_ns(msg.data[0] + max(0.0, msg.data[4]))
     return message_time_ns(msg)
 
 
@@ -829,30 +847,36 @@ class Recorder(Node):
             self.get_logger().info(f'matched {topic}: {status.current_count} publisher(s)')
 
     def _on_message(self, topic, msgtype, msg):
+        stamp, covered = message_time_ns(msg), covered_time_ns(msg)
+        impact = isinstance(msg, Float64MultiArray)
+        if impact and self.cut_ns is not None:  # stopping
+            if stamp > self.cut_ns:
+                return  # a contact that began after the stop
+            self.cut_ns = max(self.cut_ns, covered)  # its whole contact goes in
         if topic not in self.bag.counts:
             self.get_logger().info(f'receiving {topic}')
-        self.bag.write(topic, msgtype, message_time_ns(msg), serialize_message(msg))
-        covered = covered_time_ns(msg)
+        self.bag.write(topic, msgtype, stamp, serialize_message(msg))
         self.covered_ns[topic] = max(self.covered_ns.get(topic, 0), covered)
-        if isinstance(msg, Float64MultiArray) and len(msg.data):
+        if impact and len(msg.data):
             self.get_logger().debug(f'recorded the impact at t = {msg.data[0]:.9f} s')
-            if self.cut_ns is not None:  # stopping: its whole contact goes in too
-                self.cut_ns = max(self.cut_ns, covered)
 
     def cut(self):
         """At a stop: a predicate that holds once the bag is a consistent cut of the simulation.
 
         DDS delivers each topic in order but not in step with the others: when the stop comes,
         one topic can lag seconds behind (a backlog, or a lost sample waiting for its repair).
-        The cut is the latest simulated time any topic has reached, an impact counting up to the
-        end of its contact; it holds once every topic with a matched publisher has reached it
-        too, except the sparse ~/impact. An impact that arrives meanwhile moves the cut on to
-        the end of its contact. So every recorded impact has its whole wrench trace, and every
-        continuous topic reaches the same simulated time.
+        The cut is the latest simulated time any of the node's topics has reached, an impact
+        counting up to the end of its contact; it holds once every one of them with a matched
+        publisher has reached it too, except the sparse ~/impact. An impact that arrives
+        meanwhile and began before the cut moves it on to the end of its contact; one that
+        began after it is not recorded. So every recorded impact has its whole wrench trace,
+        and every continuous topic reaches the same simulated time. /clock, a global topic
+        that another node may publish, neither sets the cut nor is waited for.
         """
-        if not self.covered_ns:
+        own = [ns for topic, ns in self.covered_ns.items() if topic != '/clock']
+        if not own:
             return lambda: True
-        self.cut_ns = max(self.covered_ns.values())
+        self.cut_ns = max(own)
         behind = self.lagging()
         if behind:
             self.get_logger().info(f'stopping: waiting for {", ".join(behind)} to reach '
@@ -864,7 +888,7 @@ class Recorder(Node):
         if self.cut_ns is None:
             return []
         return [topic for topic in self.topics if not topic.endswith('/impact')
-                and self.publishers_matched.get(topic, 0) > 0
+                and topic != '/clock' and self.publishers_matched.get(topic, 0) > 0
                 and self.covered_ns.get(topic, -1) < self.cut_ns]
 
     def close(self):

@@ -470,6 +470,9 @@ def test_bad_parameters_are_rejected_with_reasons_and_the_node_goes_on(sim, clie
         assert not result.successful, values
         assert reason in result.reason, (values, result.reason)
         assert next(iter(values)) in result.reason or 'type' in reason, result.reason
+    # a contact change acts on the running drop at once: it must suit that drop too
+    (result,) = client.set_parameters(NODE, atomically=True, stiffness=5e4, initial_height=0.01)
+    assert not result.successful and 'too small for the running drop' in result.reason
     # an atomic change with one bad value changes nothing at all
     (result,) = client.set_parameters(NODE, atomically=True, sphere_material='custom',
                                       sphere_youngs_modulus=-5.0)
@@ -628,8 +631,11 @@ def test_recorder_stops_on_a_consistent_cut(tmp_path):
         impact = f'{NODE}/impact'
         for topic in topics:
             recorder.publishers_matched[topic] = 1
-        recorder.publishers_matched['/clock'] = 0  # no publisher: never waited for
         assert recorder.cut()()  # nothing recorded yet: nothing to wait for
+        # /clock is global (any node may publish it): it neither sets the cut nor is waited for
+        clock = cs_node.clock_msg(5_000_000_000)
+        recorder._on_message('/clock', cs_node.type_name(type(clock)), clock)
+        assert recorder.cut()() and recorder.cut_ns is None
         record = cs.ImpactRecord(time=1.0, impact_speed=1.0, rebound_speed=0.5, restitution=0.5,
                                  contact_duration=2e-4, peak_force=10.0, max_penetration=1e-6)
         messages = [(wrench, cs_node.wrench_msg(1_000_000_000, 0.0, 'plate')),
@@ -651,10 +657,20 @@ def test_recorder_stops_on_a_consistent_cut(tmp_path):
         msg = cs_node.twist_msg(1_000_250_000, 0.0, 'plate')
         recorder._on_message(f'{NODE}/twist', cs_node.type_name(type(msg)), msg)
         assert done()
-        # an impact that arrives while stopping moves the cut on to the end of its contact
-        later = cs_node.impact_msg(cs.ImpactRecord(1.001, 0.5, 0.25, 0.5, 2e-4, 5.0, 1e-7), 0.0)
-        recorder._on_message(impact, cs_node.type_name(type(later)), later)
-        assert recorder.cut_ns == 1_001_200_000 and not done()
+        # an impact that arrives while stopping and began before the cut moves the cut on to
+        # the end of its contact; one that began after the cut is not recorded
+        count = recorder.bag.counts[impact]
+        late = cs_node.impact_msg(cs.ImpactRecord(1.0001, 0.5, 0.25, 0.5, 3e-4, 5.0, 1e-7), 0.0)
+        after = cs_node.impact_msg(cs.ImpactRecord(1.5, 0.5, 0.25, 0.5, 3e-4, 5.0, 1e-7), 0.0)
+        for msg in (late, after):
+            recorder._on_message(impact, cs_node.type_name(type(msg)), msg)
+        assert recorder.cut_ns == 1_000_400_000 and not done()
+        assert recorder.bag.counts[impact] == count + 1
+        # garbage on ~/impact from another publisher cannot overflow a bag timestamp
+        for data in ([1e300, 0, 0, 0, 1e300], [float('nan')] * 7, [-5.0, 0, 0, 0, -1.0]):
+            junk = Float64MultiArray(data=data)
+            assert 0 <= cs_node.covered_time_ns(junk) <= 2 ** 63 - 1
+            assert 0 <= cs_node.message_time_ns(junk) <= cs_node.covered_time_ns(junk)
         permanent = cs_node.impact_msg(
             cs.ImpactRecord(2.0, 0.1, 0.0, 0.0, math.inf, 1.0, 1e-7), 0.0)
         assert cs_node.covered_time_ns(permanent) == 2_000_000_000
@@ -683,9 +699,9 @@ def test_the_stop_drain_ends_when_done_on_timeout_or_on_a_signal():
         assert time.monotonic() - start >= 0.3
         # Ctrl-C while draining (here after a --duration stop) ends the wait at once
         start = time.monotonic()
-        assert cs_node.spin_until_signal(
+        assert not cs_node.spin_until_signal(
             node, stop_after=0.0, drain=lambda: lambda: os.kill(os.getpid(), signal.SIGINT),
-            drain_timeout=30.0)
+            drain_timeout=30.0)  # (not drained: the caller warns)
         assert time.monotonic() - start < 10.0
         assert signal.getsignal(signal.SIGINT) is handler  # restored
     finally:
@@ -792,3 +808,13 @@ def test_a_contact_too_soft_for_the_drop_is_rejected_at_the_exact_bound():
         cs_node.build_model(soft)
     # no drop (no gravity, no speed), no bound
     cs_node.build_model({**values, 'stiffness': 1e-300, 'gravity': 0.0, 'initial_velocity': 0.0})
+
+
+def test_the_depth_check_skips_a_sphere_that_never_lands_and_guards_the_running_drop():
+    soft = cs.Contact(cs.AZAD_FEATHERSTONE, 1.0, 0.0)
+    upwards = cs.DropSimulation(soft, 0.067, 1.0, velocity=-1.0, gravity=0.0)
+    cs_node.require_shallow_contact(soft, 0.0127, upwards, True, running=True)  # never lands
+    falling = cs.DropSimulation(soft, 0.067, 1.0, velocity=-1.0, gravity=9.81)
+    with pytest.raises(ValueError, match=r'stiffness = 1 N/m\^1.5 is too small for the running '
+                                         r'drop \(until ~/reset\): .* allowed stiffness >= '):
+        cs_node.require_shallow_contact(soft, 0.0127, falling, True, running=True)
