@@ -513,9 +513,11 @@ def _reliable(depth):
 
 
 SAMPLE_QOS = _reliable(10000)  # ~/wrench, ~/contact: a whole bouncing phase fits
-STATE_QOS = _reliable(100)
+# A writer keeps this many samples for reliable readers that lost some (a full shared-memory
+# queue, say) and wait for the repair: 10 s of ticks at the default 100 Hz.
+STATE_QOS = _reliable(1000)
 IMPACT_QOS = _reliable(1000)
-CLOCK_QOS = _reliable(100)  # also matches rclpy's best-effort /clock subscribers
+CLOCK_QOS = _reliable(1000)  # also matches rclpy's best-effort /clock subscribers
 
 
 TICK_STEP_BUDGET = 5000  # integrator steps per tick at most, so services and Ctrl-C stay live
@@ -769,13 +771,16 @@ def main(args=None):
 # The recorder
 # --------------------------------------------------------------------------------------------
 
-RECORDED_TOPICS = (  # (suffix after the node name, type, QoS)
-    ('wrench', WrenchStamped, SAMPLE_QOS),
-    ('contact', Vector3Stamped, SAMPLE_QOS),
-    ('pose', PoseStamped, STATE_QOS),
-    ('twist', TwistStamped, STATE_QOS),
-    ('impact', Float64MultiArray, IMPACT_QOS),
+RECORDED_TOPICS = (  # (suffix after the node name, type)
+    ('wrench', WrenchStamped),
+    ('contact', Vector3Stamped),
+    ('pose', PoseStamped),
+    ('twist', TwistStamped),
+    ('impact', Float64MultiArray),
 )
+# A recorder that falls behind (a burst of contact samples, a busy machine) must not lose
+# messages from its own queues: every topic gets a deep one.
+RECORD_QOS = _reliable(10000)
 
 
 def type_name(msg_type):
@@ -825,16 +830,15 @@ class Recorder(Node):
         from .bag import BagWriter  # rosbags is needed only for recording
         self.bag = BagWriter(output, storage)
         target = '/' + target.strip('/')
-        topics = [(f'{target}/{suffix}', msg_type, qos)
-                  for suffix, msg_type, qos in RECORDED_TOPICS]
+        topics = [(f'{target}/{suffix}', msg_type) for suffix, msg_type in RECORDED_TOPICS]
         if clock:
-            topics.append(('/clock', ClockMsg, CLOCK_QOS))
-        for topic, msg_type, qos in topics:
+            topics.append(('/clock', ClockMsg))
+        for topic, msg_type in topics:
             events = SubscriptionEventCallbacks(matched=partial(self._on_matched, topic))
             self.create_subscription(msg_type, topic,
-                                     partial(self._on_message, topic, type_name(msg_type)), qos,
-                                     event_callbacks=events)
-        self.topics = [topic for topic, _, _ in topics]
+                                     partial(self._on_message, topic, type_name(msg_type)),
+                                     RECORD_QOS, event_callbacks=events)
+        self.topics = [topic for topic, _ in topics]
         self.covered_ns = {}   # topic -> simulated time (ns) its recorded messages reach
         self.publishers_matched = {}  # topic -> number of matched publishers
         self.cut_ns = None     # set at the stop: see cut()
