@@ -580,8 +580,8 @@ class ContactSimNode(Node):
         ours = [p for p in parameters if p.name in DEFAULTS]
         if not ours:
             return SetParametersResult(successful=True)
-        values = self._values(ours)
         try:
+            values = self._values(ours)
             model = build_model(values)
             # a new contact acts from the next contact phase of the running drop
             require_shallow_contact(model.contact, model.radius, self._sim,
