@@ -426,15 +426,22 @@ def _plot_option(parser, what):
                         help=f'also write a figure of {what} (needs matplotlib)')
 
 
+def _contact_command(sub, name, help, description, notes, damping=True):
+    """A subcommand that takes the contact options; its epilog explains them, then ``notes``."""
+    return sub.add_parser(
+        name, parents=[_contact_options(damping=damping)],
+        formatter_class=argparse.RawDescriptionHelpFormatter, help=help, description=description,
+        epilog=CONTACT_HELP + (DAMPING_HELP if damping else '') + notes + EXIT_HELP)
+
+
 def _add_restitution(sub):
-    p = sub.add_parser(
-        'restitution', parents=[_contact_options()],
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+    p = _contact_command(
+        sub, 'restitution',
         help='coefficient of restitution vs impact speed, as a table or a plot',
         description='Coefficient of restitution e of single impacts without gravity, per law,\n'
                     'at the given impact speeds (cs.restitution).',
-        epilog=CONTACT_HELP + DAMPING_HELP + '\n\nexample:\n  contact-sim restitution --sphere '
-               'steel --plate cast_iron --radius 0.0127 --damping-factor 8.87e5\n' + EXIT_HELP)
+        notes='\n\nexample:\n  contact-sim restitution --sphere steel --plate cast_iron '
+              '--radius 0.0127 --damping-factor 8.87e5\n')
     p.add_argument('--law', action='append', choices=LAW_NAMES,
                    help='force law, repeatable (default: all four)')
     speeds = p.add_mutually_exclusive_group()
@@ -452,15 +459,13 @@ def _add_restitution(sub):
 
 
 def _add_drop(sub):
-    p = sub.add_parser(
-        'drop', parents=[_contact_options()],
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+    p = _contact_command(
+        sub, 'drop',
         help='drop a sphere on a plate and list every impact',
         description='Simulate a sphere dropped on a plate until it rests (cs.simulate_drop)\n'
                     'and print each impact and a summary.',
-        epilog=CONTACT_HELP + DAMPING_HELP + '\n\nexample (the paper\'s drop, section II-C):\n'
-               '  contact-sim drop --stiffness 1e10 --damping 1e5 --mass 0.066 --gravity 10\n'
-               + EXIT_HELP)
+        notes='\n\nexample (the paper\'s drop, section II-C):\n'
+              '  contact-sim drop --stiffness 1e10 --damping 1e5 --mass 0.066 --gravity 10\n')
     p.add_argument('--law', choices=LAW_NAMES, default=AZAD_FEATHERSTONE.name,
                    help='force law (default azad_featherstone)')
     p.add_argument('--height', type=float, default=1.0,
@@ -477,17 +482,15 @@ def _add_drop(sub):
 
 
 def _add_fit(sub):
-    p = sub.add_parser(
-        'fit', parents=[_contact_options(damping=False)],
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+    p = _contact_command(
+        sub, 'fit', damping=False,
         help='fit the damping lambda to measured (speed, restitution) points',
         description='Least-squares fit of lambda to measured restitution (cs.fit_damping for\n'
                     'one law, cs.compare_laws for several), with k fixed from the materials\n'
                     'or --stiffness, as in the paper\'s Fig. 5.',
-        epilog=CONTACT_HELP + '\n\ndata file: rows "speed,restitution" (m/s, 0 < e < 1); an '
-               'optional header\nrow; text after # is a comment; - reads stdin.\n\nexample:\n'
-               '  contact-sim fit data.csv --sphere steel --plate cast_iron --radius 0.0127\n'
-               + EXIT_HELP)
+        notes='\n\ndata file: rows "speed,restitution" (m/s, 0 < e < 1); an optional header\n'
+              'row; text after # is a comment; - reads stdin.\n\nexample:\n'
+              '  contact-sim fit data.csv --sphere steel --plate cast_iron --radius 0.0127\n')
     p.add_argument('data', help='CSV file of speed,restitution rows, or - for stdin')
     p.add_argument('--law', action='append', choices=LAW_NAMES,
                    help='force law, repeatable (default: all four, ranked by rms residual)')
