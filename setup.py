@@ -14,7 +14,7 @@ setup(
         ('share/' + package_name, ['package.xml']),
         ('share/' + package_name + '/config', glob('config/*.yaml')),
     ],
-    install_requires=['setuptools', 'numpy', 'scipy'],
+    install_requires=['setuptools', 'numpy', 'scipy', 'numba'],
     extras_require={'plot': ['matplotlib'], 'record': ['rosbags']},
     zip_safe=True,
     maintainer='contact_sim developers',

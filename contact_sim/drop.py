@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from .phase import PhaseIntegrator, lift_off_energy
+from .phase import PhaseIntegrator, contact_phase, lift_off_energy
 from .validation import require_nonnegative, require_positive, require_real
 
 DROP_RTOL = 1e-10
@@ -260,8 +260,7 @@ class DropSimulation:
                     t_end = phase.time          # out of budget: stop where the integrator is
                     points.extend(self._take_points(phase, t_end))
                     break
-                phase.step()
-                budget -= 1
+                budget -= phase.run(t_end, budget, self._stop_energy(mode))
                 self._check_rest(mode)
             else:
                 break
@@ -303,12 +302,24 @@ class DropSimulation:
     def _begin_contact(self, t, z, zdot):
         if self._pending_contact is not None:
             self.contact, self._pending_contact = self._pending_contact, None
-        phase = PhaseIntegrator(self.contact, self.mass, self.gravity, t, z, zdot,
-                                rtol=self.rtol, atol=self.rtol * 1e-2)
+        phase = contact_phase(self.contact, self.mass, self.gravity, t, z, zdot,
+                              rtol=self.rtol, atol=self.rtol * 1e-2)
         floor = (lift_off_energy(self.contact, self.mass, self.gravity)
                  if self.gravity > 0.0 else -math.inf)
         self._mode = _Contact(phase, floor)
         self._emitted = 0
+
+    def _stop_energy(self, mode):
+        """The energy above rest (J) below which ``_check_rest`` has work: the contact phase
+        runs its steps without returning until then (it stops at the first step below)."""
+        if self.gravity <= 0.0:
+            return -math.inf
+        if not mode.permanent:
+            return mode.floor
+        if self.contact.law.q != 1.0:
+            return -math.inf
+        z0, k_lin, _ = self.contact.rest_linearisation(self.mass * self.gravity)
+        return 0.5 * k_lin * (self.settle_tolerance * z0) ** 2
 
     def _check_rest(self, mode):
         """Mark permanent contact, and the switch to the closed-form rest solution."""

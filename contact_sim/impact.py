@@ -7,7 +7,7 @@ law that happens while z > 0).  See ``phase`` for the formulation.  Units: SI.
 import math
 from dataclasses import dataclass
 
-from .phase import DEFAULT_RTOL, PhaseIntegrator, lift_off_energy
+from .phase import DEFAULT_RTOL, contact_phase, lift_off_energy
 from .validation import require_nonnegative, require_positive
 
 
@@ -29,22 +29,25 @@ class ImpactResult:
     message: str
 
 
-def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_steps=200_000):
+def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_steps=200_000,
+                    engine=None):
     """Integrate one impact of a sphere of (reduced) mass ``mass`` (kg) arriving at ``speed`` (m/s).
 
     Returns an ``ImpactResult``; the restitution is ``rebound_speed / speed`` with both speeds
-    taken at touch and at lift-off.
+    taken at touch and at lift-off.  ``engine`` is 'compiled' or 'scipy' (the reference path;
+    default ``phase.get_engine()``), see ``phase.contact_phase``.
     """
     mass = require_positive('mass', mass)
     speed = require_positive('speed', speed)
     gravity = require_nonnegative('gravity', gravity)
-    phase = PhaseIntegrator(contact, mass, gravity, 0.0, 0.0, speed, rtol=rtol)
+    phase = contact_phase(contact, mass, gravity, 0.0, 0.0, speed, rtol=rtol, engine=engine)
     floor = lift_off_energy(contact, mass, gravity) if gravity > 0.0 else -math.inf
     while not phase.lifted_off:
         if phase.steps >= max_steps:
             raise RuntimeError(f'impact not finished after max_steps = {max_steps} steps')
-        phase.step()
-        if phase.energy_above_rest() < floor:
+        # every step is followed by the energy test: run() stops where it may hold
+        phase.run(max_steps=max_steps - phase.steps, stop_energy=floor)
+        if floor > -math.inf and phase.energy_above_rest() < floor:
             return ImpactResult(0.0, 0.0, math.inf, phase.peak_force, phase.max_penetration,
                                 phase.steps, 1, 'came to rest in permanent contact (no bounce)')
     t_end, _, zdot_end = phase.end

@@ -15,18 +15,31 @@ instead makes every term a power series in σ (z ≈ v σ², σ⁵, σ⁷, ...),
 order from the first step.  Lift-off is the first instant the clamped force returns to zero:
 x = 0 or φ = x^(n-p) + ζ x'|x'|^(q-1) = 0 (the force is xᵖ φ and φ is smooth where the force
 is not); both are located on the dense output to machine precision.
+
+Two engines integrate a phase with the same mathematics: ``CompiledPhase`` (the default: DOP853,
+dense output and event location in numba, ``compiled``) and ``PhaseIntegrator`` (scipy's DOP853
+stepped from Python: the reference path the tests compare against).  Heavily damped phases
+under gravity (ζ > STIFF_DAMPING) always go to ``PhaseIntegrator`` with scipy's Radau.
+``contact_phase`` picks one; ``use_engine("scipy")`` (or CONTACT_SIM_ENGINE=scipy in the
+environment) makes the reference path the default.
 """
+import contextlib
+import functools
 import math
+import os
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.integrate import DOP853, Radau
 from scipy.optimize import brentq
 
+from . import compiled
+
 DEFAULT_RTOL = 1e-12
 DEFAULT_ATOL = 1e-14
 FIRST_STEP = 0.05
 STIFF_DAMPING = 30.0   # ζ above which a phase is integrated by Radau instead of DOP853
+ENGINES = ('compiled', 'scipy')
 
 
 @dataclass(frozen=True)
@@ -191,6 +204,21 @@ class PhaseIntegrator:
         else:
             self._record(s1, y1)
 
+    def run(self, t_stop=math.inf, max_steps=None, stop_energy=-math.inf):
+        """Step until lift-off, until ``time >= t_stop`` (s), for ``max_steps`` steps, or until a
+        step that did not lift off ends with ``energy_above_rest() < stop_energy`` (J).
+
+        Returns the number of steps taken.  (The same contract as ``CompiledPhase.run``.)
+        """
+        budget = math.inf if max_steps is None else max_steps
+        taken = 0
+        while not self.lifted_off and self.time < t_stop and taken < budget:
+            self.step()
+            taken += 1
+            if not self.lifted_off and self.energy_above_rest() < stop_energy:
+                break
+        return taken
+
     def _root(self, g, s0, s1):
         """The root of g(y(s)) in [s0, s1] on the dense output, to machine precision."""
         return brentq(lambda s: g(self._dense(s)), s0, s1, xtol=1e-15, rtol=1e-15)
@@ -207,6 +235,162 @@ class PhaseIntegrator:
         z, zdot = self.state
         g = self.scales.gravity * self.scales.length / self.scales.time ** 2
         return energy_above_rest(self.contact, self.mass, g, z, zdot)
+
+
+class CompiledPhase:
+    """One contact phase integrated in compiled code (``compiled``): the same interface and the
+    same mathematics as ``PhaseIntegrator`` (DOP853 with scipy's step control, the 7th-order dense
+    output, Brent event location), but ``run`` takes any number of steps in one call.
+
+    ``points``, ``peak_force``, ``max_penetration``, ``steps``, ``lifted_off`` and ``end`` are
+    plain attributes, brought up to date after every ``step``/``run``.
+    """
+
+    def __init__(self, contact, mass, gravity, start_time, penetration, penetration_rate,
+                 rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scales=None):
+        self.contact = contact
+        self.mass = mass
+        self.start_time = start_time
+        self.scales = sc = scales if scales is not None else phase_scales(
+            contact, mass, gravity, penetration, penetration_rate)
+        law = contact.law
+        k, mass_g = contact.stiffness, mass * sc.gravity * sc.length / sc.time ** 2
+        g = mass_g / mass                           # as PhaseIntegrator.energy_above_rest
+        z0 = (mass_g / k) ** (1.0 / law.n)           # the static depth
+        rest_potential = k * z0 ** (law.n + 1.0) / (law.n + 1.0) - mass_g * z0
+        # the layout of compiled.P_*; the forcing is gravity alone, for now
+        par = np.array([law.n, law.p, law.q, sc.damping,
+                        sc.gravity, 0.0, 0.0, 0.0, 0.0, 0.0,
+                        start_time, sc.time, sc.length,
+                        k, contact.damping, mass, g, rest_potential, rtol, atol])
+        self._par = par
+        self._st, self._k, self._f = compiled.new_state(
+            penetration / sc.length, penetration_rate * sc.time / sc.length, FIRST_STEP)
+        self._buffer = np.empty((compiled.POINT_BUFFER, 4))
+        # a generous margin on the energy test: the caller's own test has the last word
+        self._energy_margin = 1e-12 * mass * (sc.length / sc.time) ** 2
+        self.lifted_off = False
+        self.steps = 0
+        self.peak_force = compiled.contact_force(penetration, penetration_rate, par)
+        if penetration <= 0.0 and law.p == 0.0 and penetration_rate > 0.0:
+            # a law with p = 0 jumps to λ ż^q at touch: the peak may be that limit z -> 0+
+            self.peak_force = max(self.peak_force, contact.damping * penetration_rate ** law.q)
+        self.max_penetration = penetration
+        self._st[compiled.S_PEAK], self._st[compiled.S_DEPTH] = self.peak_force, penetration
+        self.end = None  # (t, z, ż) at lift-off
+        self.points = [(start_time, penetration, penetration_rate, self.peak_force)]
+
+    def run(self, t_stop=math.inf, max_steps=None, stop_energy=-math.inf):
+        """Step until lift-off, until ``time >= t_stop`` (s), for ``max_steps`` steps, or until a
+        step that did not lift off ends with ``energy_above_rest() < stop_energy`` (J) (the
+        compiled test uses a margin of 1e-12 of the phase's kinetic energy scale, so it may stop
+        a step before the caller's own test agrees, never after).  Returns the steps taken."""
+        budget = compiled.MAX_STEPS if max_steps is None else int(min(max_steps, compiled.MAX_STEPS))
+        stop = (stop_energy + abs(stop_energy) * 1e-9 + self._energy_margin
+                if stop_energy > -math.inf else -math.inf)
+        st, buf = self._st, self._buffer
+        taken = 0
+        while True:
+            reason, npts, n = compiled.run(st, self._k, self._f, self._par, buf, float(t_stop),
+                                           budget - taken, stop)
+            taken += n
+            if npts:
+                self.points.extend(map(tuple, buf[:npts].tolist()))
+            if reason != compiled.BUFFER_FULL:
+                break
+        self.steps = int(st[compiled.S_STEPS])
+        self.peak_force = float(st[compiled.S_PEAK])
+        self.max_penetration = float(st[compiled.S_DEPTH])
+        if st[compiled.S_LIFTED]:
+            self.lifted_off = True
+            self.end = (float(st[compiled.S_END_T]), float(st[compiled.S_END_Z]),
+                        float(st[compiled.S_END_RATE]))
+        if reason == compiled.STEP_TOO_SMALL:
+            raise RuntimeError('contact integration failed: Required step size is less than '
+                               'spacing between numbers.')
+        return taken
+
+    def step(self):
+        """Take one integrator step; locate peak, maximum penetration and lift-off in it."""
+        self.run(max_steps=1)
+
+    @property
+    def time(self):
+        """Time (s) reached by the integrator (the end of its last step)."""
+        s = self._st[compiled.S_S]
+        return self.start_time + self.scales.time * s * s
+
+    def _dimensional(self, s, x, u):
+        sc = self.scales
+        return self.start_time + sc.time * s * s, x * sc.length, u * sc.length / sc.time
+
+    @property
+    def state(self):
+        st = self._st
+        return self._dimensional(st[compiled.S_S], st[compiled.S_X], st[compiled.S_U])[1:]
+
+    def state_at(self, t):
+        """(z, ż) at a time t within the last step, from the dense output."""
+        s = math.sqrt(max(t - self.start_time, 0.0) / self.scales.time)
+        x, u = compiled.state_in_last_step(self._st, self._k, self._f, self._par, s)
+        return self._dimensional(s, x, u)[1:]
+
+    def force_of(self, z, zdot):
+        return float(self.contact.force(z, zdot))
+
+    def energy_above_rest(self):
+        """Mechanical energy (J) above static equilibrium at the integrator's current state
+        (``energy_above_rest``, evaluated in compiled code)."""
+        return compiled.energy_above_rest(self._st, self._par)
+
+
+_engine = os.environ.get('CONTACT_SIM_ENGINE', 'compiled')
+
+
+def _check_engine(name):
+    if name not in ENGINES:
+        raise ValueError(f'engine = {name!r} is unknown: allowed one of {", ".join(ENGINES)}')
+    return name
+
+
+def get_engine():
+    """The default engine of contact phases: 'compiled' or 'scipy' (the reference path)."""
+    return _check_engine(_engine)
+
+
+def set_engine(name):
+    """Make ``name`` ('compiled' or 'scipy') the default engine; returns the previous one."""
+    global _engine
+    previous, _engine = _engine, _check_engine(name)
+    return previous
+
+
+@contextlib.contextmanager
+def use_engine(name):
+    """``with use_engine('scipy'): ...`` runs the block on that engine."""
+    previous = set_engine(name)
+    try:
+        yield
+    finally:
+        set_engine(previous)
+
+
+def contact_phase(contact, mass, gravity, start_time, penetration, penetration_rate,
+                  rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, engine=None):
+    """The integrator of one contact phase (see ``PhaseIntegrator`` for the arguments).
+
+    ``engine`` ('compiled' or 'scipy', default ``get_engine()``) picks ``CompiledPhase`` or
+    ``PhaseIntegrator``; a heavily damped phase under gravity (ζ > STIFF_DAMPING, stiff) always
+    gets ``PhaseIntegrator`` and its Radau method.
+    """
+    engine = get_engine() if engine is None else _check_engine(engine)
+    if engine == 'compiled':
+        scales = phase_scales(contact, mass, gravity, penetration, penetration_rate)
+        if not (gravity > 0.0 and scales.damping > STIFF_DAMPING):
+            return CompiledPhase(contact, mass, gravity, start_time, penetration,
+                                 penetration_rate, rtol=rtol, atol=atol, scales=scales)
+    return PhaseIntegrator(contact, mass, gravity, start_time, penetration, penetration_rate,
+                           rtol=rtol, atol=atol)
 
 
 def _potential(contact, mass, gravity, z):
@@ -231,7 +415,15 @@ def lift_off_energy(contact, mass, gravity, margin=0.5):
 
     Zero force means z <= 0, or z > 0 on the curve λ ż|ż|^(q-1) = -k z^(n-p); the minimum over
     that curve is taken on a fine logarithmic grid and multiplied by ``margin`` for safety.
+    (Remembered per argument set: a drop asks it once per contact phase.)
     """
+    try:
+        return _lift_off_energy_cached(contact, mass, gravity, margin)
+    except TypeError:          # an unhashable argument
+        return _lift_off_energy(contact, mass, gravity, margin)
+
+
+def _lift_off_energy(contact, mass, gravity, margin):
     law = contact.law
     z0 = contact.static_penetration(mass * gravity)
     candidates = [energy_above_rest(contact, mass, gravity, 0.0, 0.0)]
@@ -240,3 +432,6 @@ def lift_off_energy(contact, mass, gravity, margin=0.5):
         speed = (contact.stiffness * z ** (law.n - law.p) / contact.damping) ** (1.0 / law.q)
         candidates.append(float(np.min(energy_above_rest(contact, mass, gravity, z, speed))))
     return margin * min(candidates)
+
+
+_lift_off_energy_cached = functools.lru_cache(maxsize=256)(_lift_off_energy)
