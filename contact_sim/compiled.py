@@ -90,8 +90,10 @@ def _signed_power(u, q):
 @njit(**_KW)
 def _forcing(s, u, par):
     """The external dimensionless acceleration f(σ, u) (see the module docstring)."""
-    return (par[P_GRAVITY] + par[P_AMPLITUDE] * math.sin(par[P_OMEGA] * s * s + par[P_PHASE])
-            - par[P_DRAG1] * u - par[P_DRAG2] * u * abs(u))
+    f = par[P_GRAVITY] - par[P_DRAG1] * u - par[P_DRAG2] * u * abs(u)
+    if par[P_AMPLITUDE] != 0.0:
+        f += par[P_AMPLITUDE] * math.sin(par[P_OMEGA] * s * s + par[P_PHASE])
+    return f
 
 
 @njit(**_KW)

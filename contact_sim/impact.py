@@ -40,7 +40,8 @@ def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_st
     mass = require_positive('mass', mass)
     speed = require_positive('speed', speed)
     gravity = require_nonnegative('gravity', gravity)
-    phase = contact_phase(contact, mass, gravity, 0.0, 0.0, speed, rtol=rtol, engine=engine)
+    phase = contact_phase(contact, mass, gravity, 0.0, 0.0, speed, rtol=rtol, engine=engine,
+                          keep_points=False)
     floor = lift_off_energy(contact, mass, gravity) if gravity > 0.0 else -math.inf
     while not phase.lifted_off:
         if phase.steps >= max_steps:

@@ -243,11 +243,12 @@ class CompiledPhase:
     output, Brent event location), but ``run`` takes any number of steps in one call.
 
     ``points``, ``peak_force``, ``max_penetration``, ``steps``, ``lifted_off`` and ``end`` are
-    plain attributes, brought up to date after every ``step``/``run``.
+    plain attributes, brought up to date after every ``step``/``run``.  With
+    ``keep_points=False`` only the first point is kept (a caller that wants the outcome alone).
     """
 
     def __init__(self, contact, mass, gravity, start_time, penetration, penetration_rate,
-                 rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scales=None):
+                 rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scales=None, keep_points=True):
         self.contact = contact
         self.mass = mass
         self.start_time = start_time
@@ -267,6 +268,7 @@ class CompiledPhase:
         self._st, self._k, self._f = compiled.new_state(
             penetration / sc.length, penetration_rate * sc.time / sc.length, FIRST_STEP)
         self._buffer = np.empty((compiled.POINT_BUFFER, 4))
+        self._keep_points = keep_points
         # a generous margin on the energy test: the caller's own test has the last word
         self._energy_margin = 1e-12 * mass * (sc.length / sc.time) ** 2
         self.lifted_off = False
@@ -294,17 +296,18 @@ class CompiledPhase:
             reason, npts, n = compiled.run(st, self._k, self._f, self._par, buf, float(t_stop),
                                            budget - taken, stop)
             taken += n
-            if npts:
+            if npts and self._keep_points:
                 self.points.extend(map(tuple, buf[:npts].tolist()))
             if reason != compiled.BUFFER_FULL:
                 break
-        self.steps = int(st[compiled.S_STEPS])
-        self.peak_force = float(st[compiled.S_PEAK])
-        self.max_penetration = float(st[compiled.S_DEPTH])
-        if st[compiled.S_LIFTED]:
+        values = st.tolist()
+        self.steps = int(values[compiled.S_STEPS])
+        self.peak_force = values[compiled.S_PEAK]
+        self.max_penetration = values[compiled.S_DEPTH]
+        if values[compiled.S_LIFTED]:
             self.lifted_off = True
-            self.end = (float(st[compiled.S_END_T]), float(st[compiled.S_END_Z]),
-                        float(st[compiled.S_END_RATE]))
+            self.end = (values[compiled.S_END_T], values[compiled.S_END_Z],
+                        values[compiled.S_END_RATE])
         if reason == compiled.STEP_TOO_SMALL:
             raise RuntimeError('contact integration failed: Required step size is less than '
                                'spacing between numbers.')
@@ -376,8 +379,9 @@ def use_engine(name):
 
 
 def contact_phase(contact, mass, gravity, start_time, penetration, penetration_rate,
-                  rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, engine=None):
-    """The integrator of one contact phase (see ``PhaseIntegrator`` for the arguments).
+                  rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, engine=None, keep_points=True):
+    """The integrator of one contact phase (see ``PhaseIntegrator`` for the arguments;
+    ``keep_points=False`` lets the compiled phase skip its point list).
 
     ``engine`` ('compiled' or 'scipy', default ``get_engine()``) picks ``CompiledPhase`` or
     ``PhaseIntegrator``; a heavily damped phase under gravity (ζ > STIFF_DAMPING, stiff) always
@@ -388,7 +392,8 @@ def contact_phase(contact, mass, gravity, start_time, penetration, penetration_r
         scales = phase_scales(contact, mass, gravity, penetration, penetration_rate)
         if not (gravity > 0.0 and scales.damping > STIFF_DAMPING):
             return CompiledPhase(contact, mass, gravity, start_time, penetration,
-                                 penetration_rate, rtol=rtol, atol=atol, scales=scales)
+                                 penetration_rate, rtol=rtol, atol=atol, scales=scales,
+                                 keep_points=keep_points)
     return PhaseIntegrator(contact, mass, gravity, start_time, penetration, penetration_rate,
                            rtol=rtol, atol=atol)
 
