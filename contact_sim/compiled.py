@@ -51,7 +51,10 @@ P_START, P_TIME, P_LENGTH = 10, 11, 12                   # t₀ (s), T (s), Z (m
 P_STIFFNESS, P_DAMPING, P_MASS = 13, 14, 15              # k, λ, m (SI)
 P_ENERGY_GRAVITY, P_REST_POTENTIAL = 16, 17    # g (m/s²) and k z₀^(n+1)/(n+1) - m g z₀ (J)
 P_RTOL, P_ATOL = 18, 19
-NPAR = 20
+P_KIND = 20                                              # exponents with a short form (KINDS)
+NPAR = 21
+# (n, p, q) -> kind: the right-hand side of these spends no pow() (sqrt at most)
+KINDS = {(1.5, 0.5, 1.0): 1.0, (1.5, 1.5, 1.0): 2.0, (1.5, 1.0, 1.0): 3.0, (1.0, 0.0, 1.0): 4.0}
 
 # -- the integrator state (float64[NSTATE]) -----------------------------------------------------
 S_S, S_X, S_U, S_FX, S_FU, S_H = 0, 1, 2, 3, 4, 5        # σ, y, dy/dσ at σ, next |h|
@@ -102,6 +105,18 @@ def _accel(s, x, u, par):
     ext = _forcing(s, u, par)
     if x <= 0.0:
         return ext
+    kind = par[P_KIND]
+    zeta = par[P_ZETA]
+    if kind == 1.0:                  # n = 3/2, p = 1/2, q = 1 (Azad-Featherstone)
+        r = math.sqrt(x)
+        return ext - x * r - zeta * r * u
+    if kind == 2.0:                  # n = p = 3/2, q = 1 (Hunt-Crossley)
+        r = x * math.sqrt(x)
+        return ext - r - zeta * r * u
+    if kind == 3.0:                  # n = 3/2, p = q = 1 (Lee-Wang)
+        return ext - x * math.sqrt(x) - zeta * x * u
+    if kind == 4.0:                  # n = q = 1, p = 0 (linear)
+        return ext - x - zeta * u
     return ext - _power(x, par[P_N]) - par[P_ZETA] * _power(x, par[P_P]) * _signed_power(u, par[P_Q])
 
 

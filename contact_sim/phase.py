@@ -263,7 +263,8 @@ class CompiledPhase:
         par = np.array([law.n, law.p, law.q, sc.damping,
                         sc.gravity, 0.0, 0.0, 0.0, 0.0, 0.0,
                         start_time, sc.time, sc.length,
-                        k, contact.damping, mass, g, rest_potential, rtol, atol])
+                        k, contact.damping, mass, g, rest_potential, rtol, atol,
+                        compiled.KINDS.get((law.n, law.p, law.q), 0.0)])
         self._par = par
         self._st, self._k, self._f = compiled.new_state(
             penetration / sc.length, penetration_rate * sc.time / sc.length, FIRST_STEP)
