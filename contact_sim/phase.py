@@ -19,7 +19,9 @@ is not); both are located on the dense output to machine precision.
 Two engines integrate a phase with the same mathematics: ``CompiledPhase`` (the default: DOP853,
 dense output and event location in numba, ``compiled``) and ``PhaseIntegrator`` (scipy's DOP853
 stepped from Python: the reference path the tests compare against).  Heavily damped phases
-under gravity (ζ > STIFF_DAMPING) always go to ``PhaseIntegrator`` with scipy's Radau.
+under gravity are stiff: the reference integrates them with scipy's Radau above ζ =
+STIFF_DAMPING, the compiled engine keeps DOP853 up to COMPILED_STIFF_DAMPING and hands the
+phases above to ``PhaseIntegrator`` and Radau.
 ``contact_phase`` picks one; ``use_engine("scipy")`` (or CONTACT_SIM_ENGINE=scipy in the
 environment) makes the reference path the default.
 """
@@ -39,6 +41,10 @@ DEFAULT_RTOL = 1e-12
 DEFAULT_ATOL = 1e-14
 FIRST_STEP = 0.05
 STIFF_DAMPING = 30.0   # ζ above which a phase is integrated by Radau instead of DOP853
+# The compiled DOP853 keeps phases up to this ζ: its steps grow like ζ² on the stiff creep into
+# rest, but at ~1 µs each it beats scipy's Radau (~1 s a phase) by far up to here (bench: ζ = 40,
+# 100, 200: 6, 8, 16 ms against 0.4-1.2 s), and stays within a few thousand steps a phase.
+COMPILED_STIFF_DAMPING = 200.0
 ENGINES = ('compiled', 'scipy')
 
 
@@ -385,13 +391,13 @@ def contact_phase(contact, mass, gravity, start_time, penetration, penetration_r
     ``keep_points=False`` lets the compiled phase skip its point list).
 
     ``engine`` ('compiled' or 'scipy', default ``get_engine()``) picks ``CompiledPhase`` or
-    ``PhaseIntegrator``; a heavily damped phase under gravity (ζ > STIFF_DAMPING, stiff) always
-    gets ``PhaseIntegrator`` and its Radau method.
+    ``PhaseIntegrator``; a heavily damped phase under gravity (ζ > COMPILED_STIFF_DAMPING, stiff)
+    always gets ``PhaseIntegrator`` and its Radau method.
     """
     engine = get_engine() if engine is None else _check_engine(engine)
     if engine == 'compiled':
         scales = phase_scales(contact, mass, gravity, penetration, penetration_rate)
-        if not (gravity > 0.0 and scales.damping > STIFF_DAMPING):
+        if not (gravity > 0.0 and scales.damping > COMPILED_STIFF_DAMPING):
             return CompiledPhase(contact, mass, gravity, start_time, penetration,
                                  penetration_rate, rtol=rtol, atol=atol, scales=scales,
                                  keep_points=keep_points)

@@ -41,11 +41,16 @@ def test_the_compiled_engine_is_the_default_and_radau_keeps_the_stiff_phases():
         assert isinstance(phase.contact_phase(PAPER, 0.066, 10.0, 0.0, 0.0, 1.0),
                           phase.PhaseIntegrator)
     assert phase.get_engine() == 'compiled'
-    # ζ > STIFF_DAMPING under gravity: scipy's Radau, whatever the engine
+    # ζ > COMPILED_STIFF_DAMPING under gravity: scipy's Radau, whatever the engine
     heavy = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e9)
     stiff = phase.contact_phase(heavy, 0.066, 10.0, 0.0, 0.0, 1e-3)
-    assert stiff.scales.damping > phase.STIFF_DAMPING
+    assert stiff.scales.damping > phase.COMPILED_STIFF_DAMPING
     assert isinstance(stiff, phase.PhaseIntegrator)
+    # between the two thresholds the compiled DOP853 takes the phase the reference gives Radau
+    moderate = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 2.5e7)
+    fast = phase.contact_phase(moderate, 0.066, 10.0, 0.0, 0.0, math.sqrt(20.0))
+    assert phase.STIFF_DAMPING < fast.scales.damping < phase.COMPILED_STIFF_DAMPING
+    assert isinstance(fast, phase.CompiledPhase)
     with pytest.raises(ValueError, match='engine'):
         phase.set_engine('fortran')
 
@@ -196,3 +201,30 @@ def test_kernels_load_from_the_on_disk_cache():
                          capture_output=True, text=True).stdout
     assert "data loaded from" in out and 'compiled.run-' in out
     assert 'data saved to' not in out
+
+
+@pytest.mark.parametrize('lam', [1e7, 2.5e7, 5e7])    # first phase ζ = 40, 100, 200
+def test_moderately_stiff_phases_compiled_dop853_equals_the_reference_radau(lam):
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, lam)
+    speed = math.sqrt(20.0)
+    fast = cs.simulate_impact(contact, 0.066, speed, gravity=10.0, engine='compiled')
+    ref = cs.simulate_impact(contact, 0.066, speed, gravity=10.0, engine='scipy')
+    assert fast.status == ref.status
+    assert abs(fast.restitution - ref.restitution) <= 1e-9
+    results = {}
+    for engine in phase.ENGINES:
+        with phase.use_engine(engine):
+            results[engine] = cs.simulate_drop(contact, 0.066, 1.0, gravity=10.0, duration=1.5)
+    a, b = results['compiled'], results['scipy']
+    assert len(a.impacts) == len(b.impacts)
+    for x, y in zip(a.impacts, b.impacts):
+        assert abs(x.restitution - y.restitution) <= 1e-9
+        # the final, permanent contact creeps into rest: its largest force and depth are where
+        # each engine's steps ended when it switched to rest
+        tol = 1e-6 if x.permanent else 1e-9
+        assert x.peak_force == pytest.approx(y.peak_force, rel=tol)
+        assert x.max_penetration == pytest.approx(y.max_penetration, rel=tol)
+    assert a.permanent_contact_time == pytest.approx(b.permanent_contact_time, rel=1e-10)
+    # the switch to the closed-form rest happens at the end of the first step that qualifies:
+    # Radau's steps are long, so the two settle times differ by up to a step
+    assert a.settle_time == pytest.approx(b.settle_time, rel=1e-3)
