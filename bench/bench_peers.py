@@ -12,9 +12,12 @@ noisy and the best is the figure to compare):
 * ``simulate_impact``: microseconds per impact; target <= 100 us;
 * with ``--reference``, the same three on the scipy reference engine (slow: about 10 s);
 * with ``--compile-time``, the kernels' compile time (empty cache) and the load time from the
-  cache, each in a fresh process.
+  cache, each in a fresh process;
+* with ``--stiff`` (alone), heavily damped drops (the paper's contact, larger λ): the compiled DOP853
+  forced on every phase against the scipy engine (Radau above ζ = 30): the measurement behind
+  ``phase.COMPILED_STIFF_DAMPING``.
 
-    python bench/bench_peers.py [--repeat 5] [--reference] [--compile-time]
+    python bench/bench_peers.py [--repeat 5] [--reference] [--compile-time] [--stiff]
 """
 import argparse
 import math
@@ -111,6 +114,28 @@ def compile_times():
     return out
 
 
+def stiff_drops():
+    """Heavily damped drops: compiled DOP853 on every phase against the scipy engine's Radau."""
+    print('heavily damped drops (paper contact, 66 g, 1 m, g = 10, 5 s), one run each:')
+    print(f'{"lambda":>8} {"zeta":>7} {"DOP853 compiled":>24} {"scipy engine (Radau)":>24}')
+    saved = phase.COMPILED_STIFF_DAMPING
+    for lam in (1e7, 2.5e7, 5e7, 1e8, 1e9):
+        contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, lam)
+        zeta = phase.phase_scales(contact, 0.066, 10.0, 0.0, math.sqrt(20.0)).damping
+        cells = []
+        for engine in phase.ENGINES:
+            phase.COMPILED_STIFF_DAMPING = math.inf
+            try:
+                with phase.use_engine(engine):
+                    start = time.perf_counter()
+                    res = cs.simulate_drop(contact, 0.066, 1.0, gravity=10.0, duration=5.0)
+                    wall = time.perf_counter() - start
+            finally:
+                phase.COMPILED_STIFF_DAMPING = saved
+            cells.append(f'{res.steps:7d} steps {1e3 * wall:8.1f} ms')
+        print(f'{lam:8.1e} {zeta:7.1f} {cells[0]:>24} {cells[1]:>24}')
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--repeat', type=int, default=5)
@@ -118,7 +143,12 @@ def main():
                         help='also time the scipy reference engine (slow)')
     parser.add_argument('--compile-time', action='store_true',
                         help='time the kernels\' compilation and their load from the cache')
+    parser.add_argument('--stiff', action='store_true',
+                        help='heavily damped drops: compiled DOP853 against scipy\'s Radau')
     args = parser.parse_args()
+    if args.stiff:
+        stiff_drops()
+        return
     print('Peers\' figures, quoted from issue 10 (measured there, not re-run here):')
     for name, wall, steps in PEERS:
         print(f'  {name:<38} {wall:5.2f} s  {steps:6d} steps  {1e6 * wall / steps:4.0f} us/step')

@@ -42,8 +42,8 @@ DEFAULT_ATOL = 1e-14
 FIRST_STEP = 0.05
 STIFF_DAMPING = 30.0   # ζ above which a phase is integrated by Radau instead of DOP853
 # The compiled DOP853 keeps phases up to this ζ: its steps grow like ζ² on the stiff creep into
-# rest, but at ~1 µs each it beats scipy's Radau (~1 s a phase) by far up to here (bench: ζ = 40,
-# 100, 200: 6, 8, 16 ms against 0.4-1.2 s), and stays within a few thousand steps a phase.
+# rest, but at a few µs each it beats scipy's Radau (~1 s a drop) by far up to here, and stays
+# within a few thousand steps a phase (python bench/bench_peers.py --stiff).
 COMPILED_STIFF_DAMPING = 200.0
 ENGINES = ('compiled', 'scipy')
 
