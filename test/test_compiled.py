@@ -63,6 +63,9 @@ def test_simulate_impact_compiled_equals_the_reference_at_random_points(law, gra
         contact = cs.Contact(law, ki, li)
         fast = cs.simulate_impact(contact, mi, vi, gravity=gravity, engine='compiled')
         ref = cs.simulate_impact(contact, mi, vi, gravity=gravity, engine='scipy')
+        # a stiff phase (ζ > STIFF_DAMPING) is DOP853 here and Radau in the reference
+        zeta = phase.phase_scales(contact, mi, gravity, 0.0, vi).damping
+        same_method = gravity == 0.0 or zeta <= phase.STIFF_DAMPING
         assert fast.status == ref.status
         assert abs(fast.restitution - ref.restitution) <= 1e-10
         if fast.status == 0:
@@ -72,10 +75,13 @@ def test_simulate_impact_compiled_equals_the_reference_at_random_points(law, gra
                 assert fast.contact_duration == pytest.approx(ref.contact_duration, rel=1e-9)
         else:
             # came to rest: a creeping sphere's deepest point and largest force are where the
-            # energy test stopped each engine, at the end of a step (step ends differ slightly)
-            assert fast.peak_force == pytest.approx(ref.peak_force, rel=1e-6)
-            assert fast.max_penetration == pytest.approx(ref.max_penetration, rel=1e-6)
-        assert abs(fast.steps - ref.steps) <= 2 + 0.01 * ref.steps
+            # energy test stopped each engine, at the end of a step: step ends differ slightly
+            # with the same method, by up to a (long) Radau step with the other
+            tol = 1e-6 if same_method else 1e-3
+            assert fast.peak_force == pytest.approx(ref.peak_force, rel=tol)
+            assert fast.max_penetration == pytest.approx(ref.max_penetration, rel=tol)
+        if same_method:
+            assert abs(fast.steps - ref.steps) <= 2 + 0.01 * ref.steps
 
 
 @pytest.mark.parametrize('law', LAWS, ids=IDS)
