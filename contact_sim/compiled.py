@@ -18,8 +18,9 @@ external, dimensionless acceleration
     f = γ + A sin(Ω τ + ϕ) - d₁ u - d₂ u|u|,       τ = σ²,
 
 read from the parameter vector (``P_GRAVITY``, ``P_AMPLITUDE``, ``P_OMEGA``, ``P_PHASE``,
-``P_DRAG1``, ``P_DRAG2``): gravity today; a harmonically moving plate (its acceleration, in the
-plate's frame) and linear or quadratic drag set those slots, with no new kernel.
+``P_DRAG1``, ``P_DRAG2``): gravity, and ``phase.Forcing`` (a harmonically moving plate's
+acceleration in the plate's frame, linear and quadratic drag) fills the other slots, with no new
+kernel.
 
 Every kernel is compiled with an explicit signature when this module is imported, and cached on
 disk (numba ``cache=True``, in ``contact_sim/__pycache__``), so no call ever pays the compile

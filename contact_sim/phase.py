@@ -36,6 +36,7 @@ from scipy.integrate import DOP853, Radau
 from scipy.optimize import brentq
 
 from . import compiled
+from .validation import require_nonnegative, require_real
 
 DEFAULT_RTOL = 1e-12
 DEFAULT_ATOL = 1e-14
@@ -73,6 +74,47 @@ def phase_scales(contact, mass, gravity, penetration, penetration_rate):
     time = math.sqrt(mass * length ** (1.0 - n) / k)
     return PhaseScales(length, time, gravity * time ** 2 / length,
                        contact.damping * length ** (p + q - 1.0) * time ** (2.0 - q) / mass)
+
+
+@dataclass(frozen=True)
+class Forcing:
+    """Forcing of a contact phase besides gravity and the contact force, for the compiled engine:
+
+        m z̈ = m g + m A sin(Ω t + ϕ) - c₁ ż - c₂ ż|ż| - F(z, ż)
+
+    with A the amplitude of an extra acceleration along +z (m/s²; a plate vibrating as
+    z_p = a sin(Ω t + ϕ) along +z gives A = a Ω² in the plate's frame), Ω its angular frequency
+    (rad/s), ϕ its phase at t = 0 (rad), c₁ a linear drag (N·s/m) and c₂ a quadratic drag
+    (N·s²/m²) on ż.  The energy tests of the drop and of ``simulate_impact`` assume gravity
+    alone: a caller that adds forcing decides itself when the sphere rests.
+    """
+
+    acceleration_amplitude: float = 0.0
+    angular_frequency: float = 0.0
+    phase: float = 0.0
+    linear_drag: float = 0.0
+    quadratic_drag: float = 0.0
+
+    def __post_init__(self):
+        for name in ('acceleration_amplitude', 'angular_frequency', 'phase'):
+            object.__setattr__(self, name, require_real(name, getattr(self, name)))
+        for name in ('linear_drag', 'quadratic_drag'):
+            object.__setattr__(self, name, require_nonnegative(name, getattr(self, name)))
+
+    @property
+    def active(self):
+        return (self.acceleration_amplitude != 0.0 or self.linear_drag != 0.0
+                or self.quadratic_drag != 0.0)
+
+    def dimensionless(self, mass, scales, start_time):
+        """(A T²/Z, Ω T, Ω t₀ + ϕ, c₁ T/m, c₂ Z/m): the slots P_AMPLITUDE ... P_DRAG2 of a phase
+        that starts at t₀ with the scales Z, T."""
+        length, time = scales.length, scales.time
+        return (self.acceleration_amplitude * time ** 2 / length,
+                self.angular_frequency * time,
+                self.angular_frequency * start_time + self.phase,
+                self.linear_drag * time / mass,
+                self.quadratic_drag * length / mass)
 
 
 class PhaseIntegrator:
@@ -251,10 +293,12 @@ class CompiledPhase:
     ``points``, ``peak_force``, ``max_penetration``, ``steps``, ``lifted_off`` and ``end`` are
     plain attributes, brought up to date after every ``step``/``run``.  With
     ``keep_points=False`` only the first point is kept (a caller that wants the outcome alone).
+    ``forcing`` (a ``Forcing``) adds forcing terms to gravity.
     """
 
     def __init__(self, contact, mass, gravity, start_time, penetration, penetration_rate,
-                 rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scales=None, keep_points=True):
+                 rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scales=None, keep_points=True,
+                 forcing=None):
         self.contact = contact
         self.mass = mass
         self.start_time = start_time
@@ -265,9 +309,10 @@ class CompiledPhase:
         g = mass_g / mass                           # as PhaseIntegrator.energy_above_rest
         z0 = (mass_g / k) ** (1.0 / law.n)           # the static depth
         rest_potential = k * z0 ** (law.n + 1.0) / (law.n + 1.0) - mass_g * z0
-        # the layout of compiled.P_*; the forcing is gravity alone, for now
+        # the layout of compiled.P_*; the forcing: gravity, and the terms of ``forcing``
+        extra = (0.0,) * 5 if forcing is None else forcing.dimensionless(mass, sc, start_time)
         par = np.array([law.n, law.p, law.q, sc.damping,
-                        sc.gravity, 0.0, 0.0, 0.0, 0.0, 0.0,
+                        sc.gravity, *extra,
                         start_time, sc.time, sc.length,
                         k, contact.damping, mass, g, rest_potential, rtol, atol,
                         compiled.KINDS.get((law.n, law.p, law.q), 0.0)])
@@ -386,15 +431,25 @@ def use_engine(name):
 
 
 def contact_phase(contact, mass, gravity, start_time, penetration, penetration_rate,
-                  rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, engine=None, keep_points=True):
+                  rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, engine=None, keep_points=True,
+                  forcing=None):
     """The integrator of one contact phase (see ``PhaseIntegrator`` for the arguments;
     ``keep_points=False`` lets the compiled phase skip its point list).
+
+    ``forcing`` (a ``Forcing`` beyond gravity) needs the compiled engine, which then integrates
+    the phase with DOP853 even when it is stiff.
 
     ``engine`` ('compiled' or 'scipy', default ``get_engine()``) picks ``CompiledPhase`` or
     ``PhaseIntegrator``; a heavily damped phase under gravity (ζ > COMPILED_STIFF_DAMPING, stiff)
     always gets ``PhaseIntegrator`` and its Radau method.
     """
     engine = get_engine() if engine is None else _check_engine(engine)
+    if forcing is not None and forcing.active:
+        if engine != 'compiled':
+            raise ValueError(f'forcing = {forcing!r} needs the compiled engine: allowed '
+                             f"engine = 'compiled' (not {engine!r}) or no forcing")
+        return CompiledPhase(contact, mass, gravity, start_time, penetration, penetration_rate,
+                             rtol=rtol, atol=atol, keep_points=keep_points, forcing=forcing)
     if engine == 'compiled':
         scales = phase_scales(contact, mass, gravity, penetration, penetration_rate)
         if not (gravity > 0.0 and scales.damping > COMPILED_STIFF_DAMPING):

@@ -165,8 +165,9 @@ def test_the_drag_slot_of_the_forcing_is_a_damper_in_closed_form():
     # linear spring, no contact damping, linear drag d: x'' = -x - d x' from (0, 1) until x = 0
     # again: duration π/ω and rebound e^(-dπ/2ω), ω = √(1 - d²/4)
     d = 0.3
-    p = phase.CompiledPhase(cs.Contact(cs.LINEAR, 1.0, 0.0), 1.0, 0.0, 0.0, 0.0, 1.0)
-    p._par[compiled.P_DRAG1] = d
+    p = phase.contact_phase(cs.Contact(cs.LINEAR, 1.0, 0.0), 1.0, 0.0, 0.0, 0.0, 1.0,
+                            forcing=phase.Forcing(linear_drag=d))
+    assert p._par[compiled.P_DRAG1] == d
     p.run()
     omega = math.sqrt(1.0 - d * d / 4.0)
     t_end, z_end, rate_end = p.end
@@ -176,7 +177,7 @@ def test_the_drag_slot_of_the_forcing_is_a_damper_in_closed_form():
 
 def test_the_harmonic_slot_of_the_forcing_at_zero_frequency_is_gravity():
     ref = phase.CompiledPhase(PAPER, 0.066, 10.0, 0.0, 0.0, 0.5)
-    alt = phase.CompiledPhase(PAPER, 0.066, 10.0, 0.0, 0.0, 0.5)
+    alt = phase.CompiledPhase(PAPER, 0.066, 10.0, 0.0, 0.0, 0.5)   # same scales as ref
     alt._par[compiled.P_AMPLITUDE] = alt._par[compiled.P_GRAVITY]
     alt._par[compiled.P_GRAVITY] = 0.0
     alt._par[compiled.P_PHASE] = math.pi / 2.0
@@ -184,6 +185,32 @@ def test_the_harmonic_slot_of_the_forcing_at_zero_frequency_is_gravity():
     alt.run()
     assert alt.steps == ref.steps
     np.testing.assert_allclose(alt.end, ref.end, rtol=1e-13)
+
+
+def test_harmonic_forcing_is_phased_in_absolute_time():
+    # a phase starting at t0 with phase ϕ moves as one starting at 0 with phase ϕ + Ω t0
+    omega, t0 = 2.0e4, 0.37
+    a = phase.contact_phase(PAPER, 0.066, 10.0, t0, 0.0, 0.5,
+                            forcing=phase.Forcing(5e3, omega, 0.3))
+    b = phase.contact_phase(PAPER, 0.066, 10.0, 0.0, 0.0, 0.5,
+                            forcing=phase.Forcing(5e3, omega, 0.3 + omega * t0))
+    a.run()
+    b.run()
+    assert a.end[0] - t0 == pytest.approx(b.end[0], rel=1e-9)
+    assert a.end[2] == pytest.approx(b.end[2], rel=1e-9)
+    plain = phase.contact_phase(PAPER, 0.066, 10.0, 0.0, 0.0, 0.5)
+    plain.run()
+    assert abs(plain.end[2] - b.end[2]) > 1e-3 * abs(plain.end[2])   # the forcing acts
+
+
+def test_forcing_is_validated_and_needs_the_compiled_engine():
+    with pytest.raises(ValueError, match='linear_drag'):
+        phase.Forcing(linear_drag=-1.0)
+    with pytest.raises(ValueError, match='angular_frequency'):
+        phase.Forcing(angular_frequency=float('nan'))
+    with pytest.raises(ValueError, match='forcing'):
+        phase.contact_phase(PAPER, 0.066, 10.0, 0.0, 0.0, 0.5, engine='scipy',
+                            forcing=phase.Forcing(quadratic_drag=0.1))
 
 
 def test_chunked_runs_equal_one_run():
