@@ -29,7 +29,7 @@ import tempfile
 import time
 
 import contact_sim as cs
-from contact_sim import phase
+from contact_sim import drop, phase
 
 # quoted from issue 10 (wall s for 5 s, steps), measured there on this machine
 PEERS = [('Drake continuous RK3, accuracy 1e-6', 1.84, 28192),
@@ -88,6 +88,10 @@ def run_engine(engine, repeat):
               f'second best, {1e3 * median / 5.0:.2f} median; {res.steps} steps, '
               f'{len(res.apex_heights)} bounces; target <= {TARGET_PAPER_MS} ms: '
               f'{"met" if 1e3 * best / 5.0 <= TARGET_PAPER_MS else "NOT met"}')
+        wall, flight = flight_share(paper)
+        print(f'[{engine}] paper drop, one more run: {1e3 * wall:.1f} ms, of which '
+              f'{1e3 * flight:.1f} ms in the flights\' search for the next contact '
+              f'(DropSimulation._time_to_contact, Python)')
         print(f'[{engine}] simulate_impact (us per impact, best / median of {repeat} x n calls)')
         worst = 0.0
         for name, c, m, v, g in impact_cases():
@@ -99,6 +103,27 @@ def run_engine(engine, repeat):
                   f'{r[0].steps:4d} steps  e = {r[0].restitution:.10f}')
         print(f'  target <= {TARGET_IMPACT_US} us per impact: '
               f'{"met" if worst <= TARGET_IMPACT_US else "NOT met"} (slowest case, best)')
+
+
+def flight_share(contact):
+    """(wall s, s spent in DropSimulation._time_to_contact) of one paper drop."""
+    original = drop.DropSimulation._time_to_contact
+    spent = [0.0]
+
+    def timed_search(self, z, zdot):
+        start = time.perf_counter()
+        try:
+            return original(self, z, zdot)
+        finally:
+            spent[0] += time.perf_counter() - start
+
+    drop.DropSimulation._time_to_contact = timed_search
+    try:
+        start = time.perf_counter()
+        cs.simulate_drop(contact, 0.066, 1.0, gravity=10.0, duration=5.0)
+        return time.perf_counter() - start, spent[0]
+    finally:
+        drop.DropSimulation._time_to_contact = original
 
 
 def compile_times():
@@ -158,8 +183,9 @@ def main():
         run_engine('scipy', max(1, min(args.repeat, 2)))
     if args.compile_time:
         cold, warm = compile_times()
-        print(f'\nprocess importing contact_sim.compiled: {cold:.1f} s with an empty numba cache '
-              f'(compiling), {warm:.2f} s with the cache written (loading)')
+        print(f'\na new process running "import contact_sim.compiled" (Python, numpy, scipy, '
+              f'numba and the kernels): {cold:.1f} s with an empty numba cache (compiling), '
+              f'{warm:.2f} s with the cache written (loading)')
 
 
 if __name__ == '__main__':
