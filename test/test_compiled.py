@@ -236,6 +236,21 @@ def test_kernels_load_from_the_on_disk_cache():
     assert 'data saved to' not in out
 
 
+def test_the_colcon_symlink_install_loads_the_same_cache():
+    # scripts/setup.sh's `colcon build --symlink-install` links build/contact_sim/contact_sim to
+    # the sources; imported from there (as ros2 run would), the kernels come from the same cache
+    linked = ROOT / 'build' / 'contact_sim'
+    code = ('import sys; '
+            'sys.meta_path[:] = [f for f in sys.meta_path if "editable" not in repr(f).lower()]; '
+            f'sys.path.insert(0, {str(linked)!r}); '
+            'import contact_sim.compiled as c; print(c.__file__)')
+    env = dict(os.environ, NUMBA_DEBUG_CACHE='1')
+    out = subprocess.run([sys.executable, '-c', code], cwd=ROOT, env=env, check=True,
+                         capture_output=True, text=True).stdout
+    assert out.strip().splitlines()[-1] == str(linked / 'contact_sim' / 'compiled.py')
+    assert "data loaded from" in out and 'data saved to' not in out
+
+
 @pytest.mark.parametrize('lam', [1e7, 2.5e7, 5e7])    # first phase ζ = 40, 100, 200
 def test_moderately_stiff_phases_compiled_dop853_equals_the_reference_radau(lam):
     contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, lam)
