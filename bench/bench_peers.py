@@ -17,7 +17,7 @@ noisy and the best is the figure to compare):
   forced on every phase against the scipy engine (Radau above ζ = 30): the measurement behind
   ``phase.COMPILED_STIFF_DAMPING``.
 
-    python bench/bench_peers.py [--repeat 5] [--reference] [--compile-time] [--stiff]
+    python bench/bench_peers.py [--repeat 10] [--reference] [--compile-time] [--stiff]
 """
 import argparse
 import math
@@ -163,7 +163,7 @@ def stiff_drops():
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument('--repeat', type=int, default=5)
+    parser.add_argument('--repeat', type=int, default=10)
     parser.add_argument('--reference', action='store_true',
                         help='also time the scipy reference engine (slow)')
     parser.add_argument('--compile-time', action='store_true',
