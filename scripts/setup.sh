@@ -43,6 +43,6 @@ PATH="$VIRTUAL_ENV/lib/contact_sim:$PATH"
 export AMENT_PREFIX_PATH PATH
 HOOK
 fi
-# compile the contact engine's numba kernels once (~10 s): they are cached in contact_sim/__pycache__
+# compile the contact engine's numba kernels once (10-20 s): they are cached in contact_sim/__pycache__
 .venv/bin/python -c 'import contact_sim.compiled'
 echo "contact_sim is set up: source .venv/bin/activate"
