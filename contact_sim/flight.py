@@ -268,6 +268,12 @@ def flight_to_plate(rebound_speed, gravity, kappa=0.0, beta=0.0):
     """(flight time s, arrival speed m/s) of a bounce leaving the plate (y = 0) upward at
     ``rebound_speed`` (m/s, array) and landing on it again: apex in closed form, then the fall."""
     u = np.asarray(rebound_speed, dtype=float)
+    if beta == 0.0 and kappa > 0.0:
+        # up: atan(w) vt/g, down: atanh(s1/vt) vt/g with s1 = u/√(1 + w²), w = u/vt, and
+        # atanh(w/√(1 + w²)) = asinh(w)
+        vt = math.sqrt(gravity / kappa)
+        w = u / vt
+        return (np.arctan(w) + np.arcsinh(w)) * vt / gravity, u / np.sqrt(1.0 + w * w)
     t_a, rise = apex(u, gravity, kappa, beta)
     t_f, s1 = fall_time(rise, 0.0, gravity, kappa, beta)
     return t_a + t_f, s1

@@ -99,3 +99,135 @@ def test_vectorised_over_sequences():
         one = bounces.impact_sequence(law, 1e8, 3e3, 0.046, G, v, 5)[0][0]
         assert np.allclose(times[i], one, rtol=1e-14, atol=0)
     assert math.isfinite(times[0, -1])
+
+
+# -- fit_bounces --------------------------------------------------------------------------------
+from contact_sim.bounce_fit import fit_bounces, prepare_sequence   # noqa: E402
+from contact_sim.recordings import ImpactTimes                       # noqa: E402
+
+GOLF_MASS, GOLF_K = 0.046, 2e8
+HEIGHTS = (0.5, 0.8, 1.0, 1.2)
+
+
+@pytest.fixture(scope='module')
+def golf_truth():
+    """Touch times from the package's own engine (gravity in every contact, drag in flight)."""
+    lam = cs.damping_for_restitution('azad_featherstone', GOLF_K, GOLF_MASS, 0.8, 3.0)
+    contact = cs.Contact('azad_featherstone', GOLF_K, lam)
+    return lam, {h: engine_touches(contact, GOLF_MASS, GOLF, h, duration=6.0)[:14]
+                 for h in HEIGHTS}
+
+
+def synthetic_recording(truth, seed):
+    """A phone-like recording: timing jitter 50 µs, a random experiment start, times in
+    multiples of 1/48000 s, a release height measured to ± 1 cm, and in one seed of three a
+    glitch: a missed bounce, a doubled click (echo 3-15 ms later) or a late start."""
+    rng = np.random.default_rng(seed)
+    h = HEIGHTS[seed % len(HEIGHTS)]
+    n = int(rng.integers(9, 13))
+    t = truth[h][:n] + rng.normal(0.0, 50e-6, n) + rng.uniform(0.5, 3.0)
+    planted = None
+    if seed % 3 == 0:
+        planted = ('missed bounce', 'doubled click', 'late start')[(seed // 3) % 3]
+        if planted == 'missed bounce':
+            t = np.delete(t, int(rng.integers(3, n - 2)))
+        elif planted == 'doubled click':
+            i = int(rng.integers(2, n - 2))
+            t = np.sort(np.append(t, t[i] + rng.uniform(0.003, 0.015)))
+        else:
+            t = t[1:]
+    t = np.round(t * 48000.0) / 48000.0
+    return ImpactTimes(t, h + rng.normal(0.0, 0.01)), planted
+
+
+def test_fit_bounces_coverage_law_choice_and_glitches(golf_truth):
+    """200 seeds: λ inside its 95 % interval in >= 90 %, the true law ranked first, every
+    planted glitch named, no glitch invented."""
+    lam, truth = golf_truth
+    inside = picked = flagged = planted_count = invented = 0
+    seeds = 200
+    for seed in range(seeds):
+        recording, planted = synthetic_recording(truth, seed)
+        fit = fit_bounces([recording], GOLF_MASS, GOLF_K, drag=GOLF)
+        af = next(f for f in fit.fits if f.law.name == 'azad_featherstone')
+        low, high = af.damping_interval
+        inside += low <= lam <= high
+        picked += fit.best.law.name == 'azad_featherstone'
+        kinds = [g.kind for g in fit.glitches if g.kind != 'outlier']
+        if planted:
+            planted_count += 1
+            flagged += planted in kinds
+        invented += sum(kind != planted for kind in kinds)
+    assert inside >= 0.9 * seeds
+    assert picked == seeds
+    assert flagged == planted_count == 67
+    assert invented == 0
+
+
+def test_fit_bounces_several_sequences_and_drag_coefficient(golf_truth):
+    lam, truth = golf_truth
+    recordings = [synthetic_recording(truth, seed)[0] for seed in (1, 2, 4, 5)]
+    fit = fit_bounces(recordings, GOLF_MASS, GOLF_K, laws=['azad_featherstone'],
+                      drag=AirDrag(1.2, 0.5, 0.0214), fit_drag=True)
+    best = fit.best
+    assert best.damping_interval[0] <= lam <= best.damping_interval[1]
+    assert best.drag_interval[0] <= 0.3 <= best.drag_interval[1]
+    assert best.drag_interval[1] / best.drag_interval[0] < 2.0
+    assert len(best.residuals) == 4 and best.rms < 1e-4
+
+
+def test_constant_restitution_is_not_called_speed_dependent():
+    """Data made by a constant-restitution contact (the linear law) with drag: the fit must not
+    claim a speed-dependent restitution, and drag must not be mistaken for one."""
+    mass = 0.0027
+    k_lin = 3e4
+    lam = cs.damping_for_restitution('linear', k_lin, mass, 0.9, 1.0)
+    contact = cs.Contact('linear', k_lin, lam)
+    touches = engine_touches(contact, mass, TABLE_TENNIS, 0.6, duration=4.0)[:12]
+    rng = np.random.default_rng(7)
+    t = np.round((touches + rng.normal(0.0, 50e-6, touches.size)) * 48000.0) / 48000.0
+    fit = fit_bounces([ImpactTimes(t, 0.6)], mass, {'azad_featherstone': 5e6,
+                                                   'hunt_crossley': 5e6, 'linear': k_lin},
+                      drag=TABLE_TENNIS)
+    assert fit.best.law.name == 'linear'
+    assert not fit.speed_dependent
+    # ignoring the drag makes the same data look speed dependent (the issue's trap)
+    naive = fit_bounces([ImpactTimes(t, 0.6)], mass, {'azad_featherstone': 5e6,
+                                                     'hunt_crossley': 5e6, 'linear': k_lin})
+    assert naive.fits[0].rms > 3 * fit.fits[0].rms
+
+
+def test_glitch_detection_names_each_kind():
+    t = np.cumsum([0.0] + [0.6 * 0.85 ** i for i in range(10)])
+    prepared, glitches = prepare_sequence(0, ImpactTimes(t))
+    assert glitches == [] and list(prepared.index) == list(range(11))
+    missed = np.delete(t, 5)
+    prepared, glitches = prepare_sequence(0, ImpactTimes(missed))
+    assert [g.kind for g in glitches] == ['missed bounce']
+    assert list(prepared.index) == [0, 1, 2, 3, 4, 6, 7, 8, 9, 10]
+    two_missed = np.delete(t, [5, 6])
+    prepared, glitches = prepare_sequence(0, ImpactTimes(two_missed))
+    assert list(prepared.index) == [0, 1, 2, 3, 4, 7, 8, 9, 10]
+    doubled = np.sort(np.append(t, t[4] + 0.008))
+    prepared, glitches = prepare_sequence(0, ImpactTimes(doubled))
+    assert [(g.kind, g.left_out) for g in glitches] == [('doubled click', True)]
+    assert np.array_equal(prepared.times, t)
+    h = (0.6 / 1.7) ** 2 * G / 2.0       # the release whose first bounce flight lasts 0.6 s
+    prepared, glitches = prepare_sequence(0, ImpactTimes(t[1:] - t[1], h), G)
+    assert [g.kind for g in glitches] == ['late start'] and prepared.index[0] == 1
+    prepared, glitches = prepare_sequence(0, ImpactTimes(t, h), G)
+    assert glitches == []
+
+
+def test_fit_bounces_errors_name_the_field():
+    t = np.cumsum([0.0] + [0.6 * 0.85 ** i for i in range(6)])
+    with pytest.raises(ValueError, match='loss = .nope. is unknown'):
+        fit_bounces([t], 0.046, 2e8, loss='nope')
+    with pytest.raises(ValueError, match='timing_resolution = 0.0 is out of range'):
+        fit_bounces([t], 0.046, 2e8, timing_resolution=0.0)
+    with pytest.raises(ValueError, match='drag is missing'):
+        fit_bounces([t], 0.046, 2e8, fit_drag=True)
+    with pytest.raises(ValueError, match=r'times\[2\] = .* allowed times\[2\] > times\[1\]'):
+        ImpactTimes([0.0, 1.0, 0.5])
+    with pytest.raises(ValueError, match='at least 3'):
+        ImpactTimes([0.0, 1.0])

@@ -1,0 +1,562 @@
+"""Calibrating a contact from recorded bounce sequences: a robust least-squares fit on the impact
+times themselves.
+
+For each law, the unknowns are the damping λ (in ln λ), optionally the drag coefficient C_d (in
+ln C_d), and per sequence the time t₁ and speed v₁ of its first recorded impact; the model is
+``bounces.impact_sequence`` (closed-form drag flights, restitution fast path, contact duration,
+first-order gravity during contact).  The residuals are predicted minus measured times in units of
+the timing resolution, plus, for a sequence with a measured release height h (± ``height_error``),
+(h(v₁) - h) / height_error.  ``scipy.optimize.least_squares`` minimises them with a robust loss
+(soft-L1 by default) whose scale is three times the timing noise, itself estimated robustly
+(1.4826 × median absolute residual of a first pass, never below the resolution / √12); points the
+loss down-weights by more than half are reported.
+
+Detector glitches are found before the fit from the intervals between clicks, which shrink by
+about the restitution ē (the median of the interval ratios) at each bounce:
+
+* a doubled click (an echo or the ball's rattle): an interval far shorter (< 0.4 ×) than the one
+  expected; the later click is left out;
+* a missed bounce: an interval close to (1 + ē) or (1 + ē + ē²) times the one expected; nothing is
+  left out, the following clicks are numbered one or two bounces later;
+* a late start (the first impact was missed): with a release height, a first interval that
+  matches the second bounce's flight rather than the first; the sequence is numbered from 1.
+  Without a release height a late start cannot be told from a lower release.
+
+Laws have equal parameter counts, so they are ranked by the weighted rms timing residual; the
+Akaike criterion N ln(SSE / N) + 2P is reported too (it ranks the same way then, and is the one to
+compare when counts differ, e.g. with and without a fitted C_d).  The constant-restitution law is
+the linear law (its e does not depend on speed); its stiffness, when not given, is chosen so that
+its undamped contact lasts as long as the Hertz contact at the median impact speed.  The data are
+said to support a speed-dependent restitution when the best speed-dependent law beats the constant
+law by ΔAIC > 10.  Confidence intervals come from the Jacobian of the weighted residuals at the
+optimum (covariance s² (JᵀJ)⁻¹, Student t with N - P degrees of freedom), in ln λ and ln C_d.
+Units: SI.
+"""
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+from scipy.sparse import lil_matrix
+
+from .bounces import impact_sequence, release_height, release_speed
+from .contact import Contact
+from .fitting import damping_for_restitution
+from .flight import AirDrag
+from .laws import LAWS, get_law
+from .recordings import ImpactTimes
+from .restitution import contact_duration, restitution
+from .validation import require_positive, require_range
+
+DOUBLED_RATIO = 0.4          # an interval below this fraction of the expected one: doubled click
+SUPPORT_DELTA_AIC = 10.0     # evidence needed to call the restitution speed dependent
+LOSSES = ('linear', 'soft_l1', 'huber', 'cauchy', 'arctan')
+
+
+@dataclass(frozen=True)
+class Glitch:
+    """A detector glitch found in sequence ``sequence``: ``kind`` is 'doubled click', 'missed
+    bounce', 'late start' or 'outlier'; ``time`` the click concerned (s); ``left_out`` whether
+    that click was left out of the fit."""
+
+    sequence: int
+    kind: str
+    time: float
+    left_out: bool
+    detail: str
+
+    def describe(self):
+        action = 'left out' if self.left_out else 'kept'
+        return f'sequence {self.sequence + 1}: {self.kind} at t = {self.time:.6f} s ({action}): ' \
+               f'{self.detail}'
+
+
+@dataclass(frozen=True)
+class PreparedSequence:
+    """Clicks kept for the fit and the bounce number (from 0) each one is assigned."""
+
+    times: np.ndarray
+    index: np.ndarray
+    height: float
+    name: str
+    restitution_guess: float
+
+
+def _interval_restitution(dt):
+    ratios = dt[1:] / dt[:-1]
+    good = ratios[(ratios > 0.2) & (ratios < 1.0)]
+    return float(np.clip(np.median(good) if good.size else 0.7, 0.1, 0.995))
+
+
+def prepare_sequence(number, seq, gravity=9.81):
+    """Find glitches in one ``ImpactTimes``; returns (``PreparedSequence``, glitches)."""
+    t = np.asarray(seq.times, dtype=float)
+    glitches = []
+    keep = np.ones(t.size, dtype=bool)
+    # doubled clicks: drop the later click of an interval far shorter than both neighbours'
+    # expectation, repeatedly (the expectation comes from the kept clicks)
+    changed = True
+    while changed and keep.sum() >= 4:
+        changed = False
+        kt = t[keep]
+        dt = np.diff(kt)
+        e_bar = _interval_restitution(dt)
+        for i in range(dt.size):
+            prev_dt = dt[i - 1] * e_bar if i > 0 else None
+            next_dt = dt[i + 1] / e_bar if i + 1 < dt.size else None
+            ref = [x for x in (prev_dt, next_dt) if x is not None]
+            if ref and dt[i] < DOUBLED_RATIO * min(ref):
+                # the echo is the later click unless the interval after it is the short one
+                j = np.flatnonzero(keep)[i + 1]
+                keep[j] = False
+                glitches.append(Glitch(number, 'doubled click', float(t[j]), True,
+                                       f'{dt[i] * 1e3:.2f} ms after the click before, '
+                                       f'expected about {min(ref) * 1e3:.1f} ms'))
+                changed = True
+                break
+    kt = t[keep]
+    dt = np.diff(kt)
+    e_bar = _interval_restitution(dt)
+    index = np.zeros(kt.size, dtype=int)
+    # missed bounces: number the clicks so that each interval is one or more bounce flights
+    last = None     # the last single-bounce flight time
+    for i in range(dt.size):
+        if last is None:
+            # the first interval: compare with the next one (if any)
+            expected = dt[i + 1] / e_bar if i + 1 < dt.size else dt[i]
+            if i + 1 < dt.size and dt[i + 1] > dt[i] * (1.0 + 0.5 * e_bar):
+                expected = dt[i]   # the next interval is the one that holds a miss
+        else:
+            expected = last * e_bar
+        sums = [expected * sum(e_bar ** j for j in range(m + 1)) for m in range(3)]
+        m = int(np.argmin([abs(math.log(dt[i] / s)) for s in sums]))
+        index[i + 1] = index[i] + 1 + m
+        if m:
+            glitches.append(Glitch(number, 'missed bounce', float(kt[i + 1]), False,
+                                   f'interval {dt[i] * 1e3:.1f} ms is about {1 + m} flights of '
+                                   f'{expected * 1e3:.1f} ms, {m} click(s) missing before it'))
+        last = dt[i] * e_bar ** m / sum(e_bar ** j for j in range(m + 1))
+    # late start: the first interval against the fall from the release height
+    if seq.height is not None and dt.size:
+        first = dt[0] if index[1] == 1 else dt[0] / sum(e_bar ** j for j in range(index[1]))
+        fall_flight = 2.0 * e_bar * math.sqrt(2.0 * seq.height / gravity)   # vacuum estimate
+        options = [fall_flight * e_bar ** m for m in range(3)]
+        late = int(np.argmin([abs(math.log(first / s)) for s in options]))
+        if late:
+            index = index + late
+            glitches.append(Glitch(number, 'late start', float(kt[0]), False,
+                                   f'first interval {dt[0] * 1e3:.1f} ms fits bounce {late + 1} '
+                                   f'of a release from {seq.height:g} m, not bounce 1: the first '
+                                   f'{late} impact(s) were not recorded'))
+    return PreparedSequence(kt, index, seq.height, seq.name, e_bar), glitches
+
+
+@dataclass(frozen=True)
+class LawFit:
+    """The fit of one law to all sequences (SI units)."""
+
+    law: object
+    stiffness: float
+    damping: float
+    damping_interval: tuple
+    drag_coefficient: float
+    drag_interval: tuple          # (nan, nan) when C_d was not fitted
+    start_times: np.ndarray       # t₁ per sequence (s)
+    first_speeds: np.ndarray      # v₁ per sequence (m/s)
+    release_heights: np.ndarray   # h(v₁) per sequence (m)
+    residuals: list               # per sequence, predicted - measured (s), kept clicks only
+    weights: list                 # per sequence, the robust loss weights (1 = full weight)
+    rms: float                    # weighted rms timing residual (s)
+    aic: float
+    parameters: int
+    observations: int
+    noise: float                  # estimated timing noise (s)
+    success: bool
+    message: str
+
+    def contact(self):
+        return Contact(self.law, self.stiffness, self.damping)
+
+
+@dataclass(frozen=True)
+class BounceFit:
+    """``fit_bounces`` result: laws ranked best first, the glitches and the prepared data."""
+
+    fits: list
+    sequences: list
+    glitches: list
+    mass: float
+    gravity: float
+    drag: object
+    fit_drag: bool
+    confidence: float
+    timing_resolution: float
+    speed_dependent: bool = field(default=False)
+    delta_aic: float = field(default=math.nan)
+
+    @property
+    def best(self):
+        return self.fits[0]
+
+    def downweighted(self, fit=None):
+        """(sequence, time s, residual s, weight) of the clicks the robust loss down-weighted."""
+        fit = fit or self.best
+        out = []
+        for j, (seq, r, w) in enumerate(zip(self.sequences, fit.residuals, fit.weights)):
+            for t, ri, wi in zip(seq.times, r, w):
+                if wi < 0.5:
+                    out.append((j, float(t), float(ri), float(wi)))
+        return out
+
+
+def _linear_stiffness(hertz_law, hertz_k, mass, speed):
+    """k of a linear spring whose undamped contact π √(m/k) lasts as long as the Hertz one."""
+    tau = contact_duration(Contact(hertz_law, hertz_k, 0.0), mass, speed)
+    return mass * (math.pi / tau) ** 2
+
+
+class _Problem:
+    """Residuals of one law over all sequences (vectorised over sequences)."""
+
+    def __init__(self, law, stiffness, mass, gravity, drag, fit_drag, sequences, resolution,
+                 height_error):
+        self.law, self.k, self.m, self.g = law, stiffness, mass, gravity
+        self.drag, self.fit_drag = drag, fit_drag
+        self.seqs = sequences
+        self.res = resolution
+        self.height_error = height_error
+        self.count = max(int(s.index[-1]) for s in sequences) + 1
+        self.n_seq = len(sequences)
+        self.offset = 2 if fit_drag else 1
+        self.rows = [(j, s.index) for j, s in enumerate(sequences)]
+        self.n_times = sum(s.times.size for s in sequences)
+        self.heights = [j for j, s in enumerate(sequences) if s.height is not None]
+
+    def unpack(self, x):
+        lam = math.exp(min(x[0], 700.0))
+        cd = math.exp(min(x[1], 5.0)) if self.fit_drag else None
+        t1 = x[self.offset:self.offset + self.n_seq]
+        v1 = np.exp(x[self.offset + self.n_seq:])
+        return lam, cd, t1, v1
+
+    def rates(self, cd):
+        if self.drag is None:
+            return 0.0, 0.0
+        drag = self.drag if cd is None else AirDrag(self.drag.air_density, min(cd, 10.0),
+                                                    self.drag.radius,
+                                                    self.drag.linear_coefficient)
+        return drag.rates(self.m, self.g)
+
+    def _times(self, lam, v1, kappa, beta):
+        """Relative touch times (rows, count) for per-row λ and v₁ (arrays of equal length)."""
+        return impact_sequence(self.law, self.k, lam, self.m, self.g, v1, self.count,
+                               kappa, beta)[0]
+
+    def predicted(self, x):
+        lam, cd, t1, v1 = self.unpack(x)
+        kappa, beta = self.rates(cd)
+        times = self._times(np.full(v1.size, lam), v1, kappa, beta)
+        return [t1[j] + times[j, idx] for j, idx in self.rows], (kappa, beta), v1
+
+    def _pack(self, pred, v1, kappa, beta):
+        out = np.empty(self.n_times + len(self.heights))
+        pos = 0
+        for p, s in zip(pred, self.seqs):
+            r = (p - s.times) / self.res
+            out[pos:pos + r.size] = np.where(np.isfinite(r), r, 1e6)   # the ball stopped
+            pos += r.size
+        if self.heights:
+            sel = np.array(self.heights)
+            h = release_height(v1[sel], self.g, kappa, beta)
+            target = np.array([self.seqs[j].height for j in self.heights])
+            out[pos:] = np.where(np.isfinite(h), (h - target) / self.height_error, 1e6)
+        return out
+
+    def residuals(self, x):
+        pred, (kappa, beta), v1 = self.predicted(x)
+        return self._pack(pred, v1, kappa, beta)
+
+    def jacobian(self, x):
+        """Forward differences in ln λ and ln v₁ from one batched model call (the sequences
+        are independent given λ), exact in t₁; C_d, when fitted, by one more call."""
+        lam, cd, t1, v1 = self.unpack(x)
+        kappa, beta = self.rates(cd)
+        n, step = self.n_seq, 1e-7
+        lams = np.concatenate([np.full(n, lam), np.full(n, lam * math.exp(step)),
+                               np.full(n, lam)])
+        v1s = np.concatenate([v1, v1, v1 * math.exp(step)])
+        times = self._times(lams, v1s, kappa, beta)
+        jac = np.zeros((self.n_times + len(self.heights), x.size))
+        pos = 0
+        for j, idx in self.rows:
+            base = times[j, idx]
+            rows = slice(pos, pos + idx.size)
+            jac[rows, 0] = (times[n + j, idx] - base) / step / self.res
+            jac[rows, self.offset + j] = 1.0 / self.res
+            jac[rows, self.offset + n + j] = (times[2 * n + j, idx] - base) / step / self.res
+            pos += idx.size
+        for i, j in enumerate(self.heights):
+            h0 = float(release_height(v1[j], self.g, kappa, beta))
+            h1 = float(release_height(v1[j] * math.exp(step), self.g, kappa, beta))
+            jac[pos + i, self.offset + n + j] = (h1 - h0) / step / self.height_error
+        if self.fit_drag:
+            xs = np.array(x, dtype=float)
+            xs[1] += step
+            jac[:, 1] = (self.residuals(xs) - self.residuals(x)) / step
+        return np.where(np.isfinite(jac), jac, 0.0)
+
+    def sparsity(self):
+        n_par = self.offset + 2 * self.n_seq
+        sp = lil_matrix((self.n_times + len(self.heights), n_par), dtype=int)
+        sp[:, :self.offset] = 1
+        pos = 0
+        for j, s in enumerate(self.seqs):
+            sp[pos:pos + s.times.size, self.offset + j] = 1
+            sp[pos:pos + s.times.size, self.offset + self.n_seq + j] = 1
+            pos += s.times.size
+        for i, j in enumerate(self.heights):
+            sp[pos + i, self.offset + self.n_seq + j] = 1
+            if self.fit_drag:
+                sp[pos + i, 1] = 1
+        return sp
+
+
+def _initial_guess(problem, drag_coefficient):
+    law, k, m, g = problem.law, problem.k, problem.m, problem.g
+    kappa, beta = problem.rates(drag_coefficient)
+    t1, v1, speeds, es = [], [], [], []
+    for s in problem.seqs:
+        dt = np.diff(s.times) / np.diff(s.index)        # rough single flights
+        e = s.restitution_guess
+        first_flight = dt[0] * e ** 0 if s.index[0] == 0 else dt[0]
+        if s.height is not None:
+            v = float(release_speed(s.height, g, kappa, beta))
+            v_first = v * e ** s.index[0]
+        else:
+            v_first = g * first_flight / 2.0 / e
+            v = v_first / e ** s.index[0]
+        t_first = s.times[0] - sum(2.0 * v * e ** (i + 1) / g for i in range(s.index[0]))
+        t1.append(t_first)
+        v1.append(v)
+        speeds.extend(g * dt / 2.0)
+        es.append(e)
+    v_med = float(np.median(speeds))
+    e_med = float(np.median(es))
+    if law.n == 1.0 and law.p == 0.0:
+        lam0 = damping_for_restitution(law, k, m, e_med, v_med)
+    else:
+        lam0 = damping_for_restitution(law, k, m, e_med, v_med)
+    x0 = [math.log(max(lam0, 1e-300))]
+    if problem.fit_drag:
+        x0.append(math.log(drag_coefficient))
+    x0 = np.array(x0 + t1 + [math.log(v) for v in v1])
+    # each sequence's start time: the median offset of the predicted from the measured clicks
+    pred = problem.predicted(x0)[0]
+    for j, (p, s) in enumerate(zip(pred, problem.seqs)):
+        offset = np.median((s.times - p)[np.isfinite(p)]) if np.any(np.isfinite(p)) else 0.0
+        x0[problem.offset + j] += offset
+    return x0, v_med
+
+
+def _solve(problem, x0, loss, scale):
+    return least_squares(problem.residuals, x0, jac=problem.jacobian, loss=loss,
+                         f_scale=scale, x_scale='jac', method='trf', xtol=1e-8, ftol=1e-8,
+                         gtol=1e-8, max_nfev=100)
+
+
+def _fit_law(law, k, problem, x0, loss, confidence):
+    from scipy.special import stdtrit
+    res_unit = problem.res
+    # pass 1: plain least squares (quick from afar); its median residual estimates the noise
+    first = _solve(problem, x0, 'linear', 1.0)
+    r = first.fun[:problem.n_times] * res_unit
+    noise = max(1.4826 * float(np.median(np.abs(r - np.median(r)))), res_unit / math.sqrt(12.0))
+    scale = 3.0 * noise / res_unit
+    result = _solve(problem, first.x, loss, scale) if loss != 'linear' else first
+    x = result.x
+    n_obs, n_par = result.fun.size, x.size
+    dof = max(n_obs - n_par, 1)
+    z2 = (result.fun / scale) ** 2
+    if loss == 'soft_l1':
+        weights = 1.0 / np.sqrt(1.0 + z2)
+    elif loss == 'huber':
+        weights = np.where(z2 <= 1.0, 1.0, 1.0 / np.sqrt(np.maximum(z2, 1e-300)))
+    elif loss == 'cauchy':
+        weights = 1.0 / (1.0 + z2)
+    elif loss == 'arctan':
+        weights = 1.0 / (1.0 + z2 * z2)
+    else:
+        weights = np.ones_like(z2)
+    weighted_sse = float(np.sum(weights * result.fun ** 2)) * res_unit ** 2
+    s2 = float(np.sum(weights * result.fun ** 2)) / dof
+    jac = result.jac.toarray() if hasattr(result.jac, 'toarray') else np.asarray(result.jac)
+    jw = jac * np.sqrt(weights)[:, None] if loss != 'linear' else jac
+    try:
+        cov = s2 * np.linalg.pinv(jw.T @ jw)
+    except np.linalg.LinAlgError:
+        cov = np.full((n_par, n_par), np.nan)
+    q = float(stdtrit(dof, 0.5 + confidence / 2.0))
+    lam, cd, t1, v1 = problem.unpack(x)
+    half = q * math.sqrt(max(cov[0, 0], 0.0))
+    lam_ci = (lam * math.exp(-half), lam * math.exp(half))
+    if problem.fit_drag:
+        half_cd = q * math.sqrt(max(cov[1, 1], 0.0))
+        cd_ci = (cd * math.exp(-half_cd), cd * math.exp(half_cd))
+    else:
+        cd = problem.drag.drag_coefficient if problem.drag is not None else 0.0
+        cd_ci = (math.nan, math.nan)
+    pred, (kappa, beta), _ = problem.predicted(x)
+    residuals, weights_seq, pos = [], [], 0
+    for p, s in zip(pred, problem.seqs):
+        residuals.append(p - s.times)
+        weights_seq.append(weights[pos:pos + s.times.size])
+        pos += s.times.size
+    n_times = problem.n_times
+    rms = math.sqrt(float(np.sum(weights[:n_times] * (result.fun[:n_times] * res_unit) ** 2))
+                    / float(np.sum(weights[:n_times])))
+    aic = n_obs * math.log(max(weighted_sse, 1e-300) / n_obs) + 2.0 * n_par
+    heights = release_height(v1, problem.g, kappa, beta)
+    return LawFit(law, k, lam, lam_ci, cd, cd_ci, np.asarray(t1), v1, np.asarray(heights),
+                  residuals, weights_seq, rms, aic, n_par, n_obs, noise, bool(result.success),
+                  str(result.message))
+
+
+def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, fit_drag=False,
+                timing_resolution=1.0 / 48000.0, height_error=0.01, loss='soft_l1',
+                confidence=0.95):
+    """Fit λ (and optionally C_d) of each law to recorded bounce sequences; see module doc.
+
+    ``sequences``: ``recordings.ImpactTimes`` values (or arrays of times); ``mass`` in kg;
+    ``stiffness``: one k for the n = 1.5 laws or a mapping law name -> k (for 'linear' a
+    missing k is derived, see module doc); ``drag``: an ``AirDrag`` (its C_d the start value
+    when ``fit_drag``); ``timing_resolution`` (s): the clock's resolution, 1/48000 s for a phone;
+    ``height_error`` (m): the uncertainty of a measured release height.  Returns ``BounceFit``.
+    """
+    mass = require_positive('mass', mass)
+    gravity = require_positive('gravity', gravity)
+    resolution = require_positive('timing_resolution', timing_resolution)
+    height_error = require_positive('height_error', height_error)
+    confidence = require_range('confidence', confidence, 0.0, 1.0, low_open=True,
+                               high_open=True)
+    if loss not in LOSSES:
+        raise ValueError(f'loss = {loss!r} is unknown: allowed one of {", ".join(LOSSES)}')
+    if fit_drag and (drag is None or drag.air_density == 0.0):
+        raise ValueError('drag is missing: fitting the drag coefficient needs an AirDrag with '
+                         'the air density and the sphere radius')
+    if drag is not None and fit_drag and drag.drag_coefficient <= 0.0:
+        drag = AirDrag(drag.air_density, 0.47, drag.radius, drag.linear_coefficient)
+    if not sequences:
+        raise ValueError('sequences is empty: allowed one or more recorded sequences')
+    seqs = [s if isinstance(s, ImpactTimes) else ImpactTimes(np.asarray(s), None, f'sequence {i + 1}')
+            for i, s in enumerate(sequences)]
+    prepared, glitches = [], []
+    for j, s in enumerate(seqs):
+        p, g = prepare_sequence(j, s, gravity)
+        prepared.append(p)
+        glitches.extend(g)
+    chosen = [get_law(name) for name in (laws if laws is not None else LAWS)]
+    if isinstance(stiffness, dict):
+        ks = dict(stiffness)
+        if laws is None:      # every law with a k, and the constant law (k derivable)
+            chosen = [law for law in chosen if law.name in ks or law.name == 'linear']
+    else:
+        ks = {law.name: require_positive('stiffness', stiffness) for law in chosen
+              if law.n == 1.5}
+    speeds = np.concatenate([gravity * np.diff(p.times) / np.diff(p.index) / 2.0
+                             for p in prepared])
+    v_med = float(np.median(speeds))
+    fits = []
+    for law in chosen:
+        k = ks.get(law.name)
+        if k is None and law.name == 'linear':
+            hertz = next((name for name in ks if get_law(name).n == 1.5), None)
+            if hertz is None:
+                raise ValueError('stiffness is missing for law linear: give its k (N/m) or a '
+                                 'Hertz k to derive it from')
+            k = _linear_stiffness(get_law(hertz), ks[hertz], mass, v_med)
+        if k is None:
+            raise ValueError(f'stiffness is missing for law {law.name}: allowed a k for every '
+                             'law fitted')
+        problem = _Problem(law, require_positive('stiffness', k), mass, gravity, drag,
+                           fit_drag, prepared, resolution, height_error)
+        x0, _ = _initial_guess(problem, drag.drag_coefficient if drag is not None else None)
+        fits.append(_fit_law(law, k, problem, x0, loss, confidence))
+    fits.sort(key=lambda f: f.rms)
+    # outliers the robust loss down-weighted (after the named glitches)
+    best = fits[0]
+    for j, (seq, r, w) in enumerate(zip(prepared, best.residuals, best.weights)):
+        for t, ri, wi in zip(seq.times, r, w):
+            if wi < 0.5:
+                glitches.append(Glitch(j, 'outlier', float(t), False,
+                                       f'residual {ri * 1e3:+.3f} ms, weight {wi:.2f} in the '
+                                       f'robust fit of {best.law.name}'))
+    constant = [f for f in fits if f.law.name == 'linear']
+    varying = [f for f in fits if f.law.name != 'linear']
+    delta = math.nan
+    if constant and varying:
+        delta = constant[0].aic - min(f.aic for f in varying)
+    return BounceFit(fits, prepared, glitches, mass, gravity, drag, fit_drag, confidence,
+                     resolution, bool(delta > SUPPORT_DELTA_AIC), delta)
+
+
+def corrected_restitution_table(fit, law_fit=None):
+    """Per bounce: (sequence, impact speed v m/s, e, σ_e): the drag- and duration-corrected
+    restitution read from the measured flights.
+
+    Each measured single flight (touch to touch, contact duration of the fitted law removed)
+    is turned into the rebound speed that gives it under drag; the impact speed is the arrival
+    speed of the flight before.  σ_e propagates the timing noise of the two clicks.
+    """
+    from .flight import flight_to_plate
+    from .bounces import contact_map
+    lf = law_fit or fit.best
+    law, k, lam, m, g = lf.law, lf.stiffness, lf.damping, fit.mass, fit.gravity
+    if fit.drag is None:
+        kappa, beta = 0.0, 0.0
+    else:
+        drag = AirDrag(fit.drag.air_density, lf.drag_coefficient, fit.drag.radius,
+                       fit.drag.linear_coefficient)
+        kappa, beta = drag.rates(m, g)
+    rows = []
+    grid = np.linspace(0.0, 1.0, 1)
+
+    def rebound_for(flight):
+        # invert flight_to_plate by Newton on the closed form (monotone increasing)
+        u = g * flight / 2.0
+        for _ in range(30):
+            t, _ = flight_to_plate(u, g, kappa, beta)
+            h = 1e-6 * u
+            t2, _ = flight_to_plate(u + h, g, kappa, beta)
+            step = (float(t) - flight) / ((float(t2) - float(t)) / h)
+            u -= step
+            if abs(step) < 1e-13 * u:
+                break
+        return u
+
+    del grid
+    for j, (seq, v1) in enumerate(zip(fit.sequences, lf.first_speeds)):
+        single = np.flatnonzero(np.diff(seq.index) == 1)
+        speeds_in = {}
+        for i in single:
+            flight_total = float(seq.times[i + 1] - seq.times[i])
+            # the impact speed of click i: predicted from the fit (it is what the model hit)
+            speeds_in[i] = flight_total
+        pred = impact_sequence(law, k, lam, m, g, v1, int(seq.index[-1]) + 1, kappa, beta)
+        v_pred = pred[1][0]
+        for i in single:
+            v = float(v_pred[seq.index[i]])
+            if not math.isfinite(v):
+                continue
+            _, tau, _ = contact_map(law, k, lam, m, g, v, kappa, beta)
+            flight = speeds_in[i] - float(tau)
+            u = rebound_for(flight)
+            sigma_t = math.sqrt(2.0) * lf.noise
+            dt_du = (float(flight_to_plate(u * (1 + 1e-6), g, kappa, beta)[0])
+                     - float(flight_to_plate(u, g, kappa, beta)[0])) / (1e-6 * u)
+            rows.append((j, v, u / v, sigma_t / dt_du / v))
+    return rows
+
+
+def restitution_curve(law_fit, mass, speeds):
+    """e(v) of a fitted law (no gravity) at ``speeds`` (m/s)."""
+    return restitution(law_fit.contact(), mass, np.asarray(speeds, dtype=float))
