@@ -45,7 +45,7 @@ from .fitting import damping_for_restitution
 from .flight import AirDrag
 from .laws import LAWS, get_law
 from .recordings import ImpactTimes
-from .restitution import contact_duration, restitution
+from .restitution import restitution
 from .validation import require_positive, require_range
 
 DOUBLED_RATIO = 0.4          # an interval below this fraction of the expected one: doubled click
@@ -211,8 +211,10 @@ class BounceFit:
 
 def _linear_stiffness(hertz_law, hertz_k, mass, speed):
     """k of a linear spring whose undamped contact π √(m/k) lasts as long as the Hertz one."""
-    tau = contact_duration(Contact(hertz_law, hertz_k, 0.0), mass, speed)
-    return mass * (math.pi / tau) ** 2
+    from .bounces import _contact_values
+    tau_unit = float(_contact_values(hertz_law, np.array([1e-300]))[1][0])   # ζ -> 0
+    length = (mass * speed * speed / hertz_k) ** (1.0 / (hertz_law.n + 1.0))
+    return mass * (math.pi * speed / (tau_unit * length)) ** 2
 
 
 class _Problem:
@@ -321,6 +323,20 @@ class _Problem:
         return sp
 
 
+def _damping_guess(law, stiffness, mass, e, speed):
+    """λ giving restitution ``e`` at ``speed``: read off the master curve's nodes (a start
+    value, no root finding); the exact inverse for a law without a master curve."""
+    from .bounces import _tables
+    from .restitution import damping_from_group
+    tables = _tables(law)
+    if tables is None:
+        return damping_for_restitution(law, stiffness, mass, e, speed)
+    nodes = tables.master[3, :, 0]                  # e at s0, s0 + h, ... (decreasing)
+    s = tables.s0 + tables.h * np.arange(nodes.size)
+    log_zeta = float(np.interp(-e, -nodes, s))
+    return float(damping_from_group(law, stiffness, mass, speed, math.exp(log_zeta)))
+
+
 def _initial_guess(problem, drag_coefficient):
     law, k, m, g = problem.law, problem.k, problem.m, problem.g
     kappa, beta = problem.rates(drag_coefficient)
@@ -342,10 +358,7 @@ def _initial_guess(problem, drag_coefficient):
         es.append(e)
     v_med = float(np.median(speeds))
     e_med = float(np.median(es))
-    if law.n == 1.0 and law.p == 0.0:
-        lam0 = damping_for_restitution(law, k, m, e_med, v_med)
-    else:
-        lam0 = damping_for_restitution(law, k, m, e_med, v_med)
+    lam0 = _damping_guess(law, k, m, e_med, v_med)
     x0 = [math.log(max(lam0, 1e-300))]
     if problem.fit_drag:
         x0.append(math.log(drag_coefficient))
