@@ -39,10 +39,10 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.sparse import lil_matrix
 
-from .bounces import impact_sequence, release_height, release_speed
+from .bounces import contact_map, impact_sequence, release_height, release_speed
 from .contact import Contact
 from .fitting import damping_for_restitution
-from .flight import AirDrag
+from .flight import AirDrag, flight_to_plate
 from .laws import LAWS, get_law
 from .recordings import ImpactTimes
 from .restitution import restitution
@@ -236,7 +236,7 @@ class _Problem:
 
     def unpack(self, x):
         lam = math.exp(min(x[0], 700.0))
-        cd = math.exp(min(x[1], 5.0)) if self.fit_drag else None
+        cd = math.exp(min(x[1], math.log(CD_BOUNDS[1]))) if self.fit_drag else None
         t1 = x[self.offset:self.offset + self.n_seq]
         v1 = np.exp(x[self.offset + self.n_seq:])
         return lam, cd, t1, v1
@@ -244,7 +244,7 @@ class _Problem:
     def rates(self, cd):
         if self.drag is None:
             return 0.0, 0.0
-        drag = self.drag if cd is None else AirDrag(self.drag.air_density, min(cd, 10.0),
+        drag = self.drag if cd is None else AirDrag(self.drag.air_density, cd,
                                                     self.drag.radius,
                                                     self.drag.linear_coefficient)
         return drag.rates(self.m, self.g)
@@ -371,8 +371,18 @@ def _initial_guess(problem, drag_coefficient):
     return x0, v_med
 
 
+CD_BOUNDS = (1e-3, 10.0)     # a fitted drag coefficient stays inside (AirDrag's range)
+
+
 def _solve(problem, x0, loss, scale):
-    return least_squares(problem.residuals, x0, jac=problem.jacobian, loss=loss,
+    bounds = (-np.inf, np.inf)
+    if problem.fit_drag:
+        low, high = np.full(x0.size, -np.inf), np.full(x0.size, np.inf)
+        low[1], high[1] = (math.log(b) for b in CD_BOUNDS)
+        x0 = x0.copy()
+        x0[1] = min(max(x0[1], low[1] + 1e-9), high[1] - 1e-9)
+        bounds = (low, high)
+    return least_squares(problem.residuals, x0, jac=problem.jacobian, loss=loss, bounds=bounds,
                          f_scale=scale, x_scale='jac', method='trf', xtol=1e-8, ftol=1e-8,
                          gtol=1e-8, max_nfev=100)
 
@@ -410,10 +420,10 @@ def _fit_law(law, k, problem, x0, loss, confidence):
         cov = np.full((n_par, n_par), np.nan)
     q = float(stdtrit(dof, 0.5 + confidence / 2.0))
     lam, cd, t1, v1 = problem.unpack(x)
-    half = q * math.sqrt(max(cov[0, 0], 0.0))
+    half = min(q * math.sqrt(max(cov[0, 0], 0.0)), 50.0)
     lam_ci = (lam * math.exp(-half), lam * math.exp(half))
     if problem.fit_drag:
-        half_cd = q * math.sqrt(max(cov[1, 1], 0.0))
+        half_cd = min(q * math.sqrt(max(cov[1, 1], 0.0)), 50.0)
         cd_ci = (cd * math.exp(-half_cd), cd * math.exp(half_cd))
     else:
         cd = problem.drag.drag_coefficient if problem.drag is not None else 0.0
@@ -512,61 +522,57 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
                      resolution, bool(delta > SUPPORT_DELTA_AIC), delta)
 
 
-def corrected_restitution_table(fit, law_fit=None):
-    """Per bounce: (sequence, impact speed v m/s, e, σ_e): the drag- and duration-corrected
-    restitution read from the measured flights.
+def _rebound_for_flight(flight, gravity, kappa, beta):
+    """Rebound speed (m/s) whose flight from the plate back to it lasts ``flight`` s: Newton on
+    the closed form (monotone, concave), from the vacuum value 1/2 g T, which lies below."""
+    u = 0.5 * gravity * flight
+    for _ in range(50):
+        t, _ = flight_to_plate(u, gravity, kappa, beta)
+        dt = (float(flight_to_plate(u * (1.0 + 1e-7), gravity, kappa, beta)[0]) - float(t)) \
+            / (1e-7 * u)
+        step = (float(t) - flight) / dt
+        u -= step
+        if abs(step) <= 1e-13 * u:
+            break
+    return u, dt
 
-    Each measured single flight (touch to touch, contact duration of the fitted law removed)
-    is turned into the rebound speed that gives it under drag; the impact speed is the arrival
-    speed of the flight before.  σ_e propagates the timing noise of the two clicks.
-    """
-    from .flight import flight_to_plate
-    from .bounces import contact_map
+
+def corrected_restitution_table(fit, law_fit=None):
+    """The drag- and duration-corrected restitution read from the measured flights: a list of
+    (sequence, impact speed v m/s, e, σ_e), one per pair of consecutive single flights.
+
+    A flight (click to click) minus the fitted law's contact time at its impact speed is
+    turned into the rebound speed that gives it under the fitted drag (closed form, inverted by
+    Newton's method); its arrival speed is the next impact speed.  e = u / v, with v from the
+    flight before (or from the fit for the first recorded impact); σ_e propagates the timing
+    noise √2 σ_t of each interval."""
     lf = law_fit or fit.best
     law, k, lam, m, g = lf.law, lf.stiffness, lf.damping, fit.mass, fit.gravity
-    if fit.drag is None:
-        kappa, beta = 0.0, 0.0
-    else:
-        drag = AirDrag(fit.drag.air_density, lf.drag_coefficient, fit.drag.radius,
-                       fit.drag.linear_coefficient)
-        kappa, beta = drag.rates(m, g)
+    kappa, beta = (0.0, 0.0)
+    if fit.drag is not None:
+        kappa, beta = AirDrag(fit.drag.air_density, lf.drag_coefficient, fit.drag.radius,
+                              fit.drag.linear_coefficient).rates(m, g)
+    sigma = math.sqrt(2.0) * lf.noise
     rows = []
-    grid = np.linspace(0.0, 1.0, 1)
-
-    def rebound_for(flight):
-        # invert flight_to_plate by Newton on the closed form (monotone increasing)
-        u = g * flight / 2.0
-        for _ in range(30):
-            t, _ = flight_to_plate(u, g, kappa, beta)
-            h = 1e-6 * u
-            t2, _ = flight_to_plate(u + h, g, kappa, beta)
-            step = (float(t) - flight) / ((float(t2) - float(t)) / h)
-            u -= step
-            if abs(step) < 1e-13 * u:
-                break
-        return u
-
-    del grid
     for j, (seq, v1) in enumerate(zip(fit.sequences, lf.first_speeds)):
-        single = np.flatnonzero(np.diff(seq.index) == 1)
-        speeds_in = {}
-        for i in single:
-            flight_total = float(seq.times[i + 1] - seq.times[i])
-            # the impact speed of click i: predicted from the fit (it is what the model hit)
-            speeds_in[i] = flight_total
-        pred = impact_sequence(law, k, lam, m, g, v1, int(seq.index[-1]) + 1, kappa, beta)
-        v_pred = pred[1][0]
-        for i in single:
-            v = float(v_pred[seq.index[i]])
-            if not math.isfinite(v):
+        predicted = impact_sequence(law, k, lam, m, g, v1, int(seq.index[-1]) + 1,
+                                    kappa, beta)[1][0]
+        v_known, sv = None, 0.0
+        for i in range(seq.times.size - 1):
+            if seq.index[i + 1] - seq.index[i] != 1:
+                v_known = None
                 continue
+            v = v_known if v_known is not None else float(predicted[seq.index[i]])
+            if not (math.isfinite(v) and v > 0.0):
+                break
             _, tau, _ = contact_map(law, k, lam, m, g, v, kappa, beta)
-            flight = speeds_in[i] - float(tau)
-            u = rebound_for(flight)
-            sigma_t = math.sqrt(2.0) * lf.noise
-            dt_du = (float(flight_to_plate(u * (1 + 1e-6), g, kappa, beta)[0])
-                     - float(flight_to_plate(u, g, kappa, beta)[0])) / (1e-6 * u)
-            rows.append((j, v, u / v, sigma_t / dt_du / v))
+            u, dt_du = _rebound_for_flight(float(seq.times[i + 1] - seq.times[i]) - tau, g,
+                                           kappa, beta)
+            su = sigma / dt_du
+            e = u / v
+            rows.append((j, v, e, e * math.hypot(su / u, sv / v)))
+            v_known = float(flight_to_plate(u, g, kappa, beta)[1])
+            sv = su * v_known / u
     return rows
 
 

@@ -1,6 +1,6 @@
 """`contact-sim`: a thin command line over the core library (no ROS).
 
-Subcommands: materials, restitution, drop, fit.  Run `contact-sim <subcommand> --help`.
+Subcommands: materials, restitution, drop, fit, bounces.  Run `contact-sim <subcommand> --help`.
 """
 import argparse
 import csv
@@ -510,6 +510,8 @@ def build_parser():
     _add_restitution(sub)
     _add_drop(sub)
     _add_fit(sub)
+    from . import cli_bounces   # calibration from recorded bounces (its own module)
+    cli_bounces.add_parser(sub)
     return parser
 
 

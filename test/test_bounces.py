@@ -233,3 +233,86 @@ def test_fit_bounces_errors_name_the_field():
         ImpactTimes([0.0, 1.0, 0.5])
     with pytest.raises(ValueError, match='at least 3'):
         ImpactTimes([0.0, 1.0])
+
+
+# -- reading recordings and the command line ------------------------------------------------------
+from contact_sim import cli                                   # noqa: E402
+from contact_sim.recordings import parse_impact_times, read_impact_times   # noqa: E402
+
+
+def test_phyphox_exports_read_as_they_are(tmp_path):
+    # the All sheet, semicolon and decimal comma, two runs pasted side by side, empty cells
+    text = ('"Event time (s) h=80cm";"Interval (s)";"Event time (s) 50 cm";"Interval (s)"\n'
+            '1,250000;0,600000;0,5;0,4\n1,850000;0,500000;0,9;0,3\n2,350000;;1,2;\n'
+            '2,760000;;;\n')
+    a, b = parse_impact_times(text)
+    assert np.allclose(a.times, [1.25, 1.85, 2.35, 2.76]) and a.height == pytest.approx(0.8)
+    assert np.allclose(b.times, [0.5, 0.9, 1.2]) and b.height == pytest.approx(0.5)
+    # comma separated with a decimal point, no header
+    (c,) = parse_impact_times('0.1\n0.7\n1.2 # a comment\n')
+    assert np.allclose(c.times, [0.1, 0.7, 1.2]) and c.height is None
+    # tab separated Multiple sheet: a run of six events per row
+    (d,) = parse_impact_times('"Start (s)"\t"Stop 1 (s)"\t"Stop 2 (s)"\t"Stop 3 (s)"\n'
+                              '0,1\t0,7\t1,2\t1,6\n')
+    assert np.allclose(d.times, [0.1, 0.7, 1.2, 1.6])
+    # the zip of the CSV export: its All file; the height from the file name
+    import zipfile
+    path = tmp_path / 'tennis_ball_120cm.zip'
+    with zipfile.ZipFile(path, 'w') as z:
+        z.writestr('Simple.csv', '"Start (s)","Stop (s)","Difference (s)"\n1,2,1\n')
+        z.writestr('All.csv', '"Event time (s)","Interval (s)"\n1.0,0.5\n1.5,0.4\n1.9,\n')
+    (e,) = read_impact_times(path)
+    assert np.allclose(e.times, [1.0, 1.5, 1.9])
+    with pytest.raises(ValueError, match='has no impact times'):
+        parse_impact_times('"a";"b"\n')
+
+
+@pytest.fixture(scope='module')
+def golf_csv(tmp_path_factory, golf_truth):
+    _, truth = golf_truth
+    rng = np.random.default_rng(11)
+    path = tmp_path_factory.mktemp('rec') / 'golf.csv'
+    cols = [np.round((truth[h][:10] + rng.normal(0, 50e-6, 10) + 1.0) * 48000) / 48000
+            for h in (0.8, 1.0)]
+    cols[1] = np.delete(cols[1], 5)                     # a missed bounce
+    lines = ['"Event time (s) h=0.8m","Event time (s) h=1.0m"']
+    for i in range(10):
+        lines.append(','.join(f'{c[i]:.6f}' if i < c.size else '' for c in cols))
+    path.write_text('\n'.join(lines) + '\n')
+    return path
+
+
+def test_cli_bounces_report_and_parameter_file(golf_csv, tmp_path, capsys):
+    params = tmp_path / 'golf.yaml'
+    code = cli.main(['bounces', str(golf_csv), '--mass', str(GOLF_MASS), '--stiffness',
+                     str(GOLF_K), '--radius', '0.0214', '--drag-coefficient', '0.3',
+                     '--save-params', str(params)])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert 'missed bounce' in out
+    assert out.index('azad_featherstone: lambda') < out.index('linear: lambda')
+    assert 'speed-dependent restitution: supported' in out
+    assert 'rms predicted - measured:' in out
+    import yaml
+    doc = yaml.safe_load(params.read_text())
+    values = doc['contact_sim']['ros__parameters']
+    from contact_sim.node import PARAMETER_NAMES
+    known = set(PARAMETER_NAMES) | {'air_density', 'drag_coefficient'}
+    assert set(values) <= known
+    assert values['contact_law'] == 'azad_featherstone'
+    assert values['stiffness'] == GOLF_K and values['sphere_mass'] == GOLF_MASS
+    assert values['drag_coefficient'] == 0.3 and values['initial_height'] == 0.8
+    assert cs.Contact(values['contact_law'], values['stiffness'], values['damping'])
+
+
+def test_cli_bounces_bad_input_exits_2_naming_the_field(golf_csv, tmp_path, capsys):
+    base = ['bounces', str(golf_csv), '--mass', '0.046', '--stiffness', '2e8']
+    assert cli.main(base + ['--height', '1.0']) == 2
+    assert 'height is given 1 time(s) for 2 sequence(s)' in capsys.readouterr().err
+    assert cli.main(base + ['--fit-drag']) == 2
+    assert 'radius is missing' in capsys.readouterr().err
+    assert cli.main(base + ['--timing-resolution', '-1']) == 2
+    assert 'timing_resolution = -1.0 is out of range' in capsys.readouterr().err
+    assert cli.main(['bounces', str(tmp_path / 'none.csv'), '--mass', '1', '--stiffness',
+                     '1e8']) == 2
+    assert 'cannot be read' in capsys.readouterr().err
