@@ -297,8 +297,11 @@ def _is_number(text):
     return True
 
 
-def read_restitution_csv(path):
-    """(speeds, restitutions) from ``speed,restitution`` rows: optional header, # comments."""
+def read_restitution_csv(path, with_uncertainties=False):
+    """(speeds, restitutions) from ``speed,restitution`` rows: optional header, # comments.
+
+    A third column is the uncertainty of e (> 0; returned as a third array, NaN where empty,
+    with ``with_uncertainties``); further columns are ignored.  e >= 1 is accepted (noise)."""
     name = 'stdin' if path == '-' else path
     try:
         if path == '-':
@@ -314,48 +317,71 @@ def read_restitution_csv(path):
         content = line.split('#', 1)[0].strip()
         if content:
             rows.append((number, next(csv.reader(io.StringIO(content)))))
-    speeds, values = [], []
+    speeds, values, sigmas = [], [], []
     for index, (number, cells) in enumerate(rows):
         where = f'{name} line {number}'
         cells = [c.strip() for c in cells]
-        if len(cells) != 2:
+        if len(cells) < 2:
             raise ValueError(f'{where}: {len(cells)} columns in {",".join(cells)!r}: '
-                             'allowed exactly two, speed,restitution')
+                             'allowed speed,restitution[,uncertainty,...]')
         if index == 0 and not any(_is_number(c) for c in cells):
             continue  # a header
         try:
             speeds.append(require_range('speed', cells[0], 0.0, low_open=True))
-            values.append(require_range('restitution', cells[1], 0.0, 1.0,
-                                        low_open=True, high_open=True))
+            values.append(require_range('restitution', cells[1], 0.0, low_open=True))
+            sigmas.append(require_range('uncertainty', cells[2], 0.0, low_open=True)
+                          if len(cells) > 2 and cells[2] else math.nan)
         except ValueError as error:
             raise ValueError(f'{where}: {error}') from None
     if not speeds:
         raise ValueError(f'data = {name!r} has no speed,restitution rows: allowed at least one')
+    if with_uncertainties:
+        return np.asarray(speeds), np.asarray(values), np.asarray(sigmas)
     return np.asarray(speeds), np.asarray(values)
 
 
 def _fit(args):
-    speeds, measured = read_restitution_csv(args.data)
+    speeds, measured, sigmas = read_restitution_csv(args.data, with_uncertainties=True)
+    if np.all(np.isnan(sigmas)):
+        sigmas = None
+    elif np.any(np.isnan(sigmas)):
+        raise ValueError(f'uncertainty is missing on line(s) of {args.data}: allowed an '
+                         'uncertainty on every row or on none')
     laws = _law_list(args, LAW_NAMES)
     setup = build_setup(args, laws, with_damping=False)
     if len(laws) == 1:
         fits = [fit_damping(laws[0], setup.contacts[laws[0].name].stiffness, setup.mass,
-                            speeds, measured, args.confidence)]
+                            speeds, measured, args.confidence, args.loss, sigmas)]
     else:
         stiffness = {name: c.stiffness for name, c in setup.contacts.items()}
         fits = compare_laws(stiffness, setup.mass, speeds, measured, laws=list(stiffness),
-                            confidence=args.confidence)
+                            confidence=args.confidence, loss=args.loss, uncertainties=sigmas)
     source = 'stdin' if args.data == '-' else args.data
     print(f'# fit of lambda to {len(speeds)} point(s) of {source}, speeds '
           f'{speeds.min():g} to {speeds.max():g} m/s, least squares in e')
     print(f'# {describe_contact(setup, args)} ({setup.mass_source})')
     print('\n'.join(contact_lines(setup, show_damping=False)))
     print_fit_summary(fits, setup.radius, args.confidence)
+    _print_fit_flags(fits[0], speeds, measured, sigmas)
     for fit in fits:
         print_fit_points(fit, speeds, measured)
     if args.plot:
         _plot_fit(args, setup, fits, speeds, measured)
     return 0
+
+
+def _print_fit_flags(fit, speeds, measured, sigmas):
+    """e >= 1 points, the weighting and the robust loss's down-weighted points."""
+    if sigmas is not None:
+        print('# residuals weighted by 1/uncertainty (third column)')
+    for i in fit.flagged:
+        print(f'# note: point {i + 1} (speed {speeds[i]:g} m/s) has e = {measured[i]:g} >= 1: '
+              'kept as measurement noise, no lambda matches it alone')
+    if fit.loss != 'linear':
+        down = [i for i, w in enumerate(fit.weights) if w < 0.5]
+        print(f'# loss {fit.loss}: down-weighted points (weight < 0.5, {fit.law.name}): '
+              + (', '.join(f'{i + 1} (speed {speeds[i]:g}, weight {fit.weights[i]:.2f})'
+                           for i in down) or 'none'))
 
 
 def print_fit_summary(fits, radius, confidence):
@@ -488,14 +514,19 @@ def _add_fit(sub):
         description='Least-squares fit of lambda to measured restitution (cs.fit_damping for\n'
                     'one law, cs.compare_laws for several), with k fixed from the materials\n'
                     'or --stiffness, as in the paper\'s Fig. 5.',
-        notes='\n\ndata file: rows "speed,restitution" (m/s, 0 < e < 1); an optional header\n'
-              'row; text after # is a comment; - reads stdin.\n\nexample:\n'
+        notes='\n\ndata file: rows "speed,restitution" (m/s, 0 < e; e >= 1 is kept and flagged)\n'
+              'and optionally a third column, the uncertainty of e (used as weights 1/u^2);\n'
+              'further columns are ignored; an optional header row; text after # is a\n'
+              'comment; - reads stdin.\n\nexample:\n'
               '  contact-sim fit data.csv --sphere steel --plate cast_iron --radius 0.0127\n')
     p.add_argument('data', help='CSV file of speed,restitution rows, or - for stdin')
     p.add_argument('--law', action='append', choices=LAW_NAMES,
                    help='force law, repeatable (default: all four, ranked by rms residual)')
     p.add_argument('--confidence', type=float, default=0.95,
                    help='confidence level of the interval on lambda, 0 < C < 1 (default 0.95)')
+    p.add_argument('--loss', choices=['linear', 'soft_l1', 'huber', 'cauchy', 'arctan'],
+                   default='linear', help='least-squares loss (default linear; soft_l1 etc. '
+                                          'down-weight outliers)')
     _plot_option(p, 'the data and the fitted curves on a log speed axis')
     p.set_defaults(run=_fit)
 
