@@ -382,7 +382,10 @@ def _solve(problem, x0, loss, scale):
         x0 = x0.copy()
         x0[1] = min(max(x0[1], low[1] + 1e-9), high[1] - 1e-9)
         bounds = (low, high)
+    # many sequences: the iterative trust-region solver (no SVD of the whole Jacobian)
+    solver = 'lsmr' if x0.size > 12 else 'exact'
     return least_squares(problem.residuals, x0, jac=problem.jacobian, loss=loss, bounds=bounds,
+                         tr_solver=solver,
                          f_scale=scale, x_scale='jac', method='trf', xtol=1e-8, ftol=1e-8,
                          gtol=1e-8, max_nfev=100)
 
@@ -414,10 +417,13 @@ def _fit_law(law, k, problem, x0, loss, confidence):
     s2 = float(np.sum(weights * result.fun ** 2)) / dof
     jac = result.jac.toarray() if hasattr(result.jac, 'toarray') else np.asarray(result.jac)
     jw = jac * np.sqrt(weights)[:, None] if loss != 'linear' else jac
+    normal = jw.T @ jw
     try:
-        cov = s2 * np.linalg.pinv(jw.T @ jw)
+        cov = s2 * np.linalg.inv(normal)
+        if not np.all(np.isfinite(np.diag(cov))):
+            raise np.linalg.LinAlgError('singular')
     except np.linalg.LinAlgError:
-        cov = np.full((n_par, n_par), np.nan)
+        cov = s2 * np.linalg.pinv(normal)
     q = float(stdtrit(dof, 0.5 + confidence / 2.0))
     lam, cd, t1, v1 = problem.unpack(x)
     half = min(q * math.sqrt(max(cov[0, 0], 0.0)), 50.0)
