@@ -316,3 +316,21 @@ def test_cli_bounces_bad_input_exits_2_naming_the_field(golf_csv, tmp_path, caps
     assert cli.main(['bounces', str(tmp_path / 'none.csv'), '--mass', '1', '--stiffness',
                      '1e8']) == 2
     assert 'cannot be read' in capsys.readouterr().err
+
+
+def test_example_recording_round_trip(tmp_path):
+    """examples/bounce_recording.py (the README's workflow): its CSV and WAV give back λ."""
+    import importlib.util
+    from pathlib import Path
+    spec = importlib.util.spec_from_file_location(
+        'bounce_recording', Path(__file__).resolve().parents[1] / 'examples' / 'bounce_recording.py')
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    csv_path, wav_path, lam = module.main(tmp_path)
+    sequences = read_impact_times(csv_path)
+    assert [s.height for s in sequences] == [pytest.approx(0.8), pytest.approx(0.5)]
+    fit = fit_bounces(sequences, module.MASS, module.STIFFNESS, laws=['azad_featherstone'],
+                      drag=AirDrag(1.204, 0.47, module.RADIUS), fit_drag=True)
+    assert fit.best.damping_interval[0] <= lam <= fit.best.damping_interval[1]
+    assert sorted(g.kind for g in fit.glitches) == ['doubled click', 'missed bounce']
+    assert wav_path.exists()
