@@ -48,6 +48,7 @@ from .recordings import ImpactTimes
 from .restitution import restitution
 from .validation import require_positive, require_range
 
+MICRO_BOUNCE_GROUP = 1e-2    # impacts with G = gT/v above this are left out (bounces doc)
 DOUBLED_RATIO = 0.4          # an interval below this fraction of the expected one: doubled click
 SUPPORT_DELTA_AIC = 10.0     # evidence needed to call the restitution speed dependent
 LOSSES = ('linear', 'soft_l1', 'huber', 'cauchy', 'arctan')
@@ -88,8 +89,12 @@ def _interval_restitution(dt):
     return float(np.clip(np.median(good) if good.size else 0.7, 0.1, 0.995))
 
 
-def prepare_sequence(number, seq, gravity=9.81):
-    """Find glitches in one ``ImpactTimes``; returns (``PreparedSequence``, glitches)."""
+def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, stiffness=None, mass=None,
+                     law_n=1.5):
+    """Find glitches in one ``ImpactTimes``; returns (``PreparedSequence``, glitches).
+    ``kappa`` (1/m): the quadratic drag rate c/m, used for the late-start test; with
+    ``stiffness`` (N/m^n of a law with exponent ``law_n``) and ``mass`` (kg), the final
+    micro-bounces beyond the model's validity are cut off."""
     t = np.asarray(seq.times, dtype=float)
     glitches = []
     keep = np.ones(t.size, dtype=bool)
@@ -116,6 +121,20 @@ def prepare_sequence(number, seq, gravity=9.81):
                 break
     kt = t[keep]
     dt = np.diff(kt)
+    # micro-bounces: cut where the gravity group of the impacts exceeds the model's range
+    if stiffness is not None and mass is not None and dt.size > 2:
+        v = gravity * dt / 2.0                       # impact speed at the end of each flight
+        length = (mass * v * v / stiffness) ** (1.0 / (law_n + 1.0))
+        group = gravity * length / (v * v)           # G = g T / v with T = Z / v
+        over = np.flatnonzero(group > MICRO_BOUNCE_GROUP)
+        if over.size and over[0] + 2 < kt.size:
+            cut = int(over[0]) + 2
+            glitches.append(Glitch(number, 'micro-bounces', float(kt[cut]), True,
+                                   f'the last {kt.size - cut} click(s) left out: impacts at '
+                                   f'{v[over[0]]:.3g} m/s and slower have G = gT/v > '
+                                   f'{MICRO_BOUNCE_GROUP:g}, beyond the bounce model'))
+            kt = kt[:cut]
+            dt = np.diff(kt)
     e_bar = _interval_restitution(dt)
     index = np.zeros(kt.size, dtype=int)
     # missed bounces: number the clicks so that each interval is one or more bounce flights
@@ -136,11 +155,31 @@ def prepare_sequence(number, seq, gravity=9.81):
                                    f'interval {dt[i] * 1e3:.1f} ms is about {1 + m} flights of '
                                    f'{expected * 1e3:.1f} ms, {m} click(s) missing before it'))
         last = dt[i] * e_bar ** m / sum(e_bar ** j for j in range(m + 1))
-    # late start: the first interval against the fall from the release height
+    # late start: the first flight against the fall from the release height, with the
+    # restitution's trend over the first bounces extrapolated back (it can change with speed)
     if seq.height is not None and dt.size:
+        singles = np.flatnonzero(np.diff(index) == 1)
+        at, est = [], []
+        for a, b in zip(singles[:-1], singles[1:]):
+            if b == a + 1:                  # flights after impacts a and a + 1: e of a + 1
+                at.append(index[b])
+                est.append(dt[b] / dt[a])
+        at, est = np.array(at[:6], dtype=float), np.array(est[:6])
+        if est.size >= 3:
+            slope, offset = np.polyfit(at, est, 1)
+        else:
+            slope, offset = 0.0, e_bar
+
+        def e_at(j):
+            return float(np.clip(offset + slope * j, 0.05, 0.999))
+
         first = dt[0] if index[1] == 1 else dt[0] / sum(e_bar ** j for j in range(index[1]))
-        fall_flight = 2.0 * e_bar * math.sqrt(2.0 * seq.height / gravity)   # vacuum estimate
-        options = [fall_flight * e_bar ** m for m in range(3)]
+        options = []
+        for late in range(3):
+            v = float(release_speed(seq.height, gravity, kappa))
+            for j in range(-late, 0):
+                v = float(flight_to_plate(e_at(j) * v, gravity, kappa)[1])
+            options.append(float(flight_to_plate(e_at(0) * v, gravity, kappa)[0]))
         late = int(np.argmin([abs(math.log(first / s)) for s in options]))
         if late:
             index = index + late
@@ -478,11 +517,6 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         raise ValueError('sequences is empty: allowed one or more recorded sequences')
     seqs = [s if isinstance(s, ImpactTimes) else ImpactTimes(np.asarray(s), None, f'sequence {i + 1}')
             for i, s in enumerate(sequences)]
-    prepared, glitches = [], []
-    for j, s in enumerate(seqs):
-        p, g = prepare_sequence(j, s, gravity)
-        prepared.append(p)
-        glitches.extend(g)
     chosen = [get_law(name) for name in (laws if laws is not None else LAWS)]
     if isinstance(stiffness, dict):
         ks = dict(stiffness)
@@ -491,6 +525,16 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     else:
         ks = {law.name: require_positive('stiffness', stiffness) for law in chosen
               if law.n == 1.5}
+    # the softest contact given decides where the micro-bounces begin
+    cut_law, cut_k = min(((get_law(name), k) for name, k in ks.items()),
+                         key=lambda lk: lk[1] ** (1.0 / (lk[0].n + 1.0)), default=(None, None))
+    prepared, glitches = [], []
+    kappa0 = drag.rates(mass, gravity)[0] if drag is not None else 0.0
+    for j, s in enumerate(seqs):
+        p, g = prepare_sequence(j, s, gravity, kappa0, cut_k, mass,
+                                cut_law.n if cut_law is not None else 1.5)
+        prepared.append(p)
+        glitches.extend(g)
     speeds = np.concatenate([gravity * np.diff(p.times) / np.diff(p.index) / 2.0
                              for p in prepared])
     v_med = float(np.median(speeds))

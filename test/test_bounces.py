@@ -334,3 +334,18 @@ def test_example_recording_round_trip(tmp_path):
     assert fit.best.damping_interval[0] <= lam <= fit.best.damping_interval[1]
     assert sorted(g.kind for g in fit.glitches) == ['doubled click', 'missed bounce']
     assert wav_path.exists()
+
+
+def test_final_micro_bounces_are_left_out_and_named():
+    """A steel ball recorded to the end: the clicks past G = 0.01 are cut, the rest fitted."""
+    contact = cs.Contact('azad_featherstone', 1e10, 1e5)
+    touches = engine_touches(contact, 0.066, None, height=0.5)
+    rng = np.random.default_rng(5)
+    t = np.round((touches + rng.normal(0.0, 50e-6, touches.size)) * 48000.0) / 48000.0
+    fit = fit_bounces([ImpactTimes(t, 0.5)], 0.066, 1e10)
+    kinds = [g.kind for g in fit.glitches]
+    assert kinds == ['micro-bounces']
+    kept = fit.sequences[0].times.size
+    assert 10 < kept < touches.size
+    assert fit.best.law.name == 'azad_featherstone'
+    assert fit.best.damping_interval[0] <= 1e5 <= fit.best.damping_interval[1]
