@@ -20,7 +20,7 @@ from .hertz import equivalent_radius, sphere_mass
 from .laws import AZAD_FEATHERSTONE, LAWS, get_law
 from .materials import MATERIALS
 from .restitution import restitution
-from .validation import require_nonnegative, require_range
+from .validation import require_nonnegative, require_range, require_real
 
 LAW_NAMES = list(LAWS)  # azad_featherstone, hunt_crossley, lee_wang, linear
 
@@ -74,14 +74,50 @@ class Setup:
     skipped: dict = field(default_factory=dict)    # law name -> reason
 
 
+def material(args, body):
+    """The ``body`` ('sphere' or 'plate') material: the library one named by --sphere/--plate,
+    with any of --BODY-modulus, --BODY-poisson, --BODY-density replacing its values; without a
+    library name, a custom material from those three (``None`` if nothing is given)."""
+    from .materials import Material
+    name = getattr(args, body)
+    custom = {field: getattr(args, f'{body}_{option}', None) for field, option in
+              (('youngs_modulus', 'modulus'), ('poisson_ratio', 'poisson'),
+               ('density', 'density'))}
+    given = {k: v for k, v in custom.items() if v is not None}
+    if not given:
+        return None if name is None else MATERIALS[name]
+    if name is None:
+        missing = [f'--{body}-{o}' for k, o in (('youngs_modulus', 'modulus'),
+                                                ('poisson_ratio', 'poisson')) if k not in given]
+        if missing:
+            raise ValueError(f'{body}_material is incomplete: give {" and ".join(missing)} '
+                             f'(or --{body} MATERIAL to start from)')
+        given.setdefault('density', 1.0 if body == 'plate' else math.nan)
+    base = MATERIALS[name] if name is not None else None
+    values = {k: given.get(k, getattr(base, k, None)) for k in custom}
+    if math.isnan(values['density']):
+        values['density'] = None
+    try:
+        return Material(f'{name or "custom"} (modified)' if name else 'custom',
+                        values['youngs_modulus'], values['poisson_ratio'],
+                        values['density'] if values['density'] is not None else 1.0)
+    except ValueError as error:
+        text = str(error)
+        for field, option in (('youngs_modulus', 'modulus'), ('poisson_ratio', 'poisson'),
+                              ('density', 'density')):
+            text = text.replace(field, f'{body}_{option}')
+        raise ValueError(text) from None
+
+
 def _mass(args):
     if args.mass is not None:
         return args.mass, 'given'
-    if args.sphere is None or args.radius is None:
-        raise ValueError('mass is missing: give --mass M (kg), or --sphere and --radius for '
-                         "the sphere's mass from its density")
-    return (sphere_mass(MATERIALS[args.sphere].density, args.radius),
-            f'from the {args.sphere} density')
+    sphere = material(args, 'sphere')
+    if sphere is None or args.radius is None or (
+            args.sphere is None and getattr(args, 'sphere_density', None) is None):
+        raise ValueError('mass is missing: give --mass M (kg), or --sphere (or '
+                         "--sphere-density) and --radius for the sphere's mass from its density")
+    return (sphere_mass(sphere.density, args.radius), f'from the {sphere.name} density')
 
 
 def _equivalent_radius(args):
@@ -107,13 +143,14 @@ def _damping(args, radius):
 
 def _hertz_stiffness(law, args):
     """k from the materials, or ``None`` when the law cannot use a Hertz stiffness."""
-    if args.sphere is None or args.plate is None or args.radius is None:
+    sphere, plate = material(args, 'sphere'), material(args, 'plate')
+    if sphere is None or plate is None or args.radius is None:
         raise ValueError('stiffness is missing: give --stiffness K (N/m^n), or --sphere, '
-                         '--plate and --radius for the Hertz stiffness')
+                         '--plate (or their --*-modulus and --*-poisson) and --radius for the '
+                         'Hertz stiffness')
     if law.n != 1.5:   # Hertz theory gives k for F = k z^1.5 only
         return None
-    return Contact.from_materials(law, args.sphere, args.plate, args.radius,
-                                  args.plate_radius).stiffness
+    return Contact.from_materials(law, sphere, plate, args.radius, args.plate_radius).stiffness
 
 
 def build_setup(args, laws, with_damping=True):
@@ -155,10 +192,11 @@ def damping_unit(law, extra=0.0):
 def describe_contact(setup, args):
     """One line saying which bodies and mass the numbers are for."""
     parts = []
-    if args.sphere is not None and args.radius is not None:
+    sphere, plate_material = material(args, 'sphere'), material(args, 'plate')
+    if sphere is not None and args.radius is not None:
         plate = 'flat' if math.isinf(args.plate_radius) else f'R2 = {args.plate_radius:g} m'
-        parts.append(f'{args.sphere} sphere R1 = {args.radius:g} m on {args.plate or "?"} '
-                     f'({plate})')
+        parts.append(f'{sphere.name} sphere R1 = {args.radius:g} m on '
+                     f'{plate_material.name if plate_material else "?"} ({plate})')
     if setup.radius is not None:
         parts.append(f'R = {setup.radius:.4g} m')
     parts.append(f'm = {setup.mass:.4g} kg')
@@ -244,9 +282,12 @@ def _drop(args):
     contact = next(iter(setup.contacts.values()))
     rate = args.sample_rate if args.plot else None
     require_nonnegative('height', args.height)   # released above the plate, as in the node
+    require_real('initial_velocity', args.initial_velocity)
     result = simulate_drop(contact, setup.mass, args.height, gravity=args.gravity,
-                           duration=args.duration, sample_rate=rate)
-    print(f'# drop from {args.height:g} m, gravity {args.gravity:g} m/s^2, '
+                           duration=args.duration, sample_rate=rate,
+                           velocity=args.initial_velocity)
+    thrown = f' at {args.initial_velocity:g} m/s downward' if args.initial_velocity else ''
+    print(f'# drop from {args.height:g} m{thrown}, gravity {args.gravity:g} m/s^2, '
           f'{args.duration:g} s simulated')
     print(f'# {describe_contact(setup, args)} ({setup.mass_source})')
     print('\n'.join(contact_lines(setup)))
@@ -433,6 +474,14 @@ def _contact_options(damping=True):
     mats.add_argument('--plate-radius', type=float, default=math.inf, metavar='R2',
                       help='plate radius in m: inf (default) is a flat plate, finite a second '
                            'sphere; 1/R = 1/R1 + 1/R2')
+    for body in ('sphere', 'plate'):   # custom materials, or changes to a library one
+        mats.add_argument(f'--{body}-modulus', type=float, metavar='E',
+                          help=f"{body} Young's modulus in Pa, 0 < E")
+        mats.add_argument(f'--{body}-poisson', type=float, metavar='NU',
+                          help=f'{body} Poisson ratio, -1 < NU < 0.5')
+        mats.add_argument(f'--{body}-density', type=float, metavar='RHO',
+                          help=f'{body} density in kg/m^3, 0 < RHO' + (
+                              ' (for the mass)' if body == 'sphere' else ' (not used)'))
     direct = parent.add_argument_group('contact given directly')
     direct.add_argument('--stiffness', type=float, metavar='K',
                         help='k in N/m^n (overrides the Hertz value), 0 < K')
@@ -500,6 +549,9 @@ def _add_drop(sub):
                    help='gravity in m/s^2, >= 0 (default 9.81)')
     p.add_argument('--duration', type=float, default=5.0,
                    help='simulated time in s, > 0 (default 5)')
+    p.add_argument('--initial-velocity', type=float, default=0.0, metavar='V',
+                   help='initial velocity in m/s, > 0 towards the plate (default 0: released '
+                        'at rest)')
     _plot_option(p, 'height and contact force vs time')
     p.add_argument('--sample-rate', type=float, default=1000.0, metavar='HZ',
                    help='trajectory sampling for --plot in Hz (default 1000); every '

@@ -99,27 +99,17 @@ def _sequences(args):
 
 
 def _stiffness(args, laws, mass):
-    from .contact import Contact
+    from .cli import _hertz_stiffness
     if args.stiffness is not None:
         k = require_positive('stiffness', args.stiffness)
         return {name: k for name in laws}, 'given'
-    if args.sphere is None or args.plate is None or args.radius is None:
-        raise ValueError('stiffness is missing: give --stiffness K (N/m^n), or --sphere, '
-                         '--plate and --radius for the Hertz stiffness')
-    ks = {name: Contact.from_materials(name, args.sphere, args.plate, args.radius,
-                                       args.plate_radius).stiffness
-          for name in laws if LAWS[name].n == 1.5}
-    return ks, 'Hertz'
+    ks = {name: _hertz_stiffness(LAWS[name], args) for name in laws}
+    return {name: k for name, k in ks.items() if k is not None}, 'Hertz'
 
 
 def _mass(args):
-    from .hertz import sphere_mass
-    from .materials import MATERIALS
-    if args.mass is not None:
-        return require_positive('mass', args.mass)
-    if args.sphere is None or args.radius is None:
-        raise ValueError('mass is missing: give --mass M (kg), or --sphere and --radius')
-    return sphere_mass(MATERIALS[args.sphere].density, args.radius)
+    from .cli import _mass as mass_of
+    return require_positive('mass', mass_of(args)[0])
 
 
 def _drag(args):
@@ -228,10 +218,11 @@ def write_params(path, fit, args):
              f'    gravity: {fit.gravity!r}']
     if args.radius is not None:
         lines.append(f'    sphere_radius: {float(args.radius)!r}')
-    if args.sphere is not None:
-        lines.append(f'    sphere_material: {args.sphere}')
-    if args.plate is not None:
-        lines.append(f'    plate_material: {args.plate}')
+    from .cli import material
+    for body in ('sphere', 'plate'):      # library materials only (k and lambda are given)
+        chosen = material(args, body)
+        if chosen is not None and chosen.name == getattr(args, body):
+            lines.append(f'    {body}_material: {chosen.name}')
     if heights:
         lines.append(f'    initial_height: {float(heights[0])!r}')
     if fit.drag is not None:
