@@ -37,7 +37,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import least_squares
-from scipy.sparse import lil_matrix
 
 from .bounces import contact_map, impact_sequence, release_height, release_speed
 from .contact import Contact
@@ -346,21 +345,6 @@ class _Problem:
             jac[:, 1] = (self.residuals(xs) - self.residuals(x)) / step
         return np.where(np.isfinite(jac), jac, 0.0)
 
-    def sparsity(self):
-        n_par = self.offset + 2 * self.n_seq
-        sp = lil_matrix((self.n_times + len(self.heights), n_par), dtype=int)
-        sp[:, :self.offset] = 1
-        pos = 0
-        for j, s in enumerate(self.seqs):
-            sp[pos:pos + s.times.size, self.offset + j] = 1
-            sp[pos:pos + s.times.size, self.offset + self.n_seq + j] = 1
-            pos += s.times.size
-        for i, j in enumerate(self.heights):
-            sp[pos + i, self.offset + self.n_seq + j] = 1
-            if self.fit_drag:
-                sp[pos + i, 1] = 1
-        return sp
-
 
 def _damping_guess(law, stiffness, mass, e, speed):
     """λ giving restitution ``e`` at ``speed``: read off the master curve's nodes (a start
@@ -515,7 +499,8 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         drag = AirDrag(drag.air_density, 0.47, drag.radius, drag.linear_coefficient)
     if not sequences:
         raise ValueError('sequences is empty: allowed one or more recorded sequences')
-    seqs = [s if isinstance(s, ImpactTimes) else ImpactTimes(np.asarray(s), None, f'sequence {i + 1}')
+    seqs = [s if isinstance(s, ImpactTimes)
+            else ImpactTimes(np.asarray(s), None, f'sequence {i + 1}')
             for i, s in enumerate(sequences)]
     chosen = [get_law(name) for name in (laws if laws is not None else LAWS)]
     if isinstance(stiffness, dict):

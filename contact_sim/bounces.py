@@ -14,16 +14,19 @@ the sphere leaves the plate (crosses z = 0 going up) at
 
 where x_l = z_lift / Z is the depth at which the force vanished (> 0 for the Azad-Featherstone,
 Lee-Wang and linear laws: the last part of the way up to the surface is flight), and a(ζ), b(ζ)
-are the first-order gravity coefficients.  x_l, a and b are tabulated per law on a grid in ln ζ by
-the exact contact integration (``phase.PhaseIntegrator``; a few hundred ms once per law and
-process) and interpolated linearly.  Drag acts on the short flight from the lift-off depth to the surface (to first order);
-during the contact it is neglected, as in the engine.  The remainder is O(G²): the touch times
-agree with ``simulate_drop`` to about 1 µs per bounce while G < 2e-3 (test/test_bounces.py), and
-the model stops being valid in the final micro-bounces, where the flight is no longer long
-against the contact (G -> 1: errors of 0.1-2 ms per bounce at G ~ 0.3-0.9) and the sphere ends in
-permanent contact; ``BounceSequence.gravity_group`` reports G for each bounce, and
-the prediction stops at the first bounce whose rebound speed is not positive.
-Air drag is neglected during contacts (``flight.contact_drag_impulse_ratio``).
+are the first-order gravity coefficients.  x_l, a and b are tabulated per law on 97 points
+uniform in ln ζ (from 1e-5 to the ζ of e = 0.02) by exact contact integration
+(``phase.PhaseIntegrator``; ``scripts/build_bounce_tables.py`` writes ``data/bounce_tables.npz``,
+about 20 s; a law without a shipped table is tabulated once per process) and interpolated by
+cubic splines.  Drag acts on the short flight from the lift-off depth to the surface (to first
+order); during the contact it is neglected, as in the engine (``flight.
+contact_drag_impulse_ratio``).  The remainder is O(G²): the touch times agree with
+``simulate_drop`` to about 1 µs per bounce while G < 2e-3 (test/test_bounces.py), and the model
+stops being valid in the final micro-bounces, where the flight is no longer long against the
+contact (G -> 1: errors of 0.1-2 ms per bounce at G ~ 0.3-0.9) and the sphere ends in permanent
+contact; ``BounceSequence.gravity_group`` reports G for each bounce, and the prediction stops at
+the first bounce whose rebound speed is not positive.  ``bounce_fit`` leaves out clicks past
+G = 0.01.
 Units: SI; times in s from the first touch unless an offset is given.
 """
 import math

@@ -80,7 +80,7 @@ def material(args, body):
     library name, a custom material from those three (``None`` if nothing is given)."""
     from .materials import Material
     name = getattr(args, body)
-    custom = {field: getattr(args, f'{body}_{option}', None) for field, option in
+    custom = {name_: getattr(args, f'{body}_{option}', None) for name_, option in
               (('youngs_modulus', 'modulus'), ('poisson_ratio', 'poisson'),
                ('density', 'density'))}
     given = {k: v for k, v in custom.items() if v is not None}
@@ -103,9 +103,9 @@ def material(args, body):
                         values['density'] if values['density'] is not None else 1.0)
     except ValueError as error:
         text = str(error)
-        for field, option in (('youngs_modulus', 'modulus'), ('poisson_ratio', 'poisson'),
+        for name_, option in (('youngs_modulus', 'modulus'), ('poisson_ratio', 'poisson'),
                               ('density', 'density')):
-            text = text.replace(field, f'{body}_{option}')
+            text = text.replace(name_, f'{body}_{option}')
         raise ValueError(text) from None
 
 

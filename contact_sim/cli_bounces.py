@@ -13,6 +13,7 @@ from .recordings import ImpactTimes, read_impact_times
 from .validation import require_positive, require_range
 
 NOTES = """
+
 data: CSV files of impact times (s), one column per sequence (several runs side by side are
 fine), or phyphox "Acoustic Stopwatch" exports read as they are (the CSV of the All sheet, any
 separator and decimal comma, or the zip of the CSV export), or WAV recordings of the bounces
@@ -21,8 +22,9 @@ separator and decimal comma, or the zip of the CSV export), or WAV recordings of
 
 what is fitted: for every law, lambda (k fixed: --stiffness or Hertz), per sequence its start
 time and first impact speed, and with --fit-drag the drag coefficient, by robust least squares
-on the click times (soft-L1 scaled to three times the timing noise).  Air drag 1/2 rho C_d pi R1^2 v^2
-acts in flight when --radius is given (C_d 0.47 unless --drag-coefficient; 0 turns it off).
+on the click times (soft-L1 scaled to three times the timing noise).  Air drag
+1/2 rho C_d pi R1^2 v^2 acts in flight when --radius is given (C_d 0.47 unless
+--drag-coefficient; 0 turns it off).
 The constant-restitution law is the linear law (its k is derived unless --stiffness is given).
 
 example:

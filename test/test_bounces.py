@@ -322,8 +322,8 @@ def test_example_recording_round_trip(tmp_path):
     """examples/bounce_recording.py (the README's workflow): its CSV and WAV give back λ."""
     import importlib.util
     from pathlib import Path
-    spec = importlib.util.spec_from_file_location(
-        'bounce_recording', Path(__file__).resolve().parents[1] / 'examples' / 'bounce_recording.py')
+    path = Path(__file__).resolve().parents[1] / 'examples' / 'bounce_recording.py'
+    spec = importlib.util.spec_from_file_location('bounce_recording', path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     csv_path, wav_path, lam = module.main(tmp_path)
