@@ -92,18 +92,23 @@ def _dialect(lines):
 
 def _read_text(path):
     name = str(path)
+    if name.lower().endswith(('.xls', '.xlsx', '.ods')):
+        raise ValueError(f'data = {name!r} is a spreadsheet workbook: allowed CSV; export the '
+                         'phyphox data as CSV (or save its All sheet as CSV)')
     if name.lower().endswith('.zip'):
         try:
             with zipfile.ZipFile(path) as z:
                 members = [m for m in z.namelist() if m.lower().endswith('.csv')]
-                chosen = [m for m in members if re.search(r'(^|/)all\b', m, re.IGNORECASE)] \
-                    or members
-                if not chosen:
-                    raise ValueError(f'data = {name!r} holds no CSV file: allowed a phyphox '
-                                     'CSV export (zip of CSV files)')
-                return z.read(chosen[0]).decode('utf-8-sig')
-        except (OSError, zipfile.BadZipFile) as error:
+                texts = {m: z.read(m).decode('utf-8-sig') for m in members}
+        except (OSError, zipfile.BadZipFile, UnicodeDecodeError) as error:
             raise ValueError(f'data = {name!r} cannot be read: {error}') from None
+        if not members:
+            raise ValueError(f'data = {name!r} holds no CSV file: allowed a phyphox CSV export '
+                             '(zip of CSV files)')
+        # the All sheet: by its name, else the file with the most lines (it holds every event)
+        named = [m for m in members
+                 if re.search(r'\ball\b', m.rsplit('/', 1)[-1], re.IGNORECASE)]
+        return texts[named[0] if named else max(members, key=lambda m: texts[m].count('\n'))]
     try:
         with open(path, encoding='utf-8-sig') as f:
             return f.read()

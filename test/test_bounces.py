@@ -263,6 +263,17 @@ def test_phyphox_exports_read_as_they_are(tmp_path):
         z.writestr('All.csv', '"Event time (s)","Interval (s)"\n1.0,0.5\n1.5,0.4\n1.9,\n')
     (e,) = read_impact_times(path)
     assert np.allclose(e.times, [1.0, 1.5, 1.9])
+    assert e.height == pytest.approx(1.2)
+    # sheet files named otherwise: the one holding every event
+    other = tmp_path / 'run.zip'
+    with zipfile.ZipFile(other, 'w') as z:
+        z.writestr('Einfach.csv', '"Start (s)";"Stopp (s)"\n1;2\n')
+        z.writestr('Alle Ereignisse.csv', '"Zeit (s)";"Intervall (s)"\n1,0;0,5\n1,5;0,4\n'
+                                          '1,9;\n2,2;\n')
+    (f,) = read_impact_times(other)
+    assert np.allclose(f.times, [1.0, 1.5, 1.9, 2.2])
+    with pytest.raises(ValueError, match='is a spreadsheet workbook: allowed CSV'):
+        read_impact_times(tmp_path / 'run.xlsx')
     with pytest.raises(ValueError, match='has no impact times'):
         parse_impact_times('"a";"b"\n')
 
