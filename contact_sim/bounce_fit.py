@@ -110,7 +110,7 @@ def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, stiffness=None, mass=
             next_dt = dt[i + 1] / e_bar if i + 1 < dt.size else None
             ref = [x for x in (prev_dt, next_dt) if x is not None]
             if ref and dt[i] < DOUBLED_RATIO * min(ref):
-                # the echo is the later click unless the interval after it is the short one
+                # the echo (or rattle) is the later click of the pair
                 j = np.flatnonzero(keep)[i + 1]
                 keep[j] = False
                 glitches.append(Glitch(number, 'doubled click', float(t[j]), True,
