@@ -4,11 +4,14 @@ Radii in m (a flat plate has infinite radius), moduli in Pa, masses in kg.
 """
 import math
 
+from .materials import get_material
 from .validation import require_positive
 
 
 def effective_modulus(a, b):
-    """E* with 1/E* = (1 - ν1²)/E1 + (1 - ν2²)/E2 (eq. 6), for two ``Material`` values (Pa)."""
+    """E* with 1/E* = (1 - ν1²)/E1 + (1 - ν2²)/E2 (eq. 6), for two ``Material`` values or
+    library names (Pa)."""
+    a, b = get_material(a), get_material(b)
     return 1.0 / ((1.0 - a.poisson_ratio ** 2) / a.youngs_modulus
                   + (1.0 - b.poisson_ratio ** 2) / b.youngs_modulus)
 

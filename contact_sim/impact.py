@@ -7,8 +7,9 @@ law that happens while z > 0).  See ``phase`` for the formulation.  Units: SI.
 import math
 from dataclasses import dataclass
 
+from .contact import require_contact
 from .phase import DEFAULT_RTOL, PhaseIntegrator, lift_off_energy
-from .validation import require_nonnegative, require_positive
+from .validation import require_int, require_nonnegative, require_positive, require_rtol
 
 
 @dataclass(frozen=True)
@@ -35,9 +36,12 @@ def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_st
     Returns an ``ImpactResult``; the restitution is ``rebound_speed / speed`` with both speeds
     taken at touch and at lift-off.
     """
+    contact = require_contact(contact)
     mass = require_positive('mass', mass)
     speed = require_positive('speed', speed)
     gravity = require_nonnegative('gravity', gravity)
+    rtol = require_rtol('rtol', rtol)
+    max_steps = require_int('max_steps', max_steps, 1, 10 ** 9)
     phase = PhaseIntegrator(contact, mass, gravity, 0.0, 0.0, speed, rtol=rtol)
     floor = lift_off_energy(contact, mass, gravity) if gravity > 0.0 else -math.inf
     while not phase.lifted_off:

@@ -31,8 +31,9 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.special import lambertw
 
+from .contact import require_contact
 from .impact import simulate_impact
-from .validation import require_positive
+from .validation import InputError, require_positive
 
 QUANTITIES = ('restitution', 'duration', 'peak_force', 'max_penetration')
 ZETA_MAX = 1e8   # beyond this damping group (e < 1e-10) the exact integration is not attempted
@@ -46,8 +47,36 @@ def impact_scales(law, stiffness, mass, speed):
     return length, length / speed
 
 
+def require_speeds(speed, name='speed'):
+    """``speed`` as a float array of finite speeds > 0 (m/s), else ``InputError``."""
+    v = np.asarray(speed, dtype=float)
+    if v.size and not (np.all(np.isfinite(v)) and np.all(v > 0.0)):
+        bad = float(v[~(np.isfinite(v) & (v > 0.0))].flat[0])
+        raise InputError(name, bad, '{n[%s]} = {value} is out of range: allowed 0 < {n[%s]} < inf '
+                         '(m/s)' % (name, name))
+    return v
+
+
+def checked_scales(law, stiffness, mass, speed, damping=0.0, name='speed'):
+    """(Z, T, ζ) of impacts at ``speed`` (arrays), refused with ``InputError`` on ``name`` when
+    Z or T is not a finite positive number or ζ exceeds ``ZETA_MAX``."""
+    v = require_speeds(speed, name)
+    with np.errstate(all='ignore'):
+        length, time = impact_scales(law, stiffness, mass, v)
+        zeta = damping * length ** (law.p + 1.0) * v ** (law.q - 2.0) / mass
+    ok = (length > 0.0) & np.isfinite(length) & (time > 0.0) & np.isfinite(time) \
+        & (zeta <= ZETA_MAX)
+    if not np.all(ok):
+        bad = float(np.broadcast_to(v, ok.shape)[~ok].flat[0])
+        raise InputError(name, bad, '{n[%s]} = {value} is out of range for mass = %r kg and this '
+                         'contact: allowed speeds whose impact scales Z, T are finite and whose '
+                         'damping group is at most zeta = %g' % (name, float(mass), ZETA_MAX))
+    return length, time, zeta
+
+
 def damping_group(law, stiffness, mass, speed, damping):
     """ζ = λ Z^(p+1) v^(q-2) / m, the one group the restitution depends on (see module doc)."""
+    require_speeds(speed)
     length, _ = impact_scales(law, stiffness, mass, speed)
     return damping * length ** (law.p + 1.0) * np.asarray(speed, dtype=float) ** (law.q - 2.0) \
         / mass
@@ -71,6 +100,13 @@ def _minus_s_minus_log1p_minus_s(s):
 def hunt_crossley_restitution(zeta):
     """Exact e(ζ) of the Hunt-Crossley law (n = p = 3/2, q = 1), vectorised, ζ > 0."""
     zeta = np.asarray(zeta, dtype=float)
+    tiny = zeta < 1e-6           # e = 1 - 2ζ/3 + 4ζ²/9 + O(ζ³): c = ζ²/2 underflows below 1e-154
+    zt = np.where(tiny, zeta, 0.0)
+    return np.where(tiny, 1.0 - zt * (2.0 / 3.0 - zt * 4.0 / 9.0),
+                    _hunt_crossley_restitution(np.where(tiny, 1.0, zeta)))
+
+
+def _hunt_crossley_restitution(zeta):
     small = zeta < 1e-3
     zs = np.where(small, zeta, 0.0)
     series = zs ** 2 / 2 - zs ** 3 / 3 + zs ** 4 / 4 - zs ** 5 / 5 + zs ** 6 / 6 - zs ** 7 / 7
@@ -93,7 +129,10 @@ def hunt_crossley_restitution_scalar(zeta):
 
     Newton's method on a convex function from the side where it converges monotonically:
     in s = 1 - u from s = √(2c) when c < 1, in u from u = exp(-1 - c) otherwise.
+    Below ζ = 1e-6 the series 1 - 2ζ/3 + 4ζ²/9 (error O(ζ³) < 1e-18).
     """
+    if zeta < 1e-6:
+        return 1.0 - zeta * (2.0 / 3.0 - zeta * 4.0 / 9.0)
     c = (zeta * zeta * (0.5 - zeta * (1 / 3 - zeta * (0.25 - zeta * (0.2 - zeta / 6)))))
     if zeta >= 1e-3:
         c = zeta - math.log1p(zeta)
@@ -257,24 +296,12 @@ def dimensionless(quantity, law, zeta):
 
 
 def _dimensional(quantity, contact, mass, speeds):
+    contact = require_contact(contact)
     law = contact.law
     mass = require_positive('mass', mass)
     scalar = np.ndim(speeds) == 0
-    v = np.asarray(speeds, dtype=float)
-    if v.size and not (np.all(np.isfinite(v)) and np.all(v > 0.0)):
-        bad = float(v[~(np.isfinite(v) & (v > 0.0))].flat[0])
-        raise ValueError(f'speed = {bad!r} is out of range: allowed 0 < speed < inf (m/s)')
-    k, lam = contact.stiffness, contact.damping
-    with np.errstate(all='ignore'):
-        zeta = damping_group(law, k, mass, v, lam)
-        length, time = impact_scales(law, k, mass, v)
-    ok = (zeta <= ZETA_MAX) & (length > 0.0) & np.isfinite(length) & (time > 0.0) \
-        & np.isfinite(time)
-    if not np.all(ok):
-        bad = float(np.broadcast_to(v, ok.shape)[~ok].flat[0])
-        raise ValueError(f'speed = {bad!r} is out of range for mass = {mass!r} kg and this '
-                         f'contact: allowed speeds whose impact scales Z, T are finite and whose '
-                         f'damping group is at most zeta = {ZETA_MAX:g}')
+    k = contact.stiffness
+    length, time, zeta = checked_scales(law, k, mass, speeds, contact.damping)
     value = dimensionless(quantity, law, zeta)
     scale = {'restitution': 1.0, 'duration': time, 'peak_force': k * length ** law.n,
              'max_penetration': length}[quantity]
@@ -284,6 +311,7 @@ def _dimensional(quantity, contact, mass, speeds):
 
 def _scalar_restitution(contact, mass, speed):
     """One speed, fully in Python floats: the ≤ 20 µs path used by services."""
+    contact = require_contact(contact)
     law = contact.law
     length = (mass * speed * speed / contact.stiffness) ** (1.0 / (law.n + 1.0))
     zeta = contact.damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass

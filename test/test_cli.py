@@ -107,10 +107,10 @@ def test_restitution_linear_alone_with_a_hertz_stiffness_is_an_error(capsys):
 
 def test_restitution_plot_writes_a_png(capsys, tmp_path):
     png = tmp_path / 'e.png'
-    code, out, _ = run(capsys, ['restitution', *MATERIALS, '--damping-factor', '8.87e5',
+    code, out, err = run(capsys, ['restitution', *MATERIALS, '--damping-factor', '8.87e5',
                                 '--stiffness', '1e10', '--points', '5', '--log-speed',
                                 '--plot', str(png)])
-    assert code == 0 and f'plot written to {png}' in out
+    assert code == 0 and f"plot written to {png}" in out, err
     assert_png(png)
 
 
@@ -200,22 +200,22 @@ def test_fit_compares_all_laws_and_plots(capsys, tmp_path):
     (['restitution', '--sphere', 'wood', '--plate', 'steel', '--radius', '0.01',
       '--damping', '1'], '--sphere'),
     (['restitution', '--sphere', 'steel', '--plate', 'steel', '--radius', '-0.01',
-      '--damping', '1'], 'radius = -0.01 is out of range: allowed 0 < radius'),
-    (['restitution', '--stiffness', '1e10', '--mass', 'nan', '--damping', '1'], 'mass = nan'),
+      '--damping', '1'], '--radius = -0.01 is out of range: allowed 0 < --radius'),
+    (['restitution', '--stiffness', '1e10', '--mass', 'nan', '--damping', '1'], '--mass = nan'),
     (['restitution', '--stiffness', '1e10', '--mass', '1', '--damping', '1',
-      '--speeds', '1,-2'], 'speed = -2.0 is out of range: allowed 0 < speed'),
+      '--speeds', '1,-2'], '--speeds = -2.0 is out of range: allowed 0 < --speeds'),
     (['restitution', '--stiffness', '1e10', '--mass', '1', '--damping', '1',
       '--speed-range', '1', '0.1'], 'speed_range'),
     (['restitution', '--stiffness', '1e10', '--mass', '1', '--damping', '1',
-      '--points', '1'], 'points = 1 is out of range: allowed points >= 2'),
-    (['restitution', '--stiffness', '1e10', '--mass', '1'], 'damping is missing'),
-    (['restitution', '--stiffness', '1e10', '--damping', '1'], 'mass is missing'),
+      '--points', '1'], '--points = 1 is out of range: allowed 2 <= --points <= 1e+06'),
+    (['restitution', '--stiffness', '1e10', '--mass', '1'], '--damping is missing'),
+    (['restitution', '--stiffness', '1e10', '--damping', '1'], '--mass is missing'),
     (['restitution', '--stiffness', '1e10', '--mass', '1', '--damping', '1', '--radius', '0.01',
-      '--damping-factor', '1'], 'allowed one of --damping and --damping-factor'),
+      '--damping-factor', '1'], '--damping and --damping-factor are both given'),
     (['drop', '--stiffness', '1e10', '--mass', '1', '--damping', '1', '--height', 'nan'],
-     'height = nan'),
+     '--height = nan'),
     (['drop', '--stiffness', '1e10', '--mass', '1', '--damping', '1', '--gravity', '-1'],
-     'gravity = -1.0 is out of range: allowed 0 <= gravity'),
+     '--gravity = -1.0 is out of range: allowed 0 <= --gravity'),
     (['drop', '--stiffness', '1e10', '--mass', '1', '--damping', '1', '--plot',
       '/nonexistent-dir/x.png'], 'plot ='),
 ])
@@ -279,5 +279,5 @@ def test_installed_executable_prints_the_restitution_table_and_rejects_bad_input
                           'nan', '--damping', '1'], capture_output=True, text=True, env=env,
                          timeout=60)
     assert bad.returncode == 2 and bad.stdout == ''
-    assert bad.stderr.strip() == ('contact-sim: error: radius = nan is not finite; '
+    assert bad.stderr.strip() == ('contact-sim: error: --radius = nan is not finite; '
                                   'it must be a finite real number')

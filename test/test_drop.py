@@ -147,7 +147,8 @@ def test_every_law_bounces_and_settles(law):
     assert np.all(np.diff(apexes) < 0)
     if law is cs.HUNT_CROSSLEY:
         # e -> 1 as v -> 0 for Hunt-Crossley (ζ = λ v / k): its bounces die out very slowly
-        assert not result.impacts[-1].permanent and len(result.impacts) > 100
+        # (and its landing for good, once proven, is reported as the last impact: issue 7)
+        assert sum(not imp.permanent for imp in result.impacts) > 100
     else:
         assert result.impacts[-1].permanent and math.isfinite(result.settle_time)
 
@@ -185,7 +186,8 @@ def test_a_resting_sphere_settles_onto_a_new_contact():
     sim.set_contact(softer)
     sim.advance(4.0)
     assert sim.state.penetration == pytest.approx((M * G / 1e8) ** (2 / 3), rel=1e-6)
-    assert len(sim.impacts) == n_impacts + 1 and sim.impacts[-1].permanent
+    # settling onto the new contact is no impact (issue 7): the landing stays the last record
+    assert len(sim.impacts) == n_impacts and sim.impacts[-1].permanent
 
 
 def test_set_contact_during_a_flight_never_goes_back_in_time():
