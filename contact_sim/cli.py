@@ -491,7 +491,7 @@ def _names(args):
     names = dict(OPTION_NAMES)
     if getattr(args, 'data', None) is not None:
         source = 'stdin' if args.data == '-' else args.data
-        names.update(speeds=f'speed of {source}', restitutions=f'restitution of {source}')
+        names.update(speeds=f'{source} speed', restitutions=f'{source} restitution')
     return names
 
 

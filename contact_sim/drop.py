@@ -36,7 +36,7 @@ VELOCITY_MAX = 1e5                   # m/s, either direction
 DURATION_MAX = 1e9                   # s
 SAMPLE_RATE_MAX = 1e7                # Hz
 MAX_SAMPLES = 1_000_000              # trajectory samples of one simulate_drop call
-MAX_STEPS = 300_000                  # integrator steps of one simulate_drop call
+MAX_STEPS = 100_000                  # integrator steps of one simulate_drop call (~10 s)
 CONTACT_TIME_MIN = 1e-12             # s: the contact's time scale T
 DAMPING_GROUP_MAX = 1e8              # ζ: beyond it a contact is a creep that never ends in time
 

@@ -121,10 +121,9 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95):
             pointwise[i] = damping_for_restitution(law, stiffness, mass, ei, vi)
         except InputError as error:    # name the data point it came from
             which = {'speed': 'speeds', 'restitution': 'restitutions'}[error.field]
-            raise InputError(which, error.value, '%s[%d]: %s' % (
-                '{n[%s]}' % which, i, error.template.replace('{n[%s]}' % error.field,
-                                                            '{n[%s]}' % which)),
-                             **error.params) from None
+            template = error.template.replace('{n[%s]}' % error.field,
+                                              '{n[%s]}[%d]' % (which, i))
+            raise InputError(which, error.value, template, **error.params) from None
 
     def model(lam):
         return restitution(Contact(law, stiffness, lam), mass, v)
