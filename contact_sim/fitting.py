@@ -44,8 +44,8 @@ def damping_for_restitution(law, stiffness, mass, restitution, speed):
     e_min = _lowest_restitution(law)
     if e < e_min:   # λ would give a damping group beyond what restitution() answers
         raise InputError('restitution', e, '{n[restitution]} = {value} is out of range for law '
-                         '%s: allowed %.6g <= {n[restitution]} <= 1 (damping group zeta <= %g)'
-                         % (law.name, e_min, ZETA_MAX))
+                         '%s: allowed %.12g <= {n[restitution]} <= 1 (damping group zeta <= %g)'
+                         % (law.name, e_min * (1.0 + 1e-9), ZETA_MAX))
     zeta = _group_for_restitution(law, e)
     lam = float(damping_from_group(law, stiffness, mass, speed, zeta))
     if not 0.0 < lam < math.inf:
@@ -55,9 +55,8 @@ def damping_for_restitution(law, stiffness, mass, restitution, speed):
 
 
 def _lowest_restitution(law):
-    """e at the largest damping group ``restitution`` accepts, ζ = ZETA_MAX (rounded up)."""
-    e = float(dimensionless('restitution', law, np.array(ZETA_MAX)))
-    return e * (1.0 + 1e-9)
+    """e at the largest damping group ``restitution`` accepts, ζ = ZETA_MAX."""
+    return float(dimensionless('restitution', law, np.array(ZETA_MAX)))
 
 
 @dataclass(frozen=True)

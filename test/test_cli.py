@@ -1,6 +1,7 @@
 """The `contact-sim` command line: every subcommand in-process, the installed executable once."""
 import io
 import os
+import warnings
 import re
 import subprocess
 import sys
@@ -281,3 +282,80 @@ def test_installed_executable_prints_the_restitution_table_and_rejects_bad_input
     assert bad.returncode == 2 and bad.stdout == ''
     assert bad.stderr.strip() == ('contact-sim: error: --radius = nan is not finite; '
                                   'it must be a finite real number')
+
+
+# -- issue 7: the command line's promises at the edges ---------------------------------------
+DIRECT = ['--stiffness', '1e10', '--damping', '1e5', '--mass', '0.066']
+
+
+def strict_run(capsys, argv):
+    """``run`` with every warning an error: a RuntimeWarning wall would show as a failure."""
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        return run(capsys, argv)
+
+
+@pytest.mark.parametrize('argv, field', [
+    (['drop', '--stiffness', '1e10', '--damping', '1e5', '--mass', '1e-300'], '--mass = 1e-300'),
+    (['drop', '--stiffness', '1e10', '--damping', '1e5', '--mass', '1e300'], '--mass = 1e+300'),
+    (['drop', *DIRECT, '--gravity', '1e300'], '--gravity = 1e+300'),
+    (['drop', '--stiffness', '1e300', '--damping', '1e5', '--mass', '0.066'],
+     '--stiffness = 1e+300'),
+    (['drop', '--stiffness', '1e10', '--damping', '1e30', '--mass', '0.066'],
+     '--damping = 1e+30 is too large for this drop'),
+    (['drop', *DIRECT, '--sample-rate', '1e9', '--plot', 'PNG'], '--sample-rate = 1000000000.0'),
+    (['drop', *DIRECT, '--duration', '1e6', '--plot', 'PNG'],
+     'allowed at most 1000000 (--sample-rate x --duration <= 1000000)'),
+    (['drop', *DIRECT, '--height', '-1'], '--height = -1.0 is out of range'),
+    (['restitution', *DIRECT, '--points', '100000000'], '--points = 100000000 is out of range'),
+    (['drop', '--stiffness', '5e4', '--damping', '0', *MATERIALS],
+     '--stiffness = 5e+04 N/m^1.5 is too small for this drop'),
+])
+def test_extreme_input_exits_2_with_one_line_and_no_warning(capsys, tmp_path, argv, field):
+    # reproduced: tracebacks, RuntimeWarning walls, a nan column with exit 0, a hang, 15.7 GB
+    argv = [str(tmp_path / 'd.png') if a == 'PNG' else a for a in argv]
+    code, out, err = strict_run(capsys, argv)
+    assert code == 2 and out == '' and err.count('\n') == 1, err
+    assert err.startswith('contact-sim: error: ') and field in err
+
+
+def test_the_depth_check_names_both_bounds_in_option_names(capsys):
+    code, _, err = run(capsys, ['drop', '--stiffness', '5e4', '--damping', '0', *MATERIALS])
+    assert code == 2
+    assert re.search(r'allowed --stiffness >= \S+ N/m\^1\.5 or --height <= \S+ m', err)
+
+
+def test_plot_writes_the_file_it_names(capsys, tmp_path):
+    # reproduced: `--plot name` wrote name.png and reported name
+    target = tmp_path / 'name'
+    code, out, _ = run(capsys, ['restitution', *DIRECT, '--points', '3', '--plot', str(target)])
+    assert code == 0 and f'plot written to {target}' in out
+    assert target.read_bytes().startswith(PNG_MAGIC) and not (tmp_path / 'name.png').exists()
+
+
+@pytest.mark.parametrize('rows, field', [('1e-300,0.5\n1,0.6\n', 'speed[0] = 1e-300'),
+                                         ('1,0.6\n1e300,0.5\n', 'speed[1] = 1e+300')])
+def test_fit_to_an_unscalable_speed_names_the_data_point(capsys, tmp_path, rows, field):
+    # reproduced: `math domain error`, `Optimization bounds must be finite scalars.`
+    data = tmp_path / 'd.csv'
+    data.write_text(rows)
+    code, out, err = strict_run(capsys, ['fit', str(data), '--stiffness', '1e10', '--mass',
+                                         '0.066'])
+    assert code == 2 and out == '' and err.count('\n') == 1
+    assert f'{data} {field}' in err
+
+
+def test_a_one_point_fit_prints_no_zero_width_interval(capsys, tmp_path):
+    data = tmp_path / 'one.csv'
+    data.write_text('1,0.5\n')
+    code, out, _ = run(capsys, ['fit', str(data), '--stiffness', '1e10', '--mass', '0.066',
+                                '--law', 'lee_wang'])
+    assert code == 0
+    assert 'confidence interval: n/a (one point: no residual variance)' in out
+
+
+def test_the_heavily_damped_drop_reports_its_landing(capsys):
+    # reproduced: `impacts: 0` for a sphere resting on the plate with force m g
+    code, out, _ = run(capsys, ['drop', '--stiffness', '1e10', '--damping', '1e10', '--mass',
+                                '0.066'])
+    assert code == 0 and 'impacts: 1 (0 bounces, then permanent contact)' in out

@@ -192,3 +192,40 @@ def test_scalar_closed_forms_equal_the_vectorised_ones():
             float(hunt_crossley_restitution(zeta)), rel=1e-13, abs=1e-15)
         assert linear_restitution_scalar(zeta) == pytest.approx(
             float(linear_restitution_and_duration(zeta)[0]), rel=1e-13, abs=1e-300)
+
+
+# -- issue 7: unchecked knobs ---------------------------------------------------------------
+@pytest.mark.parametrize('rtol', [1.0, math.inf, 1e300, 1e-20])
+def test_simulate_impact_refuses_a_tolerance_it_cannot_honour(rtol):
+    # reproduced: rtol = 1.0 gave e = 0.8665 (true 0.7246), rtol = inf gave 0
+    with pytest.raises(ValueError, match=r'rtol = .* (is out of range: allowed 1e-14 <= rtol '
+                                         r'<= 0\.001|is not finite)') as info:
+        cs.simulate_impact(cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5), 0.066, 1.0, rtol=rtol)
+    assert info.value.field == 'rtol'
+
+
+@pytest.mark.parametrize('zeta', [1e-7, 1e-30, 1e-155, 1e-160, 1e-300])
+def test_hunt_crossley_restitution_is_total_at_tiny_damping(zeta):
+    # reproduced: e > 1, NaN or ZeroDivisionError below zeta ~ 1e-155
+    expected = 1.0 - 2.0 * zeta / 3.0 + 4.0 * zeta ** 2 / 9.0
+    contact = cs.Contact(cs.HUNT_CROSSLEY, 1.0, zeta)   # zeta = λ v / k at v = 1, m = 1
+    assert cs.restitution(contact, 1.0, 1.0) == pytest.approx(expected, abs=1e-15)
+    assert cs.restitution(contact, 1.0, np.array([1.0]))[0] == pytest.approx(expected, abs=1e-15)
+    assert float(hunt_crossley_restitution(zeta)) <= 1.0
+
+
+@pytest.mark.parametrize('speed', [0.0, -1.0, math.nan, math.inf])
+def test_damping_group_refuses_speeds_that_are_not_positive(speed):
+    # reproduced: damping_group accepted zero (nan) and negative speeds (a negative group)
+    with pytest.raises(ValueError, match='speed = .* is out of range: allowed 0 < speed'):
+        cs.damping_group(cs.AZAD_FEATHERSTONE, 1e10, 0.066, speed, 1e5)
+
+
+@pytest.mark.parametrize('contact', [None, 'azad_featherstone', 1.0])
+def test_a_contact_that_is_not_a_contact_is_named(contact):
+    # reproduced: AttributeError: 'NoneType' object has no attribute 'law'
+    for call in (lambda: cs.restitution(contact, 0.066, 1.0),
+                 lambda: cs.restitution(contact, 0.066, np.array([1.0])),
+                 lambda: cs.simulate_impact(contact, 0.066, 1.0)):
+        with pytest.raises(ValueError, match=r'contact = .* is not a Contact'):
+            call()
