@@ -23,13 +23,14 @@ linear ζ = λ / √(m k) (velocity independent).  Two parameter sets with the s
   the exact path is used, never an extrapolation.
 """
 import math
+import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 from importlib import resources
 
 import numpy as np
 from scipy.interpolate import CubicSpline
-from scipy.special import lambertw
+from scipy.special import beta, lambertw
 
 from .contact import require_contact
 from .impact import simulate_impact
@@ -236,6 +237,86 @@ def _law_key(law):
     return (float(law.n), float(law.p), float(law.q))
 
 
+# -- asymptotics of e beyond the table (q = 1) ---------------------------------------------
+def elastic_dissipation_integral(law):
+    """I with e = 1 - I ζ + O(ζ²) as ζ -> 0 (any law).
+
+    The energy lost is ζ ∫ xᵖ |x'|^(q+1) dτ along the elastic impact x'² = 1 - 2 x^(n+1)/(n+1);
+    with w = 2 x^(n+1)/(n+1) this is a Beta function, and e² = 1 - 2 ζ I/1 gives
+    I = 2/(n+1) ((n+1)/2)^((p+1)/(n+1)) B((p+1)/(n+1), q/2 + 1).  Hunt-Crossley: I = 2/3.
+    """
+    n, p, q = law.n, law.p, law.q
+    a = (p + 1.0) / (n + 1.0)
+    return 2.0 / (n + 1.0) * ((n + 1.0) / 2.0) ** a * float(beta(a, q / 2.0 + 1.0))
+
+
+def heavy_damping_exponent(law):
+    """a with e ∝ ζ^(-a) as ζ -> ∞, for q = 1: the damper stops the sphere within
+    x_m ~ ζ^(-1/(p+1)) and the spring pushes it out on the creep x' = -x^(n-p)/ζ, so
+    e ~ x_m^(n-p)/ζ: a = 1 + (n-p)/(p+1) (Hunt-Crossley 1, linear 2, Azad-Featherstone 5/3,
+    Lee-Wang 5/4)."""
+    return 1.0 + (law.n - law.p) / (law.p + 1.0)
+
+
+@dataclass(frozen=True)
+class RestitutionTails:
+    """e outside a master curve's table [ζ0, ζ1], joined to the table's end values.
+
+    Below ζ0: e = 1 - I ζ + c2 ζ², c2 from e(ζ0) (the next term is O(ζ³) < 1e-15).
+    Above ζ1: e = ζ^(-a) r with r = A + (r1 - A)(ζ/ζ1)^(-b), the leading power and one
+    correction whose A and b come from r = e ζ^a at ζ1, ζ1/e and ζ1/e² of the table.
+    """
+
+    zeta0: float
+    zeta1: float
+    slope: float       # I
+    curvature: float   # c2
+    power: float       # a
+    limit: float       # A
+    r1: float
+    decay: float       # b
+
+    @classmethod
+    def from_curve(cls, law, curve):
+        z0, z1 = curve.zeta_range
+        e0 = curve.evaluate_scalar('restitution', z0)
+        slope = elastic_dissipation_integral(law)
+        a = heavy_damping_exponent(law)
+        r = [curve.evaluate_scalar('restitution', z1 * math.exp(-k)) * (z1 * math.exp(-k)) ** a
+             for k in range(3)]
+        ratio = (r[1] - r[0]) / (r[2] - r[1])
+        decay = -math.log(ratio) if 0.0 < ratio < 1.0 else 1.0
+        limit = r[0] - (r[1] - r[0]) / (math.exp(decay) - 1.0)
+        return cls(z0, z1, slope, (e0 - 1.0 + slope * z0) / z0 ** 2, a, limit, r[0], decay)
+
+    def small(self, zeta):
+        return 1.0 - zeta * (self.slope - zeta * self.curvature)
+
+    def large(self, zeta):
+        return zeta ** -self.power * (self.limit + (self.r1 - self.limit)
+                                      * (zeta / self.zeta1) ** -self.decay)
+
+
+@lru_cache(maxsize=None)
+def restitution_tails(law):
+    """The tails of ``law``'s master curve, or ``None`` (no curve, or q != 1)."""
+    curve = master_curve(law)
+    if curve is None or law.q != 1.0:
+        return None
+    return RestitutionTails.from_curve(law, curve)
+
+
+_WARNED = set()
+
+
+def _warn_integrating(law):
+    if law.name not in _WARNED:
+        _WARNED.add(law.name)
+        warnings.warn(f'law {law.name!r} has no master curve or closed form here: its '
+                      'restitution is integrated impact by impact (milliseconds each)',
+                      RuntimeWarning, stacklevel=4)
+
+
 @lru_cache(maxsize=1)
 def _load_tables():
     path = resources.files('contact_sim') / 'data' / TABLE_FILE
@@ -290,6 +371,15 @@ def dimensionless(quantity, law, zeta):
             inside &= positive
             out = np.where(inside, value, out)
             todo &= ~inside
+            tails = restitution_tails(law) if quantity == 'restitution' else None
+            if tails is not None:
+                low = todo & (zeta < tails.zeta0)
+                high = todo & (zeta > tails.zeta1)
+                out = np.where(low, tails.small(np.where(low, zeta, 0.0)), out)
+                out = np.where(high, tails.large(np.where(high, zeta, tails.zeta1)), out)
+                todo &= ~(low | high)
+        elif np.any(todo):
+            _warn_integrating(law)
     for z in np.unique(zeta[todo]):
         out[todo & (zeta == z)] = _exact_dimensionless(law, z)[quantity]
     return np.minimum(out, 1.0) if quantity == 'restitution' else out
@@ -328,6 +418,9 @@ def _scalar_restitution(contact, mass, speed):
             value = curve.evaluate_scalar('restitution', zeta)
             if value is not None:
                 return min(value, 1.0)
+            tails = restitution_tails(law)
+            if tails is not None:
+                return tails.small(zeta) if zeta < tails.zeta0 else tails.large(zeta)
     return float(dimensionless('restitution', law, np.array(zeta)))
 
 

@@ -1,4 +1,5 @@
 """One impact: exactness of the slow path, the dimensionless group, closed forms, master curves."""
+import importlib
 import math
 
 import numpy as np
@@ -229,3 +230,44 @@ def test_a_contact_that_is_not_a_contact_is_named(contact):
                  lambda: cs.simulate_impact(contact, 0.066, 1.0)):
         with pytest.raises(ValueError, match=r'contact = .* is not a Contact'):
             call()
+
+
+# -- issue 7: a total fast path for e -------------------------------------------------------
+TAIL_ZETAS = [1e-12, 1e-9, 1e-7, 3e-6, 2e3, 1e4, 1e6, 1e8]
+
+
+@pytest.mark.parametrize('law', LAWS, ids=IDS)
+def test_restitution_beyond_the_tables_is_within_1e_8_of_the_exact_path(law, monkeypatch):
+    # reproduced: outside the master curves restitution() integrated (19 ms a call)
+    exact = np.array([exact_e(law, z) for z in TAIL_ZETAS])
+    fast = importlib.import_module('contact_sim.restitution')   # (cs.restitution is the function)
+
+    def refuse(*_):
+        raise AssertionError('the fast path integrated')
+
+    monkeypatch.setattr(fast, '_exact_dimensionless', refuse)
+    vector = dimensionless('restitution', law, np.array(TAIL_ZETAS))
+    scalar = [cs.restitution(cs.Contact(law, 1.0, z), 1.0, 1.0) for z in TAIL_ZETAS]
+    np.testing.assert_allclose(vector, exact, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(scalar, exact, rtol=0, atol=1e-8)
+    assert np.all(np.diff(vector) < 0) and np.all((vector > 0) & (vector <= 1))
+
+
+def test_the_small_damping_slope_is_the_beta_function_integral():
+    from contact_sim.restitution import elastic_dissipation_integral
+    assert elastic_dissipation_integral(cs.HUNT_CROSSLEY) == pytest.approx(2 / 3, rel=1e-14)
+    for law in (cs.AZAD_FEATHERSTONE, cs.LEE_WANG):
+        zeta = 1e-6
+        slope = (1.0 - exact_e(law, zeta)) / zeta
+        assert elastic_dissipation_integral(law) == pytest.approx(slope, rel=1e-5)
+
+
+def test_a_law_without_a_curve_warns_once_that_it_integrates():
+    law = cs.ContactLaw('issue7_custom', 1.5, 0.25, 1.0)
+    contact = cs.Contact(law, 1e10, 1e4)
+    with pytest.warns(RuntimeWarning, match="'issue7_custom' has no master curve"):
+        first = cs.restitution(contact, 0.066, np.array([1.0]))
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        assert cs.restitution(contact, 0.066, np.array([1.0]))[0] == first[0]
