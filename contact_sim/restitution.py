@@ -25,7 +25,7 @@ linear ζ = λ / √(m k) (velocity independent).  Two parameter sets with the s
 import math
 import warnings
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import lru_cache, cache
 from importlib import resources
 
 import numpy as np
@@ -297,7 +297,7 @@ class RestitutionTails:
                                       * (zeta / self.zeta1) ** -self.decay)
 
 
-@lru_cache(maxsize=None)
+@cache
 def restitution_tails(law):
     """The tails of ``law``'s master curve, or ``None`` (no curve, or q != 1)."""
     curve = master_curve(law)
