@@ -144,12 +144,12 @@ def test_restitution_is_vectorised_scalar_in_scalar_out():
     assert cs.contact_duration(contact, 0.066, speeds).shape == (2, 2)
 
 
-def test_outside_the_table_the_exact_path_answers():
+def test_outside_the_table_the_asymptotic_tails_answer_within_1e_8():
     law = cs.AZAD_FEATHERSTONE
     lo, hi = master_curve(law).zeta_range
     for zeta in (lo / 10, hi * 3):
         fast = float(dimensionless('restitution', law, np.array(zeta)))
-        assert fast == exact_e(law, zeta)
+        assert fast == pytest.approx(exact_e(law, zeta), abs=1e-8)
 
 
 def test_no_damping_means_perfectly_elastic():
