@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import contact_sim as cs
+from contact_sim import plotting
 from contact_sim.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -359,3 +360,15 @@ def test_the_heavily_damped_drop_reports_its_landing(capsys):
     code, out, _ = run(capsys, ['drop', '--stiffness', '1e10', '--damping', '1e10', '--mass',
                                 '0.066'])
     assert code == 0 and 'impacts: 1 (0 bounces, then permanent contact)' in out
+
+
+@pytest.mark.parametrize('values', [[np.array([1.0 - 1e-9, 1.0 - 3e-9])],   # near-elastic
+                                    [np.array([1.0, 1.0])],                 # elastic
+                                    [np.array([0.2, 0.9]), np.array([0.5])]])
+def test_restitution_plot_limits_keep_every_curve_inside_the_frame(values):
+    # reproduced: a near-elastic `restitution --plot` put every curve on the frame (top = 1.02
+    # with the data at 1 - 1e-9 drawn on the upper edge of a 0..1 axis)
+    low, high = plotting.restitution_limits(values)
+    data = np.concatenate(values)
+    assert low < data.min() and data.max() < high
+    assert high - low < 10 * max(data.max() - data.min(), 1e-3)   # zoomed to the data
