@@ -38,6 +38,7 @@ SAMPLE_RATE_MAX = 1e7                # Hz
 MAX_SAMPLES = 1_000_000              # trajectory samples of one simulate_drop call
 MAX_STEPS = 100_000                  # integrator steps of one simulate_drop call (~10 s)
 CONTACT_TIME_MIN = 1e-12             # s: the contact's time scale T
+CONTACT_LENGTH_MAX = 1e3             # m: the contact's length scale Z (the depth it reaches)
 DAMPING_GROUP_MAX = 1e8              # ζ: beyond it a contact is a creep that never ends in time
 
 
@@ -68,11 +69,24 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None):
     law, k, lam = contact.law, contact.stiffness, contact.damping
     n = law.n
     regimes = []
-    if speed > 0.0:
-        regimes.append(phase_scales(contact, mass, 0.0, 0.0, speed))
-    if gravity > 0.0:
-        z0 = contact.static_penetration(mass * gravity)
-        regimes.append(phase_scales(contact, mass, gravity, z0, 0.0))
+    try:
+        if speed > 0.0:
+            regimes.append(phase_scales(contact, mass, 0.0, 0.0, speed))
+        if gravity > 0.0:
+            z0 = contact.static_penetration(mass * gravity)
+            regimes.append(phase_scales(contact, mass, gravity, z0, 0.0))
+    except ArithmeticError:
+        regimes = []
+    deepest = max((sc.length for sc in regimes), default=math.inf)
+    if not deepest <= CONTACT_LENGTH_MAX:
+        # Z ∝ k^(-1/(n+1)) at an impact, (m g / k)^(1/n) at rest
+        k_min = max(mass * speed ** 2 / CONTACT_LENGTH_MAX ** (n + 1.0),
+                    mass * gravity / CONTACT_LENGTH_MAX ** n)
+        raise InputError('stiffness', k, '{n[stiffness]} = {value} N/m^%g is too small for a '
+                         '%.4g kg sphere: it would sink %s into the plate; allowed '
+                         '{n[stiffness]} >= %.4g N/m^%g (contact length scale <= %g m)'
+                         % (n, mass, 'without bound' if math.isinf(deepest) else
+                            '~%.3g m' % deepest, k_min, n, CONTACT_LENGTH_MAX))
     shortest = min(sc.time for sc in regimes)
     if not shortest >= CONTACT_TIME_MIN:
         # T ∝ k^(-1/(n+1)) at an impact (Z = (m v²/k)^(1/(n+1)), T = Z/v), ∝ k^(-1/(2n)) at rest

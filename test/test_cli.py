@@ -309,6 +309,12 @@ def strict_run(capsys, argv):
      'allowed at most 1000000 (--sample-rate x --duration <= 1000000)'),
     (['drop', *DIRECT, '--height', '-1'], '--height = -1.0 is out of range'),
     (['restitution', *DIRECT, '--points', '100000000'], '--points = 100000000 is out of range'),
+    (['drop', '--stiffness', '1e-300', '--damping', '0', '--mass', '0.066'],
+     '--stiffness = 1e-300 N/m^1.5 is too small'),
+    (['restitution', '--sphere', 'steel', '--plate', 'cork', '--radius', '1e300', '--damping',
+      '1'], '--radius = 1e+300 m gives a sphere mass'),
+    (['restitution', '--sphere', 'steel', '--plate', 'cork', '--radius', '1e-300',
+      '--damping-factor', '1', '--law', 'azad_featherstone'], '--radius = 1e-300 m gives'),
     (['drop', '--stiffness', '5e4', '--damping', '0', *MATERIALS],
      '--stiffness = 5e+04 N/m^1.5 is too small for this drop'),
 ])
