@@ -19,8 +19,12 @@ linear ζ = λ / √(m k) (velocity independent).  Two parameter sets with the s
   τc = atan2(ζ ω, ζ²/2 - 1) / ω, ω = √(1 - ζ²/4), and past critical damping (ζ > 2)
   τc = ln(ζ²/2 - 1 + ζκ) / κ, κ = √(ζ²/4 - 1).
 * Everything else comes from master curves tabulated by ``simulate_impact`` on a uniform grid in
-  ln ζ (``scripts/build_master_curves.py``), interpolated by cubic splines.  Outside the table
-  the exact path is used, never an extrapolation.
+  ln ζ (``scripts/build_master_curves.py``), interpolated by cubic splines.  Beyond the table e
+  follows asymptotics joined to its ends (``RestitutionTails``: 1 - I ζ + c2 ζ² below,
+  ζ^(-a) (A + B ζ^(-b)) above); the other quantities there come from the exact path.
+
+Closed forms and curves are registered per law (``register_closed_form``, the table's law
+names), never found by exponents: a custom law is integrated, with a warning the first time.
 """
 import math
 import warnings
@@ -34,6 +38,7 @@ from scipy.special import beta, lambertw
 
 from .contact import require_contact
 from .impact import simulate_impact
+from .laws import HUNT_CROSSLEY, LINEAR, ContactLaw
 from .validation import InputError, require_positive
 
 QUANTITIES = ('restitution', 'duration', 'peak_force', 'max_penetration')
@@ -187,6 +192,32 @@ def linear_restitution_and_duration(zeta):
     return np.exp(-zeta * tau / 2.0), tau
 
 
+# -- closed forms, registered per law -----------------------------------------------------
+@dataclass(frozen=True)
+class ClosedForm:
+    """Exact dimensionless results of one law: ``vector`` maps a quantity to a function of an
+    array of ζ > 0; ``scalar`` is e(ζ) for one float ζ > 0 in plain Python."""
+
+    vector: dict
+    scalar: object = None
+
+
+CLOSED_FORMS = {}   # ContactLaw (its name and exponents) -> ClosedForm
+
+
+def register_closed_form(law, vector, scalar=None):
+    """Use the exact functions ``vector`` (quantity -> f(ζ array)) and ``scalar`` (e(ζ)) for
+    ``law``, a ``ContactLaw``: keyed by the law itself, not by its exponents."""
+    CLOSED_FORMS[law] = ClosedForm(dict(vector), scalar)
+
+
+register_closed_form(HUNT_CROSSLEY, {'restitution': hunt_crossley_restitution},
+                     hunt_crossley_restitution_scalar)
+register_closed_form(LINEAR, {'restitution': lambda z: linear_restitution_and_duration(z)[0],
+                              'duration': lambda z: linear_restitution_and_duration(z)[1]},
+                     linear_restitution_scalar)
+
+
 # -- master curves ------------------------------------------------------------------------
 @dataclass(frozen=True)
 class MasterCurve:
@@ -328,13 +359,14 @@ def _load_tables():
             s = data[f'{name}/s']
             h = float(s[1] - s[0])
             coefficients = {q: CubicSpline(s, data[f'{name}/{q}']).c for q in QUANTITIES}
-            curves[key] = MasterCurve(key, float(s[0]), h, coefficients)
+            curves[ContactLaw(name, *key)] = MasterCurve(key, float(s[0]), h, coefficients)
     return curves
 
 
 def master_curve(law):
-    """The shipped master curve of ``law`` (matched by its exponents), or ``None``."""
-    return _load_tables().get(_law_key(law))
+    """The shipped master curve of ``law`` (registered per law: its name and exponents), or
+    ``None``: a custom law is integrated even where its exponents equal a named law's."""
+    return _load_tables().get(law)
 
 
 # -- the public fast path -----------------------------------------------------------------
@@ -350,19 +382,15 @@ def dimensionless(quantity, law, zeta):
     """e, τc, F̂ or x̂ at the groups ``zeta`` (array, ζ >= 0) for ``law``: closed form, table or
     exact integration, in that order of preference."""
     zeta = np.asarray(zeta, dtype=float)
-    key = _law_key(law)
+    closed = CLOSED_FORMS.get(law)
     out = np.full(zeta.shape, np.nan)
     todo = np.ones(zeta.shape, dtype=bool)
     positive = zeta > 0.0
     if quantity == 'restitution':      # no damping: perfectly elastic, exactly
         out = np.where(positive, out, 1.0)
         todo = positive
-    if key == (1.5, 1.5, 1.0) and quantity == 'restitution':
-        out = np.where(positive, hunt_crossley_restitution(np.where(positive, zeta, 1.0)), out)
-        todo &= ~positive
-    elif key == (1.0, 0.0, 1.0) and quantity in ('restitution', 'duration'):
-        e, tau = linear_restitution_and_duration(np.where(positive, zeta, 1.0))
-        out = np.where(positive, e if quantity == 'restitution' else tau, out)
+    if closed is not None and quantity in closed.vector:
+        out = np.where(positive, closed.vector[quantity](np.where(positive, zeta, 1.0)), out)
         todo &= ~positive
     else:
         curve = master_curve(law)
@@ -407,11 +435,9 @@ def _scalar_restitution(contact, mass, speed):
     zeta = contact.damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
     if not (zeta <= ZETA_MAX and 0.0 < length < math.inf):
         return _dimensional('restitution', contact, mass, speed)   # raises, naming the speed
-    key = _law_key(law)
-    if zeta > 0.0 and key == (1.5, 1.5, 1.0):
-        return hunt_crossley_restitution_scalar(zeta)
-    if zeta > 0.0 and key == (1.0, 0.0, 1.0):
-        return linear_restitution_scalar(zeta)
+    closed = CLOSED_FORMS.get(law)
+    if zeta > 0.0 and closed is not None and closed.scalar is not None:
+        return closed.scalar(zeta)
     if zeta > 0.0:
         curve = master_curve(law)
         if curve is not None:

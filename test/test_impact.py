@@ -298,3 +298,18 @@ def test_the_table_script_reproduces_the_shipped_table_within_its_stated_toleran
                 if shipped['restitution'] >= 0.05:
                     for q in QUANTITIES[1:]:
                         assert row[q] == pytest.approx(shipped[q], rel=1e-8), (name, q, s[i])
+
+
+def test_closed_forms_are_registered_per_law_not_found_by_exponents():
+    from contact_sim.restitution import CLOSED_FORMS, register_closed_form
+    twin = cs.ContactLaw('hc_twin', 1.5, 1.5, 1.0)       # Hunt-Crossley's exponents, another law
+    assert master_curve(twin) is None and twin not in CLOSED_FORMS
+    with pytest.warns(RuntimeWarning, match="'hc_twin' has no master curve"):
+        integrated = float(dimensionless('restitution', twin, np.array(0.3)))
+    assert integrated == pytest.approx(float(hunt_crossley_restitution(0.3)), abs=1e-9)
+    try:
+        register_closed_form(twin, {'restitution': hunt_crossley_restitution})
+        assert float(dimensionless('restitution', twin, np.array(0.3))) == \
+            float(hunt_crossley_restitution(0.3))
+    finally:
+        CLOSED_FORMS.pop(twin, None)
