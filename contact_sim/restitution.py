@@ -281,6 +281,15 @@ def elastic_dissipation_integral(law):
     return 2.0 / (n + 1.0) * ((n + 1.0) / 2.0) ** a * float(beta(a, q / 2.0 + 1.0))
 
 
+def elastic_limits(law):
+    """τc, F̂ and x̂ of the undamped impact x'' = -xⁿ (ζ = 0): x̂ = ((n+1)/2)^(1/(n+1)),
+    F̂ = x̂ⁿ and τc = 2 ∫ dx/x' = 2/(n+1) ((n+1)/2)^(1/(n+1)) B(1/(n+1), 1/2) (π for n = 1)."""
+    n = law.n
+    depth = ((n + 1.0) / 2.0) ** (1.0 / (n + 1.0))
+    return {'duration': 2.0 / (n + 1.0) * depth * float(beta(1.0 / (n + 1.0), 0.5)),
+            'peak_force': depth ** n, 'max_penetration': depth}
+
+
 def heavy_damping_exponent(law):
     """a with e ∝ ζ^(-a) as ζ -> ∞, for q = 1: the damper stops the sphere within
     x_m ~ ζ^(-1/(p+1)) and the spring pushes it out on the creep x' = -x^(n-p)/ζ, so
@@ -293,7 +302,9 @@ def heavy_damping_exponent(law):
 class RestitutionTails:
     """e outside a master curve's table [ζ0, ζ1], joined to the table's end values.
 
-    Below ζ0: e = 1 - I ζ + c2 ζ², c2 from e(ζ0) (the next term is O(ζ³) < 1e-15).
+    Below ζ0: e = 1 - I ζ + c2 ζ², c2 from e(ζ0) (the next term is O(ζ³) < 1e-15); τc, F̂ and
+    x̂ are their elastic values (``elastic_limits``) plus a slope in ζ from the table's start
+    (``near_elastic``; within 1e-10 relative of the exact path, a test).
     Above ζ1: e = ζ^(-a) r with r = A + (r1 - A)(ζ/ζ1)^(-b), the leading power and one
     correction whose A and b come from r = e ζ^a at ζ1, ζ1/e and ζ1/e² of the table.
     """
@@ -306,6 +317,7 @@ class RestitutionTails:
     limit: float       # A
     r1: float
     decay: float       # b
+    linear: dict = None   # quantity -> (elastic value, slope in ζ) for τc, F̂, x̂
 
     @classmethod
     def from_curve(cls, law, curve):
@@ -318,7 +330,15 @@ class RestitutionTails:
         ratio = (r[1] - r[0]) / (r[2] - r[1])
         decay = -math.log(ratio) if 0.0 < ratio < 1.0 else 1.0
         limit = r[0] - (r[1] - r[0]) / (math.exp(decay) - 1.0)
-        return cls(z0, z1, slope, (e0 - 1.0 + slope * z0) / z0 ** 2, a, limit, r[0], decay)
+        linear = {}
+        for quantity, v0 in elastic_limits(law).items():
+            linear[quantity] = (v0, (curve.evaluate_scalar(quantity, z0) - v0) / z0)
+        return cls(z0, z1, slope, (e0 - 1.0 + slope * z0) / z0 ** 2, a, limit, r[0], decay,
+                   linear)
+
+    def near_elastic(self, quantity, zeta):
+        v0, slope = self.linear[quantity]
+        return v0 + slope * zeta
 
     def small(self, zeta):
         return 1.0 - zeta * (self.slope - zeta * self.curvature)
@@ -399,8 +419,12 @@ def dimensionless(quantity, law, zeta):
             inside &= positive
             out = np.where(inside, value, out)
             todo &= ~inside
-            tails = restitution_tails(law) if quantity == 'restitution' else None
-            if tails is not None:
+            tails = restitution_tails(law)
+            if tails is not None and quantity != 'restitution':
+                low = todo & positive & (zeta < tails.zeta0)
+                out = np.where(low, tails.near_elastic(quantity, np.where(low, zeta, 0.0)), out)
+                todo &= ~low
+            elif tails is not None:
                 low = todo & (zeta < tails.zeta0)
                 high = todo & (zeta > tails.zeta1)
                 out = np.where(low, tails.small(np.where(low, zeta, 0.0)), out)

@@ -313,3 +313,16 @@ def test_closed_forms_are_registered_per_law_not_found_by_exponents():
             float(hunt_crossley_restitution(0.3))
     finally:
         CLOSED_FORMS.pop(twin, None)
+
+
+@pytest.mark.parametrize('law', LAWS, ids=IDS)
+def test_duration_peak_and_depth_below_the_table_follow_the_elastic_limit(law, monkeypatch):
+    zetas = np.array([1e-12, 1e-8, 3e-6])
+    exact = [cs.simulate_impact(cs.Contact(law, 1.0, z), 1.0, 1.0) for z in zetas]
+    fast = importlib.import_module('contact_sim.restitution')
+    monkeypatch.setattr(fast, '_exact_dimensionless', lambda *_: 1 / 0)   # must not integrate
+    for quantity, attr in (('duration', 'contact_duration'), ('peak_force', 'peak_force'),
+                           ('max_penetration', 'max_penetration')):
+        got = dimensionless(quantity, law, zetas)
+        want = np.array([getattr(r, attr) for r in exact])
+        np.testing.assert_allclose(got, want, rtol=1e-9)
