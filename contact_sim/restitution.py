@@ -33,6 +33,7 @@ from functools import lru_cache, cache
 from importlib import resources
 
 import numpy as np
+from scipy.integrate import quad
 from scipy.interpolate import CubicSpline
 from scipy.special import beta, lambertw
 
@@ -161,6 +162,58 @@ def hunt_crossley_restitution_scalar(zeta):
         if abs(step) <= 1e-16 * u:
             break
     return (1.0 - u) / zeta
+
+
+def hunt_crossley_duration(zeta):
+    """Exact contact duration τc of the Hunt-Crossley law at ζ > 0, by quadrature of its first
+    integral (used to build the master curve where integrating the impact is ill-conditioned).
+
+    With w = ζ x', the first integral reads w - ln(1 + w) = d(x), d = c (1 - (x/x̂)^(5/2)),
+    c = ζ - ln(1 + ζ), x̂ = (c / (0.4 ζ²))^(2/5): w > 0 on the approach, -1 < w < 0 on the
+    return.  The force x^(3/2) (1 + w) stays positive until x = 0, so
+    τc = ζ ∫₀^x̂ (1/w_in - 1/w_out) dx, integrated in s with x = x̂ (1 - s²) (which removes the
+    1/√ at x̂, and gives d = -c expm1(2.5 log1p(-s²)) without cancellation).
+    """
+    c = zeta - math.log1p(zeta) if zeta >= 1e-3 else \
+        zeta * zeta * (0.5 - zeta * (1 / 3 - zeta * (0.25 - zeta / 5)))
+    top = (c / (0.4 * zeta * zeta)) ** 0.4
+
+    def branch(d, w):
+        for _ in range(100):          # Newton on w - ln(1 + w) - d (convex in w)
+            g = w - math.log1p(w) - d if abs(w) > 1e-4 else \
+                w * w * (0.5 - w * (1 / 3 - w * (0.25 - w / 5))) - d
+            step = g * (1.0 + w) / w
+            w_new = w - step
+            if w_new <= -1.0:
+                w_new = 0.5 * (w - 1.0)
+            if abs(w_new - w) <= 1e-15 * abs(w):
+                return w_new
+            w = w_new
+        return w
+
+    def integrand(s):
+        if s == 0.0:
+            s = 1e-300
+        d = -c * math.expm1(2.5 * math.log1p(-s * s))
+        w_in = branch(d, math.sqrt(2.0 * d) if d < 1.0 else d + math.log1p(d))
+        if d < 0.5:
+            w_out = branch(d, -math.sqrt(2.0 * d))
+        else:                                  # in u = 1 + w, which may be tiny: Newton on
+            u = math.exp(-1.0 - d)             # u - ln u - 1 - d from the left (monotone)
+            for _ in range(100):
+                if u == 0.0:
+                    break
+                step = (u - math.log(u) - 1.0 - d) / (1.0 - 1.0 / u)
+                u -= step
+                if abs(step) <= 1e-16 * u:
+                    break
+            w_out = u - 1.0
+        return 2.0 * top * s * zeta * (1.0 / w_in - 1.0 / w_out)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter('ignore')       # quad's round-off notice at the 1e-12 request
+        value, _ = quad(integrand, 0.0, 1.0, epsabs=0.0, epsrel=1e-12, limit=200)
+    return value
 
 
 def linear_restitution_scalar(zeta):
