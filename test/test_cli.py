@@ -306,7 +306,7 @@ def strict_run(capsys, argv):
      '--damping = 1e+30 is too large for this drop'),
     (['drop', *DIRECT, '--sample-rate', '1e9', '--plot', 'PNG'], '--sample-rate = 1000000000.0'),
     (['drop', *DIRECT, '--duration', '1e6', '--plot', 'PNG'],
-     'allowed at most 1000000 (--sample-rate x --duration <= 1000000)'),
+     'allowed at most 200000 (--sample-rate x --duration <= 200000)'),
     (['drop', *DIRECT, '--height', '-1'], '--height = -1.0 is out of range'),
     (['restitution', *DIRECT, '--points', '100000000'], '--points = 100000000 is out of range'),
     (['drop', '--stiffness', '1e-300', '--damping', '0', '--mass', '0.066'],
