@@ -3,9 +3,9 @@
 The core library imports neither rclpy nor any ROS package; only ``contact_sim.node`` does.
 SI units throughout; z > 0 is penetration and ż > 0 is approach.
 """
-from .contact import Contact
+from .contact import Contact, build_contact, build_mass, require_contact
 from .drop import (Advance, DropResult, DropSimulation, DropState, ImpactRecord, Samples,
-                   simulate_drop)
+                   check_drop, simulate_drop)
 from .fitting import DampingFit, compare_laws, damping_for_restitution, fit_damping
 from .hertz import effective_modulus, equivalent_radius, hertz_stiffness, reduced_mass, sphere_mass
 from .laws import AZAD_FEATHERSTONE, HUNT_CROSSLEY, LAWS, LEE_WANG, LINEAR, ContactLaw, get_law
@@ -13,13 +13,15 @@ from .impact import ImpactResult, simulate_impact
 from .materials import MATERIALS, Material, get_material
 from .restitution import (contact_duration, damping_group, max_penetration, peak_force,
                           restitution)
+from .validation import InputError
 
 __version__ = '0.1.0'
 
 __all__ = [
     'AZAD_FEATHERSTONE', 'HUNT_CROSSLEY', 'LAWS', 'LEE_WANG', 'LINEAR', 'MATERIALS',
     'Advance', 'Contact', 'ContactLaw', 'DampingFit', 'DropResult', 'DropSimulation', 'DropState',
-    'ImpactRecord', 'ImpactResult', 'Material', 'Samples', 'compare_laws', 'contact_duration',
+    'ImpactRecord', 'ImpactResult', 'InputError', 'Material', 'Samples', 'build_contact',
+    'build_mass', 'check_drop', 'compare_laws', 'contact_duration', 'require_contact',
     'damping_for_restitution', 'damping_group', 'effective_modulus', 'equivalent_radius',
     'fit_damping', 'get_law', 'get_material', 'hertz_stiffness', 'max_penetration', 'peak_force',
     'reduced_mass', 'restitution', 'simulate_drop', 'simulate_impact', 'sphere_mass',

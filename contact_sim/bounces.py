@@ -31,7 +31,7 @@ Units: SI; times in s from the first touch unless an offset is given.
 """
 import math
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import lru_cache, cache
 
 from importlib import resources
 
@@ -105,7 +105,7 @@ def _shipped_tables():
     return out
 
 
-@lru_cache(maxsize=None)
+@cache
 def contact_table(law):
     """Per law: cubic splines in ln ζ of x_l, a and b (module doc), from the shipped table
     (``scripts/build_bounce_tables.py``) or, for another law, computed once per process."""
@@ -128,7 +128,7 @@ class _Tables:
     corrections: np.ndarray   # (4, M, 3): x_l, a, b
 
 
-@lru_cache(maxsize=None)
+@cache
 def _tables(law):
     from .restitution import master_curve
     curve = master_curve(law)
@@ -194,7 +194,7 @@ def contact_map(law, stiffness, damping, mass, gravity, speed, kappa=0.0, beta=0
     return u, tau, g_group
 
 
-@lru_cache(maxsize=None)
+@cache
 def _scalar_rows(law):
     """The tables of ``_tables`` as Python tuples, for the one-sequence loop."""
     tables = _tables(law)

@@ -13,14 +13,26 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import plotting
-from .contact import Contact
+from .contact import build_contact, build_mass
 from .drop import simulate_drop
 from .fitting import compare_laws, fit_damping
-from .hertz import equivalent_radius, sphere_mass
+from .hertz import equivalent_radius
 from .laws import AZAD_FEATHERSTONE, LAWS, get_law
 from .materials import MATERIALS
 from .restitution import restitution
-from .validation import require_nonnegative, require_range, require_real
+from .validation import InputError, require_int, require_range
+
+MAX_POINTS = 1_000_000   # --points: the table is printed, one line a speed
+
+# The core's field keys as this command line spells them (InputError.render): the same
+# refusal reads `--mass = ...` here and `sphere_mass = ...` in the node.
+OPTION_NAMES = {key: '--' + key.replace('_', '-') for key in (
+    'law', 'sphere', 'plate', 'radius', 'plate_radius', 'stiffness', 'mass', 'damping',
+    'damping_factor', 'height', 'gravity', 'duration', 'sample_rate', 'points', 'confidence',
+    'speed_range')}
+OPTION_NAMES.update(speed='--speeds', material='--sphere/--plate', velocity='--initial-velocity')
+for _body in ('sphere', 'plate'):   # custom materials: --sphere-modulus, --plate-poisson, ...
+    OPTION_NAMES.update({f'{_body}_{_o}': f'--{_body}-{_o}' for _o in ('modulus', 'poisson', 'density')})
 
 LAW_NAMES = list(LAWS)  # azad_featherstone, hunt_crossley, lee_wang, linear
 
@@ -80,94 +92,53 @@ def material(args, body):
     library name, a custom material from those three (``None`` if nothing is given)."""
     from .materials import Material
     name = getattr(args, body)
-    custom = {name_: getattr(args, f'{body}_{option}', None) for name_, option in
-              (('youngs_modulus', 'modulus'), ('poisson_ratio', 'poisson'),
-               ('density', 'density'))}
-    given = {k: v for k, v in custom.items() if v is not None}
+    options = (('youngs_modulus', 'modulus'), ('poisson_ratio', 'poisson'), ('density', 'density'))
+    given = {field_: getattr(args, f'{body}_{option}', None) for field_, option in options}
+    given = {k: v for k, v in given.items() if v is not None}
     if not given:
         return None if name is None else MATERIALS[name]
     if name is None:
-        missing = [f'--{body}-{o}' for k, o in (('youngs_modulus', 'modulus'),
-                                                ('poisson_ratio', 'poisson')) if k not in given]
+        missing = [f'--{body}-{o}' for k, o in options[:2] if k not in given]
         if missing:
             raise ValueError(f'{body}_material is incomplete: give {" and ".join(missing)} '
                              f'(or --{body} MATERIAL to start from)')
-        given.setdefault('density', 1.0 if body == 'plate' else math.nan)
     base = MATERIALS[name] if name is not None else None
-    values = {k: given.get(k, getattr(base, k, None)) for k in custom}
-    if math.isnan(values['density']):
-        values['density'] = None
+    # a custom sphere without --sphere-density has no mass from density (see _has_density);
+    # the placeholder 1 kg/m^3 never reaches a result
+    values = {k: given.get(k, getattr(base, k, 1.0)) for k, _ in options}
     try:
-        return Material(f'{name or "custom"} (modified)' if name else 'custom',
-                        values['youngs_modulus'], values['poisson_ratio'],
-                        values['density'] if values['density'] is not None else 1.0)
-    except ValueError as error:
-        text = str(error)
-        for name_, option in (('youngs_modulus', 'modulus'), ('poisson_ratio', 'poisson'),
-                              ('density', 'density')):
-            text = text.replace(name_, f'{body}_{option}')
-        raise ValueError(text) from None
+        return Material(f'{name} (modified)' if name else 'custom', values['youngs_modulus'],
+                        values['poisson_ratio'], values['density'])
+    except InputError as error:   # keyed by the material's field: say which option it was
+        option = dict(options).get(error.field)
+        raise error.rekeyed(f'{body}_{option}') if option else error from None
 
 
-def _mass(args):
-    if args.mass is not None:
-        return args.mass, 'given'
-    sphere = material(args, 'sphere')
-    if sphere is None or args.radius is None or (
-            args.sphere is None and getattr(args, 'sphere_density', None) is None):
-        raise ValueError('mass is missing: give --mass M (kg), or --sphere (or '
-                         "--sphere-density) and --radius for the sphere's mass from its density")
-    return (sphere_mass(sphere.density, args.radius), f'from the {sphere.name} density')
-
-
-def _equivalent_radius(args):
-    if args.radius is None:
-        return None
-    return equivalent_radius(args.radius, args.plate_radius)
-
-
-def _damping(args, radius):
-    if args.damping is not None and args.damping_factor is not None:
-        raise ValueError('damping and damping_factor are both given: allowed one of --damping '
-                         'and --damping-factor')
-    if args.damping is not None:
-        return args.damping
-    if args.damping_factor is None:
-        raise ValueError('damping is missing: give --damping LAMBDA, or --damping-factor '
-                         'LAMBDA_STAR with --radius (lambda = lambda* sqrt(R)); 0 is elastic')
-    factor = require_nonnegative('damping_factor', args.damping_factor)
-    if radius is None:
-        raise ValueError('damping_factor needs --radius: lambda = lambda* sqrt(R) (eq. 9)')
-    return factor * math.sqrt(radius)
-
-
-def _hertz_stiffness(law, args):
-    """k from the materials, or ``None`` when the law cannot use a Hertz stiffness."""
-    sphere, plate = material(args, 'sphere'), material(args, 'plate')
-    if sphere is None or plate is None or args.radius is None:
-        raise ValueError('stiffness is missing: give --stiffness K (N/m^n), or --sphere, '
-                         '--plate (or their --*-modulus and --*-poisson) and --radius for the '
-                         'Hertz stiffness')
-    if law.n != 1.5:   # Hertz theory gives k for F = k z^1.5 only
-        return None
-    return Contact.from_materials(law, sphere, plate, args.radius, args.plate_radius).stiffness
+def _has_density(args):
+    """True when the sphere's density is known: a library --sphere or --sphere-density."""
+    return args.sphere is not None or getattr(args, 'sphere_density', None) is not None
 
 
 def build_setup(args, laws, with_damping=True):
-    """Contacts for ``laws`` from the options (damping 0 when ``with_damping`` is false)."""
-    radius = _equivalent_radius(args)
-    mass, mass_source = _mass(args)
-    damping = _damping(args, radius) if with_damping else 0.0
+    """Contacts for ``laws`` from the options (damping 0 when ``with_damping`` is false), by the
+    core's one rule (``build_contact``, ``build_mass``)."""
+    sphere, plate = material(args, 'sphere'), material(args, 'plate')
+    radius = None if args.radius is None else equivalent_radius(args.radius, args.plate_radius)
+    mass = build_mass(args.mass, sphere if _has_density(args) else None, args.radius)
+    mass_source = 'given' if args.mass is not None else f'from the {sphere.name} density'
     source = 'given' if args.stiffness is not None else 'Hertz'
     setup = Setup(mass, mass_source, radius, source)
+    damping = dict(damping=args.damping, damping_factor=args.damping_factor) if with_damping \
+        else dict(damping=0.0)
     for law in laws:
-        k = args.stiffness if args.stiffness is not None else _hertz_stiffness(law, args)
-        if k is None:
+        if args.stiffness is None and law.n != 1.5 and None not in (sphere, plate, args.radius):
             setup.skipped[law.name] = (
                 f'law {law.name} (n = {law.n:g}) cannot use the Hertz stiffness, which needs '
                 'n = 1.5: give --stiffness K (N/m) to include it')
-        else:
-            setup.contacts[law.name] = Contact(law, k, damping)
+            continue
+        setup.contacts[law.name] = build_contact(
+            law, stiffness=args.stiffness, sphere=sphere, plate=plate,
+            radius=args.radius, plate_radius=args.plate_radius, **damping)
     if not setup.contacts:
         raise ValueError(next(iter(setup.skipped.values())))
     for reason in setup.skipped.values():
@@ -237,9 +208,8 @@ def _speeds(args):
     if not 0.0 < low < high < math.inf:
         raise ValueError(f'speed_range = ({low:g}, {high:g}) is out of range: allowed '
                          '0 < LOW < HIGH < inf (m/s)')
-    if args.points < 2:
-        raise ValueError(f'points = {args.points} is out of range: allowed points >= 2')
-    return np.geomspace(low, high, args.points)
+    points = require_int('points', args.points, 2, MAX_POINTS)
+    return np.geomspace(low, high, points)
 
 
 def _restitution(args):
@@ -281,10 +251,8 @@ def _drop(args):
     setup = build_setup(args, [get_law(args.law)])
     contact = next(iter(setup.contacts.values()))
     rate = args.sample_rate if args.plot else None
-    require_nonnegative('height', args.height)   # released above the plate, as in the node
-    require_real('initial_velocity', args.initial_velocity)
     result = simulate_drop(contact, setup.mass, args.height, gravity=args.gravity,
-                           duration=args.duration, sample_rate=rate,
+                           duration=args.duration, sample_rate=rate, radius=args.radius,
                            velocity=args.initial_velocity)
     thrown = f' at {args.initial_velocity:g} m/s downward' if args.initial_velocity else ''
     print(f'# drop from {args.height:g} m{thrown}, gravity {args.gravity:g} m/s^2, '
@@ -433,7 +401,10 @@ def print_fit_summary(fits, radius, confidence):
         law = fit.law
         low, high = fit.confidence_interval
         print(f'{law.name}: lambda = {fit.damping:.9e} {damping_unit(law)}')
-        print(f'  {level} confidence interval: [{low:.6e}, {high:.6e}]')
+        if math.isnan(low):
+            print(f'  {level} confidence interval: n/a (one point: no residual variance)')
+        else:
+            print(f'  {level} confidence interval: [{low:.6e}, {high:.6e}]')
         print(f'  rms residual in e: {fit.rms_residual:.3e}')
         print(f'  pointwise lambda spread (max/min): {fit.pointwise_spread:.6f}')
         if radius is not None:
@@ -598,6 +569,14 @@ def build_parser():
     return parser
 
 
+def _names(args):
+    names = dict(OPTION_NAMES)
+    if getattr(args, 'data', None) is not None:
+        source = 'stdin' if args.data == '-' else args.data
+        names.update(speeds=f'{source} speed', restitutions=f'{source} restitution')
+    return names
+
+
 def main(argv=None):
     args = build_parser().parse_args(argv)
     try:
@@ -605,6 +584,9 @@ def main(argv=None):
             plotting.load_pyplot()
             plotting.check_output(args.plot)
         return args.run(args)
+    except InputError as error:
+        print(f'contact-sim: error: {error.render(_names(args))}', file=sys.stderr)
+        return 2
     except ValueError as error:
         print(f'contact-sim: error: {error}', file=sys.stderr)
         return 2

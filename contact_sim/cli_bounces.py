@@ -7,6 +7,7 @@ import sys
 import numpy as np
 
 from .bounce_fit import LOSSES, corrected_restitution_table, fit_bounces, restitution_curve
+from .contact import build_contact, build_mass
 from .flight import AIR_DENSITY, SPHERE_DRAG_COEFFICIENT, AirDrag
 from .laws import LAWS
 from .recordings import ImpactTimes, read_impact_times
@@ -101,17 +102,26 @@ def _sequences(args):
 
 
 def _stiffness(args, laws, mass):
-    from .cli import _hertz_stiffness
+    """k per law: --stiffness, or the Hertz k by the core's one rule (laws with n = 1.5 only)."""
     if args.stiffness is not None:
         k = require_positive('stiffness', args.stiffness)
         return {name: k for name in laws}, 'given'
-    ks = {name: _hertz_stiffness(LAWS[name], args) for name in laws}
-    return {name: k for name, k in ks.items() if k is not None}, 'Hertz'
+    from .cli import material
+    sphere, plate = material(args, 'sphere'), material(args, 'plate')
+    ks = {}
+    for name in laws:
+        law = LAWS[name]
+        if law.n != 1.5 and None not in (sphere, plate, args.radius):
+            continue     # no Hertz stiffness for this law: it is left out of the ranking
+        ks[name] = build_contact(law, sphere=sphere, plate=plate, radius=args.radius,
+                                 plate_radius=args.plate_radius, damping=0.0).stiffness
+    return ks, 'Hertz'
 
 
 def _mass(args):
-    from .cli import _mass as mass_of
-    return require_positive('mass', mass_of(args)[0])
+    from .cli import _has_density, material
+    sphere = material(args, 'sphere') if _has_density(args) else None
+    return build_mass(args.mass, sphere, args.radius)
 
 
 def _drag(args):

@@ -4,10 +4,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .hertz import effective_modulus, equivalent_radius, hertz_stiffness
+from .hertz import effective_modulus, equivalent_radius, hertz_stiffness, sphere_mass
 from .laws import ContactLaw, get_law
 from .materials import get_material
-from .validation import require_nonnegative, require_positive
+from .validation import InputError, require_instance, require_nonnegative, require_positive
 
 
 @dataclass(frozen=True)
@@ -57,3 +57,73 @@ class Contact:
         e_star = effective_modulus(get_material(sphere), get_material(plate))
         lam_star = require_nonnegative('damping_factor', damping_factor)
         return cls(law, hertz_stiffness(e_star, r), lam_star * np.sqrt(r))
+
+
+def require_contact(contact, name='contact'):
+    """Return ``contact`` if it is a ``Contact``, else raise ``InputError`` naming ``name``."""
+    return require_instance(name, contact, Contact, 'a Contact(law, stiffness, damping)')
+
+
+def build_contact(law, *, stiffness=None, damping=None, damping_factor=None, sphere=None,
+                  plate=None, radius=None, plate_radius=math.inf):
+    """The contact from materials or overrides: the one rule every front end uses.
+
+    * k = ``stiffness`` (N/m^n) if given, else the Hertz k = (4/3) E* √R (eqs. 5, 6, 10) from the
+      ``sphere`` and ``plate`` materials (``Material`` or library name) and the radii (m); the
+      Hertz k exists for laws with n = 1.5 only.
+    * λ = ``damping`` if given, else λ = λ* √R (eq. 9) with λ* = ``damping_factor``.
+
+    Errors are ``InputError`` keyed by these argument names (``law``, ``stiffness``, ``damping``,
+    ``damping_factor``, ``sphere``, ``plate``, ``radius``, ``plate_radius``).
+    """
+    law = get_law(law)
+    r = None
+    if radius is not None:
+        r = equivalent_radius(radius, plate_radius)
+    if stiffness is None:
+        if sphere is None or plate is None or radius is None:
+            raise InputError('stiffness', None, '{n[stiffness]} is missing: give {n[stiffness]} '
+                             '(N/m^n), or {n[sphere]}, {n[plate]} and {n[radius]} for the Hertz '
+                             'stiffness')
+        if law.n != 1.5:
+            raise InputError('stiffness', None, '{n[stiffness]} is missing: law = %r has n = %g '
+                             'and the Hertz stiffness needs n = 1.5; give {n[stiffness]} (N/m^n)'
+                             % (law.name, law.n))
+        k = hertz_stiffness(effective_modulus(_material('sphere', sphere),
+                                              _material('plate', plate)), r)
+    else:
+        k = require_positive('stiffness', stiffness)
+    if damping is not None and damping_factor is not None:
+        raise InputError('damping', damping, '{n[damping]} and {n[damping_factor]} are both '
+                         'given: allowed one of them')
+    if damping is not None:
+        lam = require_nonnegative('damping', damping)
+    elif damping_factor is None:
+        raise InputError('damping', None, '{n[damping]} is missing: give {n[damping]}, or '
+                         '{n[damping_factor]} with {n[radius]} (lambda = lambda* sqrt(R)); '
+                         '0 is elastic')
+    else:
+        factor = require_nonnegative('damping_factor', damping_factor)
+        if r is None:
+            raise InputError('damping_factor', factor, '{n[damping_factor]} needs {n[radius]}: '
+                             'lambda = lambda* sqrt(R) (eq. 9)')
+        lam = factor * math.sqrt(r)
+    return Contact(law, k, lam)
+
+
+def _material(name, value):
+    try:
+        return get_material(value)
+    except InputError as error:
+        raise error.rekeyed(name) from None
+
+
+def build_mass(mass=None, sphere=None, radius=None):
+    """The (reduced) mass in kg: ``mass`` if given, else (4/3) π R1³ ρ of the ``sphere`` material
+    of radius ``radius`` (m).  Errors are ``InputError`` keyed ``mass``, ``sphere``, ``radius``."""
+    if mass is not None:
+        return require_positive('mass', mass)
+    if sphere is None or radius is None:
+        raise InputError('mass', None, '{n[mass]} is missing: give {n[mass]} (kg), or '
+                         '{n[sphere]} and {n[radius]} for the sphere\'s mass from its density')
+    return sphere_mass(_material('sphere', sphere).density, radius)

@@ -20,11 +20,105 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from .contact import require_contact
 from .flight import FlightPath
-from .phase import PhaseIntegrator, contact_phase, lift_off_energy
-from .validation import require_nonnegative, require_positive, require_real
+from .phase import PhaseIntegrator, contact_phase, lift_off_energy, phase_scales
+from .validation import (InputError, require_int, require_positive, require_range, require_real,
+                         require_rtol)
 
 DROP_RTOL = 1e-10
+
+# The ranges of a drop's arguments (SI).  Outside them the doubles of the model overflow or the
+# contact cannot be resolved in time; every bound is stated in the refusal.
+MASS_RANGE = (1e-12, 1e9)            # kg
+GRAVITY_MAX = 1e6                    # m/s²
+HEIGHT_MAX = 1e6                     # m
+VELOCITY_MAX = 1e5                   # m/s, either direction
+DURATION_MAX = 1e9                   # s
+SAMPLE_RATE_MAX = 1e7                # Hz
+MAX_SAMPLES = 200_000                # trajectory samples of one simulate_drop call (~7 s)
+MAX_STEPS = 100_000                  # integrator steps of one simulate_drop call (~10 s)
+CONTACT_TIME_MIN = 1e-12             # s: the contact's time scale T
+CONTACT_LENGTH_MAX = 1e3             # m: the contact's length scale Z (the depth it reaches)
+DAMPING_GROUP_MAX = 1e8              # ζ: beyond it a contact is a creep that never ends in time
+
+
+def _first_impact_speed(gravity, height, velocity):
+    """Speed (m/s) at the first touch, √(v0² + 2 g h); 0 if the sphere never lands."""
+    if gravity == 0.0:
+        return max(velocity, 0.0)
+    return math.sqrt(velocity * velocity + 2.0 * gravity * height)
+
+
+def check_drop(contact, mass, gravity, height, velocity, radius=None):
+    """Refuse a drop the engine cannot follow, or one outside the contact model's validity.
+
+    * the contact's time scale T (at the first impact, and at rest under gravity) must be at
+      least ``CONTACT_TIME_MIN``, and its damping group ζ at most ``DAMPING_GROUP_MAX`` (a
+      larger ζ is a creep of the sphere into the plate far slower than any drop);
+    * with the sphere ``radius`` R (m): the undamped sphere must not sink deeper than R, where
+      no contact law here applies.  The first impact at v1 = √(v0² + 2 g h) stops undamped at
+      the depth z with k z^(n+1)/(n+1) = m v1²/2 + m g z, so z <= R holds when
+      k >= (n+1)(m v1²/2 + m g R)/R^(n+1); damping only makes z smaller, so this bound is
+      sufficient (and independent of λ).
+
+    Raises ``InputError`` keyed ``stiffness`` or ``damping`` whose reason gives the bounds.
+    """
+    speed = _first_impact_speed(gravity, height, velocity)
+    if speed == 0.0 and gravity == 0.0:
+        return                      # never lands: nothing to check
+    law, k, lam = contact.law, contact.stiffness, contact.damping
+    n = law.n
+    regimes = []
+    try:
+        if speed > 0.0:
+            regimes.append(phase_scales(contact, mass, 0.0, 0.0, speed))
+        if gravity > 0.0:
+            z0 = contact.static_penetration(mass * gravity)
+            regimes.append(phase_scales(contact, mass, gravity, z0, 0.0))
+    except ArithmeticError:
+        regimes = []
+    deepest = max((sc.length for sc in regimes), default=math.inf)
+    if not deepest <= CONTACT_LENGTH_MAX:
+        # Z ∝ k^(-1/(n+1)) at an impact, (m g / k)^(1/n) at rest
+        k_min = max(mass * speed ** 2 / CONTACT_LENGTH_MAX ** (n + 1.0),
+                    mass * gravity / CONTACT_LENGTH_MAX ** n)
+        raise InputError('stiffness', k, '{n[stiffness]} = {value} N/m^%g is too small for a '
+                         '%.4g kg sphere: it would sink %s into the plate; allowed '
+                         '{n[stiffness]} >= %.4g N/m^%g (contact length scale <= %g m)'
+                         % (n, mass, 'without bound' if math.isinf(deepest) else
+                            '~%.3g m' % deepest, k_min, n, CONTACT_LENGTH_MAX))
+    shortest = min(sc.time for sc in regimes)
+    if not shortest >= CONTACT_TIME_MIN:
+        # T ∝ k^(-1/(n+1)) at an impact (Z = (m v²/k)^(1/(n+1)), T = Z/v), ∝ k^(-1/(2n)) at rest
+        exponent = 1.0 / (n + 1.0) if speed > 0.0 else 0.5 / n
+        k_max = k * (shortest / CONTACT_TIME_MIN) ** (1.0 / exponent)
+        raise InputError('stiffness', k, '{n[stiffness]} = {value} N/m^%g is too large for a '
+                         '%.4g kg sphere: its contact would last ~%.3g s, beyond what the engine '
+                         'resolves; allowed {n[stiffness]} <= %.4g N/m^%g (contact time scale '
+                         '>= %g s), or a larger {n[mass]}'
+                         % (n, mass, shortest, k_max, n, CONTACT_TIME_MIN))
+    largest = max(sc.damping for sc in regimes)
+    if largest > DAMPING_GROUP_MAX:
+        lam_max = lam * DAMPING_GROUP_MAX / largest
+        raise InputError('damping', lam, '{n[damping]} = {value} is too large for this drop: '
+                         'the damping group would be zeta = %.3g and the sphere would creep '
+                         'into the plate for ages; allowed {n[damping]} <= %.4g (zeta <= %g)'
+                         % (largest, lam_max, DAMPING_GROUP_MAX))
+    if radius is None or speed == 0.0 and gravity == 0.0:
+        return
+    minimum = (n + 1.0) * (0.5 * mass * speed ** 2 + mass * gravity * radius) / radius ** (n + 1.0)
+    if k >= minimum:
+        return
+    allowed = '{n[stiffness]} >= %.4g N/m^%g' % (minimum, n)
+    # or, with this k, the highest drop: m v1²/2 <= k R^(n+1)/(n+1) - m g R
+    top_speed_sq = 2.0 * (k * radius ** (n + 1.0) / (n + 1.0) - mass * gravity * radius) / mass
+    if gravity > 0.0 and top_speed_sq > velocity ** 2:
+        allowed += ' or {n[height]} <= %.4g m' % ((top_speed_sq - velocity ** 2) / (2.0 * gravity))
+    raise InputError('stiffness', k, '{n[stiffness]} = %.4g N/m^%g is too small for this drop: '
+                     'a %.4g kg sphere hitting at %.4g m/s would sink more than its radius '
+                     '(%g m) into the plate, where no contact law here applies; allowed %s'
+                     % (k, n, mass, speed, radius, allowed))
 
 
 @dataclass(frozen=True)
@@ -146,6 +240,8 @@ class _Contact:
     floor: float              # below this energy above rest the force can never vanish (J)
     permanent: bool = False
     rest: _Rest = None        # set when the oscillation has decayed: the closed form takes over
+    resumed: bool = False     # started by set_contact with the sphere inside: not an impact
+    record: int = None        # index in impacts of this phase's permanent-contact record
 
     @property
     def finish_time(self):
@@ -181,29 +277,30 @@ class DropSimulation:
     """
 
     def __init__(self, contact, mass, height, velocity=0.0, gravity=9.81, rtol=DROP_RTOL,
-                 settle_tolerance=1e-3, drag=None):
-        self.mass = require_positive('mass', mass)
-        self.gravity = require_nonnegative('gravity', gravity)
-        self.height = require_real('height', height)
-        self.velocity = require_real('velocity', velocity)
-        self.rtol = require_positive('rtol', rtol)
-        self.settle_tolerance = require_positive('settle_tolerance', settle_tolerance)
+                 settle_tolerance=1e-3, radius=None, drag=None):
+        self.mass = require_range('mass', mass, *MASS_RANGE, unit='kg')
+        self.gravity = require_range('gravity', gravity, 0.0, GRAVITY_MAX, unit='m/s^2')
+        self.height = _height(height)
+        self.velocity = _velocity(velocity)
+        self.rtol = require_rtol('rtol', rtol)
+        self.settle_tolerance = require_range('settle_tolerance', settle_tolerance, 0.0, 1.0,
+                                              low_open=True)
+        self.radius = None if radius is None else require_positive('radius', radius)
         self.drag = drag if drag is not None and drag.active else None
         if self.drag is not None:
             require_positive('gravity', self.gravity)   # drag flights are under gravity
             self._drag_rates = self.drag.rates(self.mass, self.gravity)
-        self._initial_contact = contact
+        self._initial_contact = require_contact(contact)
         self.reset()
 
     # -- public ---------------------------------------------------------------------------
     def reset(self, height=None, velocity=None, contact=None):
         """Restart at t = 0 (optionally from a new height, velocity or contact)."""
-        if height is not None:
-            self.height = require_real('height', height)
-        if velocity is not None:
-            self.velocity = require_real('velocity', velocity)
-        if contact is not None:
-            self._initial_contact = contact
+        height = self.height if height is None else _height(height)
+        velocity = self.velocity if velocity is None else _velocity(velocity)
+        contact = self._initial_contact if contact is None else require_contact(contact)
+        self.check(contact, height, velocity)
+        self.height, self.velocity, self._initial_contact = height, velocity, contact
         self.contact = self._initial_contact
         self._pending_contact = None
         self.time = 0.0
@@ -216,17 +313,29 @@ class DropSimulation:
         self._mode = None
         self._enter_free_motion(0.0, -self.height, self.velocity)
 
+    def check(self, contact, height=None, velocity=None):
+        """``check_drop`` of ``contact`` for this drop (its initial conditions by default)."""
+        check_drop(contact, self.mass, self.gravity, self.height if height is None else height,
+                   self.velocity if velocity is None else velocity, self.radius)
+
     def set_contact(self, contact):
         """Use ``contact`` from the next contact phase on: at once in flight or at rest (a
-        resting sphere then settles onto the new contact), after lift-off during a bounce."""
+        resting sphere then settles onto the new contact), after lift-off during a bounce.
+
+        The new contact is checked (``check_drop``) against the drop's initial conditions,
+        whose energy bounds the rest of the motion.  The contact phase a change starts while
+        the sphere rests (or is inside the surface) is no impact and is not recorded as one.
+        """
+        contact = require_contact(contact)
+        self.check(contact)
         mode = self._mode
         if isinstance(mode, (_Flight, _Rest)):
             z, zdot = self._state_at(self.time)
             self.contact = contact
             if isinstance(mode, _Rest):
-                self._begin_contact(self.time, z, zdot)
+                self._begin_contact(self.time, z, zdot, resumed=True)
             else:   # the new contact may push at once (after a lift-off at z > 0)
-                self._enter_free_motion(self.time, z, zdot)
+                self._enter_free_motion(self.time, z, zdot, resumed=True)
         else:
             self._pending_contact = contact
 
@@ -313,14 +422,14 @@ class DropSimulation:
             self._emitted += 1
         return out
 
-    def _begin_contact(self, t, z, zdot):
+    def _begin_contact(self, t, z, zdot, resumed=False):
         if self._pending_contact is not None:
             self.contact, self._pending_contact = self._pending_contact, None
         phase = contact_phase(self.contact, self.mass, self.gravity, t, z, zdot,
                               rtol=self.rtol, atol=self.rtol * 1e-2)
         floor = (lift_off_energy(self.contact, self.mass, self.gravity)
                  if self.gravity > 0.0 else -math.inf)
-        self._mode = _Contact(phase, floor)
+        self._mode = _Contact(phase, floor, resumed=resumed)
         self._emitted = 0
 
     def _stop_energy(self, mode):
@@ -341,9 +450,12 @@ class DropSimulation:
         if self.gravity <= 0.0 or phase.lifted_off:
             return
         energy = phase.energy_above_rest()
-        if not mode.permanent and energy < mode.floor:
+        if not mode.permanent and (energy < mode.floor or self._creeps_to_rest(phase)):
             mode.permanent = True
-            self.permanent_contact_time = phase.start_time
+            if not mode.resumed:    # the landing for good: report it as this phase's impact
+                self.permanent_contact_time = phase.start_time
+                mode.record = len(self.impacts)
+                self.impacts.append(self._permanent_record(phase))
         law = self.contact.law
         if not mode.permanent or law.q != 1.0:
             return   # (q != 1 has no linear damping at rest: it is integrated all the way)
@@ -354,11 +466,49 @@ class DropSimulation:
             mode.rest = _Rest(phase.time, z0, z - z0, zdot, c_lin / (2.0 * self.mass),
                               k_lin / self.mass)
 
+    def _creeps_to_rest(self, phase):
+        """True if the sphere provably creeps down into its rest depth z0 without lift-off.
+
+        For q = 1, above z0 (z < z0) moving down (ż >= 0): ż cannot turn negative before z0
+        (at ż = 0 the net force m g - k zⁿ is down).  With b = λ zᵖ/m (zᵖ grows with z) and
+        a = max slope of k zⁿ on [z, z0] / m, the region 0 <= ż <= c (z0 - z) is invariant when
+        c² - b c + a <= 0 (check the boundary ż = c δ: z̈ + c ż <= δ (a - b c + c²)), which has a
+        solution c = (b + √(b² - 4a))/2 when b² >= 4a.  Inside it the sphere reaches z0 only
+        with ż = 0: the force k zⁿ + λ zᵖ ż stays positive for ever: permanent contact.
+        """
+        law, contact = self.contact.law, self.contact
+        if law.q != 1.0:
+            return False
+        z, zdot = phase.state
+        z0 = contact.static_penetration(self.mass * self.gravity)
+        if not (0.0 < z < z0 and zdot >= 0.0):
+            return False
+        n, k = law.n, contact.stiffness
+        a = n * k * max(z ** (n - 1.0), z0 ** (n - 1.0)) / self.mass
+        b = contact.damping * z ** law.p / self.mass
+        disc = b * b - 4.0 * a
+        return disc >= 0.0 and zdot <= 0.5 * (b + math.sqrt(disc)) * (z0 - z)
+
+    @staticmethod
+    def _permanent_record(phase):
+        impact_time, _, impact_rate, _ = phase.points[0]
+        return ImpactRecord(impact_time, max(impact_rate, 0.0), 0.0, 0.0, math.inf,
+                            phase.peak_force, phase.max_penetration)
+
     def _finish_contact(self, mode):
         phase = mode.integrator
         self.steps += phase.steps
         impact_time, _, impact_rate, _ = phase.points[0]
         impact_speed = max(impact_rate, 0.0)
+        if mode.resumed:        # a contact change moved the sphere: no impact to record
+            if phase.lifted_off:
+                self.permanent_contact_time = self.settle_time = None
+                t, z, zdot = phase.end
+                self._enter_free_motion(t, z, zdot, after_lift_off=True)
+            else:
+                self.settle_time = mode.rest.start
+                self._mode = mode.rest
+            return
         if phase.lifted_off:
             t, z, zdot = phase.end
             rebound = max(-zdot, 0.0)
@@ -369,18 +519,17 @@ class DropSimulation:
             if self._pending_contact is not None:
                 self.contact, self._pending_contact = self._pending_contact, None
             self._enter_free_motion(t, z, zdot, after_lift_off=True)
-        else:
-            self.impacts.append(ImpactRecord(impact_time, impact_speed, 0.0, 0.0, math.inf,
-                                             phase.peak_force, phase.max_penetration))
+        else:   # the record made when the contact became permanent, with the final peaks
+            self.impacts[mode.record] = self._permanent_record(phase)
             self.permanent_contact_time = impact_time
             self.settle_time = mode.rest.start
             self._mode = mode.rest
 
-    def _enter_free_motion(self, t, z, zdot, after_lift_off=False):
+    def _enter_free_motion(self, t, z, zdot, after_lift_off=False, resumed=False):
         """Start a flight at (t, z, ż), or a contact at once if the force is already on."""
         contact, g = self.contact, self.gravity
         if not after_lift_off and z > 0.0 and float(contact.force(z, zdot)) > 0.0:
-            self._begin_contact(t, z, zdot)
+            self._begin_contact(t, z, zdot, resumed=resumed)
             return
         dt = self._time_to_contact(z, zdot)
         self._mode = _Flight(t, z, zdot, t + dt)
@@ -454,32 +603,63 @@ class DropResult:
 
 
 def simulate_drop(contact, mass, height, gravity=9.81, duration=5.0, sample_rate=None,
-                  velocity=0.0, rtol=DROP_RTOL, settle_tolerance=1e-3, drag=None):
+                  velocity=0.0, rtol=DROP_RTOL, settle_tolerance=1e-3, radius=None,
+                  max_steps=MAX_STEPS, drag=None):
     """Drop a sphere from ``height`` (m) and follow it for ``duration`` (s).
 
     With ``sample_rate`` (Hz) the result carries a trajectory sampled on that grid plus every
     contact phase's own integrator points, so that no force peak is lost.
-    ``permanent_contact_time`` and ``settle_time`` are ``nan`` if not reached.
+    ``permanent_contact_time`` and ``settle_time`` are ``nan`` if not reached.  With the sphere's
+    ``radius`` (m) a contact too soft for the drop is refused (see ``check_drop``).  The work
+    is bounded: at most ``MAX_SAMPLES`` samples, and ``max_steps`` integrator steps, beyond
+    which an ``InputError`` on ``duration`` says how far the drop got.
     ``drag``: a ``flight.AirDrag`` for the flights (default ``None``, vacuum).
     """
-    duration = require_positive('duration', duration)
+    duration = require_range('duration', duration, 0.0, DURATION_MAX, low_open=True, unit='s')
+    max_steps = require_int('max_steps', max_steps, 1, 10 ** 9)
+    if sample_rate is not None:
+        rate = require_range('sample_rate', sample_rate, 0.0, SAMPLE_RATE_MAX, low_open=True,
+                             unit='Hz')
+        if duration * rate > MAX_SAMPLES:
+            raise InputError('sample_rate', rate, '{n[sample_rate]} = {value} Hz over '
+                             '{n[duration]} = %g s makes %.4g samples: allowed at most %d '
+                             '(%s x %s <= %d)' % (duration, duration * rate, MAX_SAMPLES,
+                                                  '{n[sample_rate]}', '{n[duration]}',
+                                                  MAX_SAMPLES))
     sim = DropSimulation(contact, mass, height, velocity=velocity, gravity=gravity, rtol=rtol,
-                         settle_tolerance=settle_tolerance, drag=drag)
+                         settle_tolerance=settle_tolerance, radius=radius, drag=drag)
+
+    def advance(t):
+        part = sim.advance(t, max_steps=max_steps - sim.total_steps)
+        if sim.time < t:
+            raise InputError('duration', duration, '{n[duration]} = {value} s needs more than '
+                             '%d integrator steps (max_steps; reached t = %.6g s): allowed a '
+                             'shorter {n[duration]}' % (max_steps, sim.time))
+        return part
+
     trajectory = None
     if sample_rate is None:
-        sim.advance(duration)
+        advance(duration)
     else:
-        rate = require_positive('sample_rate', sample_rate)
         grid = np.arange(1, int(math.floor(duration * rate + 1e-9)) + 1) / rate
         if grid.size == 0 or grid[-1] < duration:
             grid = np.append(grid, duration)
         first = sim.state
         parts = [Samples.from_points([(0.0, first.penetration, first.penetration_rate,
                                        first.force)])]
-        parts.extend(sim.advance(t).samples for t in grid)
+        parts.extend(advance(t).samples for t in grid)
         trajectory = Samples.concatenate(parts)
     nan = math.nan
     return DropResult(tuple(sim.impacts), tuple(sim.apex_heights),
                       sim.permanent_contact_time if sim.permanent_contact_time is not None
                       else nan, sim.settle_time if sim.settle_time is not None else nan,
                       sim.total_steps, duration, trajectory)
+
+
+def _height(height):
+    """Release height of the lowest point above the plate (m): 0 <= h <= HEIGHT_MAX."""
+    return require_range('height', height, 0.0, HEIGHT_MAX, unit='m')
+
+
+def _velocity(velocity):
+    return require_range('velocity', velocity, -VELOCITY_MAX, VELOCITY_MAX, unit='m/s')

@@ -12,8 +12,9 @@ from scipy.optimize import brentq, minimize_scalar
 
 from .contact import Contact
 from .laws import LAWS, ContactLaw, get_law
-from .restitution import damping_from_group, dimensionless, master_curve, restitution
-from .validation import require_positive, require_range
+from .restitution import (ZETA_MAX, checked_scales, damping_from_group, dimensionless,
+                          master_curve, restitution)
+from .validation import InputError, require_positive, require_range
 
 
 def _group_for_restitution(law, target):
@@ -36,12 +37,26 @@ def damping_for_restitution(law, stiffness, mass, restitution, speed):
     law = get_law(law)
     stiffness = require_positive('stiffness', stiffness)
     mass = require_positive('mass', mass)
-    speed = require_positive('speed', speed)
+    checked_scales(law, stiffness, mass, speed)     # Z, T finite: else an InputError on speed
     e = require_range('restitution', restitution, 0.0, 1.0, low_open=True)
     if e == 1.0:
         return 0.0
+    e_min = _lowest_restitution(law)
+    if e < e_min:   # λ would give a damping group beyond what restitution() answers
+        raise InputError('restitution', e, '{n[restitution]} = {value} is out of range for law '
+                         '%s: allowed %.12g <= {n[restitution]} <= 1 (damping group zeta <= %g)'
+                         % (law.name, e_min * (1.0 + 1e-9), ZETA_MAX))
     zeta = _group_for_restitution(law, e)
-    return float(damping_from_group(law, stiffness, mass, speed, zeta))
+    lam = float(damping_from_group(law, stiffness, mass, speed, zeta))
+    if not 0.0 < lam < math.inf:
+        raise InputError('speed', speed, '{n[speed]} = {value} is out of range for this contact: '
+                         'the damping lambda = %r is not a finite positive number' % lam)
+    return lam
+
+
+def _lowest_restitution(law):
+    """e at the largest damping group ``restitution`` accepts, ζ = ZETA_MAX."""
+    return float(dimensionless('restitution', law, np.array(ZETA_MAX)))
 
 
 @dataclass(frozen=True)
@@ -115,7 +130,8 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     """Fit λ to measured (speed, restitution) points by least squares in e; see ``DampingFit``.
 
     The confidence interval is linearised in ln λ: λ exp(± t σ / |J|), with J = ∂e/∂ln λ at the
-    optimum and σ² the residual variance (N - 1 degrees of freedom; zero width for one point).
+    optimum and σ² the residual variance (N - 1 degrees of freedom); one point leaves no
+    residual variance, and the interval is (nan, nan).
     Points with e >= 1 (noise near e = 1) are kept in the fit and listed in ``flagged``.
     ``uncertainties`` (σ_e per point, > 0) weight each residual by 1/σ_e.  ``loss`` (one of
     ``LOSSES``, as in ``scipy.optimize.least_squares``) makes the fit robust: its scale is one
@@ -143,8 +159,17 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
             raise ValueError(f'uncertainties[{i}] = {float(sigma[i])!r} is out of range: '
                              'allowed 0 < uncertainty < inf')
     flagged = tuple(int(i) for i in np.flatnonzero(e >= 1.0))
-    pointwise = np.array([damping_for_restitution(law, stiffness, mass, ei, vi) if ei <= 1.0
-                          else math.nan for vi, ei in zip(v, e)])
+    pointwise = np.full(v.size, math.nan)      # nan where e > 1: no damping gives it
+    for i, (vi, ei) in enumerate(zip(v, e)):
+        if ei > 1.0:
+            continue
+        try:
+            pointwise[i] = damping_for_restitution(law, stiffness, mass, ei, vi)
+        except InputError as error:    # name the data point it came from
+            which = {'speed': 'speeds', 'restitution': 'restitutions'}[error.field]
+            template = error.template.replace('{n[%s]}' % error.field,
+                                              '{n[%s]}[%d]' % (which, i))
+            raise InputError(which, error.value, template, **error.params) from None
 
     def model(lam):
         return restitution(Contact(law, stiffness, lam), mass, v)
@@ -183,7 +208,10 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     jac = (model(lam * math.exp(h)) - model(lam * math.exp(-h))) / (2 * h) if lam > 0.0 \
         else np.zeros(v.size)
     dof = v.size - 1
-    if dof > 0 and np.any(jac != 0.0):
+    if dof == 0:        # one point: no residual variance to estimate a spread from
+        return DampingFit(law, stiffness, lam, rms, residuals, pointwise, (math.nan, math.nan),
+                          confidence)
+    if np.any(jac != 0.0):
         from scipy.stats import t as student_t  # slow to import: only when needed
         w = weights / sigma ** 2
         scale2 = float(np.sum(w * residuals ** 2)) / dof
@@ -204,6 +232,13 @@ def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.
     law's k has other units than the Hertz k; its fitted restitution does not depend on k).
     """
     chosen = [get_law(name) for name in (laws if laws is not None else LAWS)]
+    if isinstance(stiffness, dict):
+        missing = [law.name for law in chosen if law.name not in stiffness]
+        if missing:
+            raise InputError('stiffness', stiffness, '{n[stiffness]} has no value for %s: '
+                             'allowed one stiffness for every law, or a mapping with an entry '
+                             'for each law fitted (%s)' % (', '.join(missing),
+                                                          ', '.join(law.name for law in chosen)))
     fits = []
     for law in chosen:
         k = stiffness[law.name] if isinstance(stiffness, dict) else stiffness

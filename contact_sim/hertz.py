@@ -4,11 +4,14 @@ Radii in m (a flat plate has infinite radius), moduli in Pa, masses in kg.
 """
 import math
 
-from .validation import require_positive
+from .materials import get_material
+from .validation import InputError, require_positive
 
 
 def effective_modulus(a, b):
-    """E* with 1/E* = (1 - ν1²)/E1 + (1 - ν2²)/E2 (eq. 6), for two ``Material`` values (Pa)."""
+    """E* with 1/E* = (1 - ν1²)/E1 + (1 - ν2²)/E2 (eq. 6), for two ``Material`` values or
+    library names (Pa)."""
+    a, b = get_material(a), get_material(b)
     return 1.0 / ((1.0 - a.poisson_ratio ** 2) / a.youngs_modulus
                   + (1.0 - b.poisson_ratio ** 2) / b.youngs_modulus)
 
@@ -44,5 +47,14 @@ def reduced_mass(m1, m2=math.inf):
 
 def sphere_mass(density, radius):
     """Mass of a solid sphere, (4/3) π R³ ρ, in kg."""
-    return 4.0 / 3.0 * math.pi * require_positive('radius', radius) ** 3 \
-        * require_positive('density', density)
+    r = require_positive('radius', radius)
+    rho = require_positive('density', density)
+    try:
+        mass = 4.0 / 3.0 * math.pi * r ** 3 * rho
+    except OverflowError:
+        mass = math.inf
+    if not 0.0 < mass < math.inf:
+        raise InputError('radius', r, '{n[radius]} = {value} m gives a sphere mass (4/3) pi R^3 '
+                         'rho = %r kg: allowed radii whose mass is a positive finite number'
+                         % mass)
+    return mass

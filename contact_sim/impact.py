@@ -7,8 +7,9 @@ law that happens while z > 0).  See ``phase`` for the formulation.  Units: SI.
 import math
 from dataclasses import dataclass
 
+from .contact import require_contact
 from .phase import DEFAULT_RTOL, contact_phase, lift_off_energy
-from .validation import require_nonnegative, require_positive
+from .validation import require_int, require_nonnegative, require_positive, require_rtol
 
 
 @dataclass(frozen=True)
@@ -37,9 +38,12 @@ def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_st
     taken at touch and at lift-off.  ``engine`` is 'compiled' or 'scipy' (the reference path;
     default ``phase.get_engine()``), see ``phase.contact_phase``.
     """
+    contact = require_contact(contact)
     mass = require_positive('mass', mass)
     speed = require_positive('speed', speed)
     gravity = require_nonnegative('gravity', gravity)
+    rtol = require_rtol('rtol', rtol)
+    max_steps = require_int('max_steps', max_steps, 1, 10 ** 9)
     phase = contact_phase(contact, mass, gravity, 0.0, 0.0, speed, rtol=rtol, engine=engine,
                           keep_points=False)
     floor = lift_off_energy(contact, mass, gravity) if gravity > 0.0 else -math.inf

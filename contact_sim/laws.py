@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .validation import require_positive, require_range
+from .validation import InputError, require_positive, require_range
 
 
 @dataclass(frozen=True)
@@ -65,5 +65,5 @@ def get_law(name):
     try:
         return LAWS[name]
     except (KeyError, TypeError):
-        raise ValueError(
-            f'law = {name!r} is unknown: allowed one of {", ".join(sorted(LAWS))}') from None
+        raise InputError('law', name, '{n[law]} = {value} is unknown: allowed one of %s'
+                         % ', '.join(sorted(LAWS)), value=repr(name)) from None

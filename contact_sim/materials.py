@@ -6,7 +6,7 @@ against measured restitution for the pair you simulate.
 """
 from dataclasses import dataclass
 
-from .validation import require_positive, require_range
+from .validation import InputError, require_positive, require_range
 
 _HANDBOOK = 'W. D. Callister, Materials Science and Engineering: An Introduction, Appendix B'
 
@@ -54,6 +54,6 @@ def get_material(name):
     try:
         return MATERIALS[name]
     except (KeyError, TypeError):
-        raise ValueError(
-            f'material = {name!r} is unknown: allowed one of {", ".join(sorted(MATERIALS))} '
-            "or a custom Material(name, youngs_modulus, poisson_ratio, density)") from None
+        raise InputError('material', name, '{n[material]} = {value} is unknown: allowed one of '
+                         '%s or a custom Material(name, youngs_modulus, poisson_ratio, density)'
+                         % ', '.join(sorted(MATERIALS)), value=repr(name)) from None

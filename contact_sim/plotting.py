@@ -37,7 +37,7 @@ def check_output(path):
 def _save(fig, path):
     pyplot = load_pyplot()
     try:
-        fig.savefig(path, dpi=150)
+        fig.savefig(path, dpi=150, format='png')   # the file named, not name + '.png'
     except OSError as error:
         raise ValueError(f'plot = {str(path)!r} cannot be written: {error.strerror}') from None
     finally:
@@ -67,11 +67,26 @@ def restitution_figure(path, curves, points, title, subtitle, log_speed):
         ax.set_xscale('log')
     ax.set_xlabel('impact speed v (m/s)' + (', log scale' if log_speed else ''))
     ax.set_ylabel('coefficient of restitution e (-)')
-    ax.set_ylim(top=min(1.02, ax.get_ylim()[1] + 0.02))
+    ax.set_ylim(*restitution_limits([e for _, e in curves.values()]))
     ax.set_title(f'{title}\n{subtitle}', fontsize=10)
     ax.legend(title='force law')
     _style(ax)
     _save(fig, path)
+
+
+def restitution_limits(values):
+    """y limits that show every curve inside the frame, also when all e are within 1e-9 of 1
+    (near-elastic: the axis then zooms in) or exactly equal (elastic)."""
+    finite = np.concatenate([np.ravel(v) for v in values]) if len(values) else np.empty(0)
+    finite = finite[np.isfinite(finite)]
+    if finite.size == 0:
+        return 0.0, 1.05
+    low, high = float(finite.min()), float(finite.max())
+    span = high - low
+    if span <= 1e-12 * max(abs(high), 1.0):
+        span = max(0.05 * abs(high), 1e-3)
+        return low - span, high + span
+    return low - 0.08 * span, high + 0.08 * span
 
 
 def drop_figure(path, time, height, force, impacts, title, subtitle):

@@ -1,29 +1,90 @@
-"""Argument checks shared by every constructor: each error names the field, the value and the range."""
+"""Argument checks shared by every constructor: each error names the field, the value and the range.
+
+Every refusal is an ``InputError`` (a ``ValueError``) that carries the canonical key of the field
+it is about (the core argument name: ``mass``, ``height``, ``stiffness``, ...), the value, and a
+message template in which every field name is a placeholder ``{n[key]}``.  ``str(error)`` spells
+the fields with their core names; a front end renders the same message in its own words with
+``error.render(names)``, e.g. ``{'mass': '--mass'}`` in the command line or
+``{'mass': 'sphere_mass'}`` in the ROS node, so its users read the names they typed.
+"""
 import math
+
+
+class _Names(dict):
+    """Field key -> the front end's name for it (the key itself when not mapped)."""
+
+    def __missing__(self, key):
+        return key
+
+
+class InputError(ValueError):
+    """A refused input: ``field`` (canonical key), ``value`` and a message naming the range.
+
+    ``template`` is a ``str.format`` template; ``{n[key]}`` stands for the name of field ``key``
+    and every other ``{name}`` is filled from ``params`` (``{value}``: the value's repr unless
+    given).
+    """
+
+    def __init__(self, field, value, template, /, **params):
+        self.field = field
+        self.value = value
+        self.template = template
+        params.setdefault('value', _describe(value))
+        self.params = params
+        super().__init__(self.render())
+
+    def render(self, names=None):
+        """The message with each field spelled as ``names`` maps it (unmapped keys as is)."""
+        return self.template.format(n=_Names(names or {}), **self.params)
+
+    def rekeyed(self, field):
+        """The same refusal about the field ``field`` (e.g. ``material`` -> ``sphere``)."""
+        old = '{n[%s]}' % self.field
+        return InputError(field, self.value, self.template.replace(old, '{n[%s]}' % field),
+                          **self.params)
+
+    def __reduce__(self):   # keep pickling (multiprocessing) working for a custom __init__
+        return (_rebuild, (self.field, self.value, self.template, self.params))
+
+
+def _rebuild(field, value, template, params):
+    return InputError(field, value, template, **params)
 
 
 def _describe(value):
     return repr(value) if isinstance(value, str) else f'{value!r}'
 
 
+def _fmt(x):
+    return f'{x:g}'
+
+
 def require_real(name, value):
-    """Return ``value`` as a finite float, or raise ``ValueError`` naming ``name``."""
+    """Return ``value`` as a finite float, or raise ``InputError`` naming ``name``."""
     if isinstance(value, bool):
-        raise ValueError(f'{name} = {value!r} is not a number; it must be a finite real number')
+        raise InputError(name, value, '{n[%s]} = {value} is not a number; it must be a finite '
+                         'real number' % name, value=repr(value))
     try:
         x = float(value)
     except (TypeError, ValueError):
-        raise ValueError(
-            f'{name} = {_describe(value)} is not a number; it must be a finite real number'
-        ) from None
+        raise InputError(name, value, '{n[%s]} = {value} is not a number; it must be a finite '
+                         'real number' % name, value=_describe(value)) from None
     if not math.isfinite(x):
-        raise ValueError(f'{name} = {x!r} is not finite; it must be a finite real number')
+        raise InputError(name, x, '{n[%s]} = {value} is not finite; it must be a finite real '
+                         'number' % name, value=repr(x))
     return x
 
 
+def range_text(name, low=-math.inf, high=math.inf, *, low_open=False, high_open=False):
+    """The allowed range as a template, e.g. ``0 < {n[mass]} <= 1e+09``."""
+    left = f'{_fmt(low)} {"<" if low_open else "<="} ' if low > -math.inf else ''
+    right = f' {"<" if high_open else "<="} {_fmt(high)}' if high < math.inf else ''
+    return f'{left}{{n[{name}]}}{right}'
+
+
 def require_range(name, value, low=-math.inf, high=math.inf, *, low_open=False, high_open=False,
-                  allow_inf=False):
-    """Return ``value`` as a float inside the interval, else raise ``ValueError``.
+                  allow_inf=False, unit=''):
+    """Return ``value`` as a float inside the interval, else raise ``InputError``.
 
     The message states the field, the value and the allowed range, e.g.
     ``poisson_ratio = 0.6 is out of range: allowed -1 < poisson_ratio < 0.5``.
@@ -33,12 +94,12 @@ def require_range(name, value, low=-math.inf, high=math.inf, *, low_open=False, 
         x = math.inf
     else:
         x = require_real(name, value)
-    left = f'{low:g} {"<" if low_open else "<="} ' if low > -math.inf else ''
-    right = f' {"<" if high_open else "<="} {high:g}' if high < math.inf else ''
     too_low = x < low or (low_open and x == low)
     too_high = x > high or (high_open and x == high)
     if too_low or too_high:
-        raise ValueError(f'{name} = {x!r} is out of range: allowed {left}{name}{right}')
+        allowed = range_text(name, low, high, low_open=low_open, high_open=high_open)
+        raise InputError(name, x, '{n[%s]} = {value} is out of range: allowed %s%s'
+                         % (name, allowed, f' ({unit})' if unit else ''), value=repr(x))
     return x
 
 
@@ -48,3 +109,34 @@ def require_positive(name, value, *, allow_inf=False):
 
 def require_nonnegative(name, value):
     return require_range(name, value, 0.0)
+
+
+def require_int(name, value, low, high):
+    """Return ``value`` as an int with low <= value <= high, else raise ``InputError``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+            or isinstance(value, float) and not value.is_integer():
+        raise InputError(name, value, '{n[%s]} = {value} is not an integer: allowed %s'
+                         % (name, range_text(name, low, high)), value=_describe(value))
+    x = int(value)
+    if not low <= x <= high:
+        raise InputError(name, x, '{n[%s]} = {value} is out of range: allowed %s'
+                         % (name, range_text(name, low, high)), value=repr(x))
+    return x
+
+
+def require_instance(name, value, kind, what):
+    """Return ``value`` if it is a ``kind``, else raise ``InputError`` saying ``what`` it must be."""
+    if not isinstance(value, kind):
+        raise InputError(name, value, '{n[%s]} = {value} is not %s' % (name, what),
+                         value=_describe(value))
+    return value
+
+
+# Tolerances of the exact integrators: looser than 1e-3 gives wrong results without warning
+# (rtol = 1 makes e = 0.8665 where it is 0.7246), tighter than 1e-14 cannot be met in doubles.
+RTOL_RANGE = (1e-14, 1e-3)
+
+
+def require_rtol(name, value):
+    """A relative tolerance for the exact integrators, within ``RTOL_RANGE``."""
+    return require_range(name, value, *RTOL_RANGE)

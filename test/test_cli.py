@@ -1,6 +1,7 @@
 """The `contact-sim` command line: every subcommand in-process, the installed executable once."""
 import io
 import os
+import warnings
 import re
 import subprocess
 import sys
@@ -10,6 +11,7 @@ import numpy as np
 import pytest
 
 import contact_sim as cs
+from contact_sim import plotting
 from contact_sim.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -107,10 +109,10 @@ def test_restitution_linear_alone_with_a_hertz_stiffness_is_an_error(capsys):
 
 def test_restitution_plot_writes_a_png(capsys, tmp_path):
     png = tmp_path / 'e.png'
-    code, out, _ = run(capsys, ['restitution', *MATERIALS, '--damping-factor', '8.87e5',
+    code, out, err = run(capsys, ['restitution', *MATERIALS, '--damping-factor', '8.87e5',
                                 '--stiffness', '1e10', '--points', '5', '--log-speed',
                                 '--plot', str(png)])
-    assert code == 0 and f'plot written to {png}' in out
+    assert code == 0 and f"plot written to {png}" in out, err
     assert_png(png)
 
 
@@ -200,22 +202,22 @@ def test_fit_compares_all_laws_and_plots(capsys, tmp_path):
     (['restitution', '--sphere', 'wood', '--plate', 'steel', '--radius', '0.01',
       '--damping', '1'], '--sphere'),
     (['restitution', '--sphere', 'steel', '--plate', 'steel', '--radius', '-0.01',
-      '--damping', '1'], 'radius = -0.01 is out of range: allowed 0 < radius'),
-    (['restitution', '--stiffness', '1e10', '--mass', 'nan', '--damping', '1'], 'mass = nan'),
+      '--damping', '1'], '--radius = -0.01 is out of range: allowed 0 < --radius'),
+    (['restitution', '--stiffness', '1e10', '--mass', 'nan', '--damping', '1'], '--mass = nan'),
     (['restitution', '--stiffness', '1e10', '--mass', '1', '--damping', '1',
-      '--speeds', '1,-2'], 'speed = -2.0 is out of range: allowed 0 < speed'),
+      '--speeds', '1,-2'], '--speeds = -2.0 is out of range: allowed 0 < --speeds'),
     (['restitution', '--stiffness', '1e10', '--mass', '1', '--damping', '1',
       '--speed-range', '1', '0.1'], 'speed_range'),
     (['restitution', '--stiffness', '1e10', '--mass', '1', '--damping', '1',
-      '--points', '1'], 'points = 1 is out of range: allowed points >= 2'),
-    (['restitution', '--stiffness', '1e10', '--mass', '1'], 'damping is missing'),
-    (['restitution', '--stiffness', '1e10', '--damping', '1'], 'mass is missing'),
+      '--points', '1'], '--points = 1 is out of range: allowed 2 <= --points <= 1e+06'),
+    (['restitution', '--stiffness', '1e10', '--mass', '1'], '--damping is missing'),
+    (['restitution', '--stiffness', '1e10', '--damping', '1'], '--mass is missing'),
     (['restitution', '--stiffness', '1e10', '--mass', '1', '--damping', '1', '--radius', '0.01',
-      '--damping-factor', '1'], 'allowed one of --damping and --damping-factor'),
+      '--damping-factor', '1'], '--damping and --damping-factor are both given'),
     (['drop', '--stiffness', '1e10', '--mass', '1', '--damping', '1', '--height', 'nan'],
-     'height = nan'),
+     '--height = nan'),
     (['drop', '--stiffness', '1e10', '--mass', '1', '--damping', '1', '--gravity', '-1'],
-     'gravity = -1.0 is out of range: allowed 0 <= gravity'),
+     '--gravity = -1.0 is out of range: allowed 0 <= --gravity'),
     (['drop', '--stiffness', '1e10', '--mass', '1', '--damping', '1', '--plot',
       '/nonexistent-dir/x.png'], 'plot ='),
 ])
@@ -279,5 +281,101 @@ def test_installed_executable_prints_the_restitution_table_and_rejects_bad_input
                           'nan', '--damping', '1'], capture_output=True, text=True, env=env,
                          timeout=60)
     assert bad.returncode == 2 and bad.stdout == ''
-    assert bad.stderr.strip() == ('contact-sim: error: radius = nan is not finite; '
+    assert bad.stderr.strip() == ('contact-sim: error: --radius = nan is not finite; '
                                   'it must be a finite real number')
+
+
+# -- issue 7: the command line's promises at the edges ---------------------------------------
+DIRECT = ['--stiffness', '1e10', '--damping', '1e5', '--mass', '0.066']
+
+
+def strict_run(capsys, argv):
+    """``run`` with every warning an error: a RuntimeWarning wall would show as a failure."""
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        return run(capsys, argv)
+
+
+@pytest.mark.parametrize('argv, field', [
+    (['drop', '--stiffness', '1e10', '--damping', '1e5', '--mass', '1e-300'], '--mass = 1e-300'),
+    (['drop', '--stiffness', '1e10', '--damping', '1e5', '--mass', '1e300'], '--mass = 1e+300'),
+    (['drop', *DIRECT, '--gravity', '1e300'], '--gravity = 1e+300'),
+    (['drop', '--stiffness', '1e300', '--damping', '1e5', '--mass', '0.066'],
+     '--stiffness = 1e+300'),
+    (['drop', '--stiffness', '1e10', '--damping', '1e30', '--mass', '0.066'],
+     '--damping = 1e+30 is too large for this drop'),
+    (['drop', *DIRECT, '--sample-rate', '1e9', '--plot', 'PNG'], '--sample-rate = 1000000000.0'),
+    (['drop', *DIRECT, '--duration', '1e6', '--plot', 'PNG'],
+     'allowed at most 200000 (--sample-rate x --duration <= 200000)'),
+    (['drop', *DIRECT, '--height', '-1'], '--height = -1.0 is out of range'),
+    (['restitution', *DIRECT, '--points', '100000000'], '--points = 100000000 is out of range'),
+    (['drop', '--stiffness', '1e-300', '--damping', '0', '--mass', '0.066'],
+     '--stiffness = 1e-300 N/m^1.5 is too small'),
+    (['restitution', '--sphere', 'steel', '--plate', 'cork', '--radius', '1e300', '--damping',
+      '1'], '--radius = 1e+300 m gives a sphere mass'),
+    (['restitution', '--sphere', 'steel', '--plate', 'cork', '--radius', '1e-300',
+      '--damping-factor', '1', '--law', 'azad_featherstone'], '--radius = 1e-300 m gives'),
+    (['drop', '--stiffness', '5e4', '--damping', '0', *MATERIALS],
+     '--stiffness = 5e+04 N/m^1.5 is too small for this drop'),
+])
+def test_extreme_input_exits_2_with_one_line_and_no_warning(capsys, tmp_path, argv, field):
+    # reproduced: tracebacks, RuntimeWarning walls, a nan column with exit 0, a hang, 15.7 GB
+    argv = [str(tmp_path / 'd.png') if a == 'PNG' else a for a in argv]
+    code, out, err = strict_run(capsys, argv)
+    assert code == 2 and out == '' and err.count('\n') == 1, err
+    assert err.startswith('contact-sim: error: ') and field in err
+
+
+def test_the_depth_check_names_both_bounds_in_option_names(capsys):
+    code, _, err = run(capsys, ['drop', '--stiffness', '5e4', '--damping', '0', *MATERIALS])
+    assert code == 2
+    assert re.search(r'allowed --stiffness >= \S+ N/m\^1\.5 or --height <= \S+ m', err)
+
+
+def test_plot_writes_the_file_it_names(capsys, tmp_path):
+    # reproduced: `--plot name` wrote name.png and reported name
+    target = tmp_path / 'name'
+    code, out, _ = run(capsys, ['restitution', *DIRECT, '--points', '3', '--plot', str(target)])
+    assert code == 0 and f'plot written to {target}' in out
+    assert target.read_bytes().startswith(PNG_MAGIC) and not (tmp_path / 'name.png').exists()
+
+
+@pytest.mark.parametrize('rows, field', [('1e-300,0.5\n1,0.6\n', 'speed[0] = 1e-300'),
+                                         ('1,0.6\n1e300,0.5\n', 'speed[1] = 1e+300')])
+def test_fit_to_an_unscalable_speed_names_the_data_point(capsys, tmp_path, rows, field):
+    # reproduced: `math domain error`, `Optimization bounds must be finite scalars.`
+    data = tmp_path / 'd.csv'
+    data.write_text(rows)
+    code, out, err = strict_run(capsys, ['fit', str(data), '--stiffness', '1e10', '--mass',
+                                         '0.066'])
+    assert code == 2 and out == '' and err.count('\n') == 1
+    assert f'{data} {field}' in err
+
+
+def test_a_one_point_fit_prints_no_zero_width_interval(capsys, tmp_path):
+    data = tmp_path / 'one.csv'
+    data.write_text('1,0.5\n')
+    code, out, _ = run(capsys, ['fit', str(data), '--stiffness', '1e10', '--mass', '0.066',
+                                '--law', 'lee_wang'])
+    assert code == 0
+    assert 'confidence interval: n/a (one point: no residual variance)' in out
+
+
+def test_the_heavily_damped_drop_reports_its_landing(capsys):
+    # reproduced: `impacts: 0` for a sphere resting on the plate with force m g
+    code, out, _ = run(capsys, ['drop', '--stiffness', '1e10', '--damping', '1e10', '--mass',
+                                '0.066'])
+    assert code == 0 and 'impacts: 1 (0 bounces, then permanent contact)' in out
+
+
+@pytest.mark.parametrize('values', [[np.array([1.0 - 1e-9, 1.0 - 3e-9])],   # near-elastic
+                                    [np.array([1.0, 1.0])],                 # elastic
+                                    [np.array([0.2, 0.9]), np.array([0.5])]])
+def test_restitution_plot_limits_keep_every_curve_inside_the_frame(values):
+    # reproduced: a near-elastic `restitution --plot` put every curve on the frame (top = 1.02
+    # with the data at 1 - 1e-9 drawn on the upper edge of a 0..1 axis)
+    low, high = plotting.restitution_limits(values)
+    data = np.concatenate(values)
+    assert low < data.min() and data.max() < high
+    if data.max() > data.min():
+        assert high - low < 2 * (data.max() - data.min())        # zoomed to the data

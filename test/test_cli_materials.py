@@ -41,9 +41,9 @@ def test_library_material_with_one_value_changed(capsys):
     (['--sphere-modulus', '2e9', '--plate', 'steel'], 'sphere_material is incomplete: give '
                                                       '--sphere-poisson'),
     (['--sphere-modulus=-2e9', '--sphere-poisson', '0.3', '--plate', 'steel'],
-     'sphere_modulus = -2000000000.0 is out of range'),
+     '--sphere-modulus = -2000000000.0 is out of range'),
     (['--sphere', 'steel', '--plate', 'steel', '--plate-poisson', '0.7'],
-     'plate_poisson = 0.7 is out of range'),
+     '--plate-poisson = 0.7 is out of range'),
 ])
 def test_bad_custom_material_exits_2_naming_the_field(capsys, argv, message):
     code, out, err = run(capsys, ['restitution', '--radius', '0.02', '--mass', '0.03',
@@ -60,4 +60,4 @@ def test_drop_initial_velocity(capsys):
     first = next(line for line in out.splitlines() if line.strip().startswith('1 '))
     assert float(first.split()[2]) == pytest.approx(math.sqrt(4.0 + 2 * 10 * 1.0), rel=1e-5)
     code, out, err = run(capsys, base + ['--initial-velocity', 'nan'])
-    assert code == 2 and 'initial_velocity = nan is not finite' in err
+    assert code == 2 and '--initial-velocity = nan is not finite' in err

@@ -133,3 +133,56 @@ def test_values_are_frozen():
         contact.stiffness = 2.0
     with pytest.raises(AttributeError):
         cs.MATERIALS['steel'].density = 1.0
+
+
+# -- issue 7: one rule for the contact, errors keyed by the field ---------------------------
+def test_effective_modulus_takes_library_names():
+    # reproduced: AttributeError: 'str' object has no attribute 'poisson_ratio'
+    assert cs.effective_modulus('steel', 'brass') == cs.effective_modulus(
+        cs.MATERIALS['steel'], cs.MATERIALS['brass'])
+
+
+def test_build_contact_is_the_hertz_and_damping_factor_rule_with_overrides():
+    from contact_sim.contact import build_contact, build_mass
+    hertz = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron', 0.0127,
+                                      damping_factor=8.87e5)
+    assert build_contact('azad_featherstone', sphere='steel', plate='cast_iron', radius=0.0127,
+                         damping_factor=8.87e5) == hertz
+    assert build_contact('azad_featherstone', stiffness=2e9, sphere='steel', plate='cast_iron',
+                         radius=0.0127, damping_factor=8.87e5).damping == hertz.damping
+    assert build_contact('linear', stiffness=1e6, damping=3.0) == cs.Contact(cs.LINEAR, 1e6, 3.0)
+    assert build_mass(None, 'steel', 0.0127) == cs.sphere_mass(7850.0, 0.0127)
+    assert build_mass(0.5) == 0.5
+
+
+@pytest.mark.parametrize('kwargs, field', [
+    (dict(law='linear', sphere='steel', plate='cast_iron', radius=0.01, damping=1.0),
+     'stiffness'),
+    (dict(law='azad_featherstone', stiffness=1e9), 'damping'),
+    (dict(law='azad_featherstone', stiffness=1e9, damping=1.0, damping_factor=1.0), 'damping'),
+    (dict(law='azad_featherstone', stiffness=1e9, damping_factor=1.0), 'damping_factor'),
+    (dict(law='azad_featherstone', sphere='wood', plate='steel', radius=0.01, damping=0.0),
+     'sphere'),
+    (dict(law='nope', stiffness=1e9, damping=0.0), 'law'),
+    (dict(law='azad_featherstone', stiffness=-1.0, damping=0.0), 'stiffness'),
+])
+def test_contact_rule_errors_are_keyed_and_rendered_in_each_front_ends_names(kwargs, field):
+    from contact_sim.contact import build_contact
+    with pytest.raises(ValueError) as info:
+        build_contact(**kwargs)
+    error = info.value
+    assert error.field == field and f'{field}' in str(error)
+    shown = error.render({field: f'--{field.replace("_", "-")}'})
+    assert f'--{field.replace("_", "-")}' in shown
+
+
+def test_input_error_renders_every_field_it_mentions():
+    sim_error = None
+    try:
+        cs.simulate_drop(cs.Contact(cs.AZAD_FEATHERSTONE, 5e4, 0.0), 0.0674, 1.0, radius=0.0127)
+    except ValueError as error:
+        sim_error = error
+    node_text = sim_error.render({'stiffness': 'stiffness', 'height': 'initial_height'})
+    assert 'initial_height <= ' in node_text and 'stiffness >= ' in node_text
+    cli_text = sim_error.render({'stiffness': '--stiffness', 'height': '--height'})
+    assert '--height <= ' in cli_text and '--stiffness >= ' in cli_text

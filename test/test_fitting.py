@@ -153,3 +153,44 @@ def test_fit_cli_accepts_noise_above_one_uncertainties_and_loss(tmp_path, capsys
     lam = float(next(ln for ln in out.splitlines() if ln.startswith('azad_featherstone: '))
                 .split()[3])
     assert lam == pytest.approx(2e4, rel=0.1)
+
+
+# -- issue 7: edges -------------------------------------------------------------------------
+@pytest.mark.parametrize('speed', [1e300, 1e-300])
+def test_damping_for_restitution_refuses_speeds_it_cannot_scale(speed):
+    # reproduced: speed = 1e300 returned 0.0 and speed = 1e-300 returned inf
+    with pytest.raises(ValueError, match=r'speed = .* is out of range') as info:
+        cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, 1e10, 0.066, 0.7, speed)
+    assert info.value.field == 'speed'
+
+
+def test_damping_for_restitution_only_returns_a_damping_restitution_accepts():
+    # reproduced: e = 1e-9 gave a λ that restitution() then refused (zeta beyond 1e8)
+    with pytest.raises(ValueError, match=r'restitution = 1e-09 is out of range for law '
+                                         r'hunt_crossley: allowed (\S+) <= restitution') as info:
+        cs.damping_for_restitution('hunt_crossley', 1e10, 0.066, 1e-9, 1.0)
+    e_min = float(info.value.render().split('allowed ')[1].split(' ')[0])
+    lam = cs.damping_for_restitution('hunt_crossley', 1e10, 0.066, e_min, 1.0)
+    assert cs.restitution(cs.Contact('hunt_crossley', 1e10, lam), 0.066, 1.0) == \
+        pytest.approx(e_min, rel=1e-6)
+
+
+def test_compare_laws_with_a_partial_stiffness_mapping_names_the_missing_laws():
+    # reproduced: KeyError: 'hunt_crossley'
+    with pytest.raises(ValueError, match=r'stiffness has no value for hunt_crossley, lee_wang, '
+                                         r'linear'):
+        cs.compare_laws({'azad_featherstone': K}, M, [1.0, 2.0], [0.7, 0.6])
+
+
+def test_a_one_point_fit_has_no_confidence_interval():
+    # reproduced: a zero-width interval (lambda, lambda) from one point
+    fit = cs.fit_damping(cs.LEE_WANG, K, M, [1.0], [0.5])
+    assert all(np.isnan(fit.confidence_interval))
+
+
+@pytest.mark.parametrize('speed', [1e300, 1e-300])
+def test_a_fit_to_a_point_out_of_range_names_that_point(speed):
+    # reproduced: `math domain error`, `Optimization bounds must be finite scalars.`
+    with pytest.raises(ValueError, match=r'speeds\[1\] = .* is out of range') as info:
+        cs.fit_damping(cs.AZAD_FEATHERSTONE, K, M, [1.0, speed], [0.6, 0.5])
+    assert info.value.field == 'speeds'

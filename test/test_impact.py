@@ -1,5 +1,7 @@
 """One impact: exactness of the slow path, the dimensionless group, closed forms, master curves."""
+import importlib
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -8,6 +10,7 @@ import contact_sim as cs
 from contact_sim.restitution import (dimensionless, hunt_crossley_restitution,
                                      linear_restitution_and_duration, master_curve)
 
+ROOT = Path(__file__).resolve().parents[1]
 LAWS = list(cs.LAWS.values())
 IDS = [law.name for law in LAWS]
 
@@ -143,12 +146,12 @@ def test_restitution_is_vectorised_scalar_in_scalar_out():
     assert cs.contact_duration(contact, 0.066, speeds).shape == (2, 2)
 
 
-def test_outside_the_table_the_exact_path_answers():
+def test_outside_the_table_the_asymptotic_tails_answer_within_1e_8():
     law = cs.AZAD_FEATHERSTONE
     lo, hi = master_curve(law).zeta_range
     for zeta in (lo / 10, hi * 3):
         fast = float(dimensionless('restitution', law, np.array(zeta)))
-        assert fast == exact_e(law, zeta)
+        assert fast == pytest.approx(exact_e(law, zeta), abs=1e-8)
 
 
 def test_no_damping_means_perfectly_elastic():
@@ -192,3 +195,146 @@ def test_scalar_closed_forms_equal_the_vectorised_ones():
             float(hunt_crossley_restitution(zeta)), rel=1e-13, abs=1e-15)
         assert linear_restitution_scalar(zeta) == pytest.approx(
             float(linear_restitution_and_duration(zeta)[0]), rel=1e-13, abs=1e-300)
+
+
+# -- issue 7: unchecked knobs ---------------------------------------------------------------
+@pytest.mark.parametrize('rtol', [1.0, math.inf, 1e300, 1e-20])
+def test_simulate_impact_refuses_a_tolerance_it_cannot_honour(rtol):
+    # reproduced: rtol = 1.0 gave e = 0.8665 (true 0.7246), rtol = inf gave 0
+    with pytest.raises(ValueError, match=r'rtol = .* (is out of range: allowed 1e-14 <= rtol '
+                                         r'<= 0\.001|is not finite)') as info:
+        cs.simulate_impact(cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5), 0.066, 1.0, rtol=rtol)
+    assert info.value.field == 'rtol'
+
+
+@pytest.mark.parametrize('zeta', [1e-7, 1e-30, 1e-155, 1e-160, 1e-300])
+def test_hunt_crossley_restitution_is_total_at_tiny_damping(zeta):
+    # reproduced: e > 1, NaN or ZeroDivisionError below zeta ~ 1e-155
+    expected = 1.0 - 2.0 * zeta / 3.0 + 4.0 * zeta ** 2 / 9.0
+    contact = cs.Contact(cs.HUNT_CROSSLEY, 1.0, zeta)   # zeta = λ v / k at v = 1, m = 1
+    assert cs.restitution(contact, 1.0, 1.0) == pytest.approx(expected, abs=1e-15)
+    assert cs.restitution(contact, 1.0, np.array([1.0]))[0] == pytest.approx(expected, abs=1e-15)
+    assert float(hunt_crossley_restitution(zeta)) <= 1.0
+
+
+@pytest.mark.parametrize('speed', [0.0, -1.0, math.nan, math.inf])
+def test_damping_group_refuses_speeds_that_are_not_positive(speed):
+    # reproduced: damping_group accepted zero (nan) and negative speeds (a negative group)
+    with pytest.raises(ValueError, match='speed = .* is out of range: allowed 0 < speed'):
+        cs.damping_group(cs.AZAD_FEATHERSTONE, 1e10, 0.066, speed, 1e5)
+
+
+@pytest.mark.parametrize('contact', [None, 'azad_featherstone', 1.0])
+def test_a_contact_that_is_not_a_contact_is_named(contact):
+    # reproduced: AttributeError: 'NoneType' object has no attribute 'law'
+    for call in (lambda: cs.restitution(contact, 0.066, 1.0),
+                 lambda: cs.restitution(contact, 0.066, np.array([1.0])),
+                 lambda: cs.simulate_impact(contact, 0.066, 1.0)):
+        with pytest.raises(ValueError, match=r'contact = .* is not a Contact'):
+            call()
+
+
+# -- issue 7: a total fast path for e -------------------------------------------------------
+TAIL_ZETAS = [1e-12, 1e-9, 1e-7, 3e-6, 2e3, 1e4, 1e6, 1e8]
+
+
+@pytest.mark.parametrize('law', LAWS, ids=IDS)
+def test_restitution_beyond_the_tables_is_within_1e_8_of_the_exact_path(law, monkeypatch):
+    # reproduced: outside the master curves restitution() integrated (19 ms a call)
+    exact = np.array([exact_e(law, z) for z in TAIL_ZETAS])
+    fast = importlib.import_module('contact_sim.restitution')   # (cs.restitution is the function)
+
+    def refuse(*_):
+        raise AssertionError('the fast path integrated')
+
+    monkeypatch.setattr(fast, '_exact_dimensionless', refuse)
+    vector = dimensionless('restitution', law, np.array(TAIL_ZETAS))
+    scalar = [cs.restitution(cs.Contact(law, 1.0, z), 1.0, 1.0) for z in TAIL_ZETAS]
+    np.testing.assert_allclose(vector, exact, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(scalar, exact, rtol=0, atol=1e-8)
+    assert np.all(np.diff(vector) < 0) and np.all((vector > 0) & (vector <= 1))
+
+
+def test_the_small_damping_slope_is_the_beta_function_integral():
+    from contact_sim.restitution import elastic_dissipation_integral
+    assert elastic_dissipation_integral(cs.HUNT_CROSSLEY) == pytest.approx(2 / 3, rel=1e-14)
+    for law in (cs.AZAD_FEATHERSTONE, cs.LEE_WANG):
+        zeta = 1e-6
+        slope = (1.0 - exact_e(law, zeta)) / zeta
+        assert elastic_dissipation_integral(law) == pytest.approx(slope, rel=1e-5)
+
+
+def test_a_law_without_a_curve_warns_once_that_it_integrates():
+    law = cs.ContactLaw('issue7_custom', 1.5, 0.25, 1.0)
+    contact = cs.Contact(law, 1e10, 1e4)
+    with pytest.warns(RuntimeWarning, match="'issue7_custom' has no master curve"):
+        first = cs.restitution(contact, 0.066, np.array([1.0]))
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        assert cs.restitution(contact, 0.066, np.array([1.0]))[0] == first[0]
+
+
+def test_the_table_script_reproduces_the_shipped_table_within_its_stated_tolerance():
+    # the tolerance stated in scripts/build_master_curves.py: e to 1e-10 absolute, duration,
+    # peak force and depth to 1e-8 relative, at every grid point
+    import sys
+    from importlib import resources
+    sys.path.insert(0, str(ROOT / 'scripts'))
+    try:
+        import build_master_curves as build
+    finally:
+        sys.path.pop(0)
+    from contact_sim.restitution import QUANTITIES
+    with resources.as_file(resources.files('contact_sim') / 'data' / 'master_curves.npz') as f, \
+            np.load(f) as table:
+        for name in cs.LAWS:
+            s = table[f'{name}/s']
+            for i in np.linspace(0, s.size - 1, 12).astype(int):
+                row = dict(zip(QUANTITIES, build._row((name, float(np.exp(s[i]))))))
+                shipped = {q: float(table[f'{name}/{q}'][i]) for q in QUANTITIES}
+                assert abs(row['restitution'] - shipped['restitution']) <= 1e-10
+                for q in QUANTITIES[1:]:
+                    assert row[q] == pytest.approx(shipped[q], rel=1e-8), (name, q, s[i])
+
+
+def test_closed_forms_are_registered_per_law_not_found_by_exponents():
+    from contact_sim.restitution import CLOSED_FORMS, register_closed_form
+    twin = cs.ContactLaw('hc_twin', 1.5, 1.5, 1.0)       # Hunt-Crossley's exponents, another law
+    assert master_curve(twin) is None and twin not in CLOSED_FORMS
+    with pytest.warns(RuntimeWarning, match="'hc_twin' has no master curve"):
+        integrated = float(dimensionless('restitution', twin, np.array(0.3)))
+    assert integrated == pytest.approx(float(hunt_crossley_restitution(0.3)), abs=1e-9)
+    try:
+        register_closed_form(twin, {'restitution': hunt_crossley_restitution})
+        assert float(dimensionless('restitution', twin, np.array(0.3))) == \
+            float(hunt_crossley_restitution(0.3))
+    finally:
+        CLOSED_FORMS.pop(twin, None)
+
+
+@pytest.mark.parametrize('law', LAWS, ids=IDS)
+def test_duration_peak_and_depth_below_the_table_follow_the_elastic_limit(law, monkeypatch):
+    zetas = np.array([1e-12, 1e-8, 3e-6])
+    exact = [cs.simulate_impact(cs.Contact(law, 1.0, z), 1.0, 1.0) for z in zetas]
+    fast = importlib.import_module('contact_sim.restitution')
+    monkeypatch.setattr(fast, '_exact_dimensionless', lambda *_: 1 / 0)   # must not integrate
+    for quantity, attr in (('duration', 'contact_duration'), ('peak_force', 'peak_force'),
+                           ('max_penetration', 'max_penetration')):
+        got = dimensionless(quantity, law, zetas)
+        want = np.array([getattr(r, attr) for r in exact])
+        np.testing.assert_allclose(got, want, rtol=1e-9)
+
+
+@pytest.mark.parametrize('zeta, expected', [(46.0, 14.724473992), (1000.0, 91.136904105)])
+def test_the_hunt_crossley_duration_at_heavy_damping_is_its_first_integrals(zeta, expected):
+    # reproduced: the shipped table gave tau_c(46) = 7.37 (and 1.50 at zeta = 1000): integrating
+    # the impact located a lift-off where the force only fades; the first integral gives 14.72
+    from contact_sim.restitution import hunt_crossley_duration
+    assert hunt_crossley_duration(zeta) == pytest.approx(expected, rel=1e-9)
+    assert float(dimensionless('duration', cs.HUNT_CROSSLEY, np.array(zeta))) == \
+        pytest.approx(expected, rel=1e-8)
+    for z in (0.2, 1.0, 5.0):      # where integrating is well-conditioned, both agree
+        assert hunt_crossley_duration(z) == pytest.approx(
+            cs.simulate_impact(cs.Contact(cs.HUNT_CROSSLEY, 1.0, z), 1.0, 1.0).contact_duration,
+            rel=1e-9)
