@@ -24,8 +24,8 @@ setup(
     entry_points={
         'console_scripts': [
             'contact-sim = contact_sim.cli:main',
-            'contact_sim_node = contact_sim.node:main',
-            'contact_sim_record = contact_sim.node:record_main',
+            'contact_sim_node = contact_sim.ros.node:main',
+            'contact_sim_record = contact_sim.ros.recorder:record_main',
         ],
     },
 )

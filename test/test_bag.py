@@ -1,4 +1,4 @@
-"""contact_sim.bag: rosbag2 files written with rosbags (no ROS needed), read back by rosbags."""
+"""contact_sim.ros.bag: rosbag2 files written with rosbags (no ROS needed), read back by rosbags."""
 import json
 import subprocess
 import sys
@@ -10,7 +10,7 @@ pytest.importorskip('rosbags', reason='the optional recording extra (pip install
 from rosbags.highlevel import AnyReader  # noqa: E402
 from rosbags.typesys import Stores, get_typestore  # noqa: E402
 
-from contact_sim.bag import BagWriter, write_bag
+from contact_sim.ros.bag import BagWriter, write_bag
 
 TYPESTORE = get_typestore(Stores.ROS2_KILTED)
 WRENCH = 'geometry_msgs/msg/WrenchStamped'
@@ -150,7 +150,7 @@ def test_an_existing_bag_is_never_overwritten(tmp_path):
 
 
 def test_bag_module_imports_no_ros():
-    code = ('import sys, contact_sim.bag; '
+    code = ('import sys, contact_sim.ros.bag; '
             'assert not [m for m in sys.modules if m.split(".")[0] in '
             '("rclpy", "std_msgs", "geometry_msgs", "rosgraph_msgs")], "ROS imported"')
     subprocess.run([sys.executable, '-c', code], check=True)
