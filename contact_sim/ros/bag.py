@@ -147,7 +147,7 @@ def _mcap_records(data):
 
 def _string(data, offset):
     (length,) = struct.unpack_from('<I', data, offset)
-    return data[offset + 4:offset + 4 + length].decode(), offset + 4 + length
+    return bytes(data[offset + 4:offset + 4 + length]).decode(), offset + 4 + length
 
 
 def _mcap_messages(path):
