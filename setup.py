@@ -15,7 +15,7 @@ setup(
         ('share/' + package_name + '/config', glob('config/*.yaml')),
     ],
     install_requires=['setuptools', 'numpy', 'scipy'],
-    extras_require={'plot': ['matplotlib'], 'record': ['rosbags']},
+    extras_require={'plot': ['matplotlib'], 'record': ['rosbags'], 'test': ['pytest']},
     zip_safe=True,
     maintainer='contact_sim developers',
     maintainer_email='dev@contact-sim.local',
