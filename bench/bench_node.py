@@ -13,6 +13,8 @@ own ROS_DOMAIN_ID):
                  objects for comparison (measured in this process, no subscriber)
   flat-out       real_time_factor 0, 100 Hz, no subscriber: simulated s per wall s (from
                  ~/reset replies) and the node's CPU µs per tick, against the floor
+  settle         real time, 100 Hz: the longest executor turn (wall time of one timer callback)
+                 over the first 5 s, which include the bouncing and the settling, in this process
 The executor comparison (--executors) runs a bare 100 Hz / 1 kHz timer publishing five messages
 under each executor.
 """
@@ -99,8 +101,9 @@ def call_reset(client, executor):
 def scenario_rest(rate, window, workdir, subscribe):
     from contact_sim.ros.messages import TOPICS
     process = NodeProcess({'publish_rate': f'{rate:.1f}'}, workdir)
+    from rclpy.experimental.events_executor import EventsExecutor
     node = rclpy.create_node(f'bench_{int(rate)}')
-    executor = SingleThreadedExecutor()
+    executor = EventsExecutor()   # (a subscriber that keeps up: raw messages, counted)
     executor.add_node(node)
     counts = {}
     if subscribe:
@@ -115,7 +118,7 @@ def scenario_rest(rate, window, workdir, subscribe):
 
             def count(_msg, name=name):
                 counts[name] += 1
-            node.create_subscription(topic.msg_type, name, count, qos)
+            node.create_subscription(topic.msg_type, name, count, qos, raw=True)
     wait_for_service(node, executor, '/contact_sim/reset')
     # the default drop comes to rest within 3 s of simulated time
     deadline = time.monotonic() + 4.0
@@ -175,7 +178,34 @@ def scenario_flat_out(window, workdir):
     log = process.stop()
     node.destroy_node()
     ticks = (sim1 - sim0) * 100.0
-    return (sim1 - sim0) / (w1 - w0), 1e6 * (c1 - c0) / ticks, 100.0 * (c1 - c0) / (w1 - w0), log
+    return ((sim1 - sim0) / (w1 - w0), (sim1 - sim0) / (c1 - c0), 1e6 * (c1 - c0) / ticks,
+            100.0 * (c1 - c0) / (w1 - w0), log)
+
+
+def settle(seconds=5.0):
+    """Longest timer callback (s) of a node run in this process for ``seconds`` of wall time,
+    and the simulated time it ended at."""
+    from rclpy.experimental.events_executor import EventsExecutor
+    from contact_sim.ros.node import ContactSimNode
+    node = ContactSimNode()
+    turns = []
+    inner = node._turn
+
+    def timed():
+        t0 = time.perf_counter()
+        inner()
+        turns.append((time.perf_counter() - t0, node._sim.time))
+    node._turn = timed
+    executor = EventsExecutor()
+    executor.add_node(node)
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.1)
+    longest = max(turns)
+    mean = sum(t for t, _ in turns) / len(turns)
+    executor.remove_node(node)
+    node.destroy_node()
+    return longest, mean, len(turns)
 
 
 def executors(window=5.0):
@@ -237,20 +267,25 @@ def main():
             print(f'rest-100Hz  real time, 100 Hz, at rest, no subscriber: {cpu:.1f} % of a core'
                   f' (target <= 5 %)')
             cpu, rates, log = scenario_rest(1000.0, window, workdir, subscribe=True)
-            lowest = min(rates.values())
             print(f'rest-1kHz   real time, 1 kHz, at rest, reliable subscriber on every topic: '
                   f'{cpu:.1f} % of a core (target <= 50 %); messages/s: '
                   + ', '.join(f'{name.rsplit("/", 1)[1]} {r:.0f}' for name, r in rates.items()))
             if 'cannot be held' in log:
                 print('            node log: ' + next(line for line in log.splitlines()
                                                      if 'cannot be held' in line))
+            (longest, at), mean, turns = settle()
+            print(f'settle      real time, 100 Hz, first 5 s (bouncing and settling): longest '
+                  f'executor turn {longest * 1e3:.1f} ms (ending at t = {at:.3f} s), mean '
+                  f'{mean * 1e3:.2f} ms over {turns} turns')
             cdr, objects = floor()
             print(f'floor       encode + publish one tick on 5 topics, no subscriber: '
                   f'{cdr:.1f} us (CDR templates), {objects:.1f} us (rclpy message objects)')
-            speed, per_tick, cpu, log = scenario_flat_out(window, workdir)
+            speed, per_cpu, per_tick, cpu, log = scenario_flat_out(window, workdir)
             print(f'flat-out    real_time_factor 0, 100 Hz, no subscriber: {speed:.0f} x real '
-                  f'time, {per_tick:.1f} us of node CPU per tick ({per_tick / cdr:.2f} x the '
-                  f'floor), {cpu:.0f} % of a core')
+                  f'time in wall time ({cpu:.0f} % of a core: the rest of the time the node '
+                  f'was runnable but not running), {per_cpu:.0f} simulated s per CPU s of the '
+                  f'node, {per_tick:.1f} us of node CPU per tick ({per_tick / cdr:.2f} x the '
+                  f'floor)')
         finally:
             rclpy.try_shutdown()
 

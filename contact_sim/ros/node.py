@@ -11,27 +11,33 @@ and the plate's surface (the top of the lower sphere, for two spheres) at z = 0.
 along that z axis only. Penetration z > 0 means the undeformed bodies overlap; its rate ż > 0 means
 approach. README.md documents every topic, service and parameter.
 
-The loop. Simulated time is cut into ticks of ``dt`` = real_time_factor / publish_rate s (1 /
-publish_rate s when running as fast as possible), counted from an anchor (the start, a ~/reset or a
-change of real_time_factor). A steady-clock timer at ``publish_rate`` (period 0 when running as fast
-as possible) runs ``_on_timer``, which works through every tick that is due: in real time, those
-whose wall time has come (so a late timer costs no tick: it publishes the missed ones at once); as
-fast as possible, as many as fit in ``FAST_TURN`` s of wall time. Each tick publishes every contact
-point the engine passed and the tick's end on ~/wrench and ~/contact, each completed impact, and
-the tick's end on ~/pose, ~/twist and /clock. A turn stops after ``TURN_STEP_BUDGET`` integrator
-steps and goes on at the next one, so services stay live while the engine integrates a long
-settling. Real time that cannot be held (more than ``MAX_LAG`` s behind) is logged once, with the
-tick rate achieved, and the node skips ahead (the states of the skipped ticks are not published;
-the contact points are).
+The loop. Simulated time is cut into ticks of ``dt`` = real_time_factor / publish_rate s
+(1 / publish_rate s when running as fast as possible), counted from an anchor (the start, a
+~/reset or a change of real_time_factor). A steady-clock timer (period 1/publish_rate, at least
+``WAKE_PERIOD``; 0 when running as fast as possible) runs ``_on_timer``, which works through
+every tick that is due: in real time, those whose wall time has come (a late timer costs no
+tick: it publishes the missed ones at once; at 100 Hz each wake publishes two ticks, since a
+wake of the executor costs about 0.2 ms of CPU); as fast as possible, as many as fit in
+``FAST_TURN`` s of wall time. Each tick publishes, on ~/wrench and ~/contact, every contact point
+the engine passed and the tick's end; each completed impact; and the tick's end on ~/pose,
+~/twist and /clock. The engine is called ``TURN_STEP_BUDGET`` integrator steps at a time and a
+turn ends when its wall budget is spent (the tick goes on at the next turn), so a long settling
+(about 1000 integrator steps between permanent contact and the closed-form rest, 0.5 s of CPU for
+the default drop) is spread over many turns and services stay live. Real time that cannot be held
+(more than ``MAX_LAG`` s behind) is logged once, with the tick rate achieved, and the node skips
+ahead (the states of the skipped ticks are not published; the contact points are).
 
-Lossless recording: DDS acknowledgements cannot pace the node (Fast DDS acknowledges on its
-heartbeats, about once a second: ``Publisher.wait_for_all_acked`` took 1-2 s after as few as 10
-samples), so the recorder acknowledges itself: ``contact_sim_record`` publishes on ``~/recorded``
+Waiting for readers. A reliable reader that falls behind makes the middleware refuse a publish
+once the writer's history is full of samples it has not acknowledged; the node then keeps that
+message and the rest of its tick and publishes them, in order, at its next turn: it waits for its
+readers instead of dropping samples (best-effort readers, such as ``ros2 topic hz``, are not
+waited for). DDS acknowledgements alone are too coarse to pace a node running as fast as possible
+(Fast DDS acknowledges on its heartbeats: ``Publisher.wait_for_all_acked`` took 1-2 s after as few
+as 10 samples), so ``contact_sim_record`` also acknowledges itself: it publishes on ``~/recorded``
 (``rosgraph_msgs/Clock``) the simulated time up to which it has recorded every topic, and the
 node, running as fast as possible, publishes no tick more than ``LEAD_TICKS`` ticks beyond it
 while a recorder is there (it pauses its timer and resumes when the recorder catches up or goes
-away). Its subscriptions are keep-all, so nothing is dropped on the way. In real time the node
-never waits. Other reliable readers get what the publishers' history depths allow.
+away). The recorder's subscriptions are keep-all, so nothing is dropped on its side either.
 """
 import math
 import time
@@ -54,11 +60,12 @@ from .params import DEFAULTS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, build_mode
     make_simulation, require_shallow_contact
 from .query import answer_queries
 
-TURN_STEP_BUDGET = 200   # integrator steps per engine call; a turn checks its wall budget after each
+TURN_STEP_BUDGET = 20    # integrator steps per engine call (~10 ms); then the wall budget is checked
 FAST_TURN = 0.02         # s of wall time per executor turn when running as fast as possible
-REAL_TURN = 0.05         # s of wall time per turn at most in real time (catching up)
-MAX_LAG = 0.5            # s behind real time before the node skips ahead (and says so, once)
-LEAD_TICKS = 1000        # ticks the node may run ahead of a recorder's acknowledgement
+REAL_TURN = 0.75         # of the timer period: wall time per turn at most in real time
+WAKE_PERIOD = 0.02       # s: in real time the node wakes at most every 20 ms (50 Hz)
+MAX_LAG = 2.0            # s behind real time before the node skips ahead (and says so, once)
+LEAD_TICKS = 300         # ticks ahead of a recorder's acknowledgement (< state history 1000)
 WATCH_PERIOD = 0.5       # s: a paused node checks this often whether its recorder has gone
 
 
@@ -173,7 +180,8 @@ class ContactSimNode(Node):
         if self._timer is not None:
             self.destroy_timer(self._timer)
         self._paused = False
-        period = 0.0 if model.fast else 1.0 / model.publish_rate
+        period = 0.0 if model.fast else max(1.0 / model.publish_rate, WAKE_PERIOD)
+        self._period = period
         self._timer = self.create_timer(period, self._on_timer, clock=self._steady)
 
     def _ticks_due(self, now):
@@ -196,7 +204,7 @@ class ContactSimNode(Node):
             return   # a reliable reader still has no room: the next turn tries again
         start = time.monotonic()
         fast = self._model.fast
-        deadline = start + (FAST_TURN if fast else REAL_TURN)
+        deadline = start + (FAST_TURN if fast else REAL_TURN * self._period)
         due = self._ticks_due(start)
         if fast:
             due = min(due, self._ticks_allowed())

@@ -15,7 +15,6 @@ import time
 from functools import partial
 
 import rclpy
-from rclpy.event_handler import SubscriptionEventCallbacks
 from rclpy.executors import ExternalShutdownException
 from rclpy.experimental.events_executor import EventsExecutor
 from rclpy.node import Node
@@ -75,21 +74,21 @@ class Recorder(Node):
         from .bag import BagWriter  # rosbags is needed only for recording
         self.bag = BagWriter(output, storage)
         self._topics = {}  # full name -> Topic
+        self._readers = {}
         for topic in TOPICS:
             if topic.kind == 'clock' and not clock:
                 continue
             name = topic.resolve(target)
             self._topics[name] = topic
-            events = SubscriptionEventCallbacks(matched=partial(self._on_matched, name))
-            self.create_subscription(topic.msg_type, name,
-                                     partial(self._on_message, name, topic.type_name),
-                                     RECORD_QOS, event_callbacks=events, raw=True)
+            self._readers[name] = self.create_subscription(
+                topic.msg_type, name, partial(self._on_message, name, topic.type_name),
+                RECORD_QOS, raw=True)
         self.topics = list(self._topics)
         self.covered_ns = {}   # topic -> simulated time (ns) its recorded messages reach
         self.publishers_matched = {}  # topic -> number of matched publishers
         self.cut_ns = None     # set at the stop: see cut()
         self._flushed = time.monotonic()
-        self.create_timer(FLUSH_PERIOD, self.flush)
+        self.create_timer(FLUSH_PERIOD, self._on_flush_timer)
         # the acknowledgement that paces a node running as fast as possible (node.py)
         self._progress = self.create_publisher(PROGRESS.msg_type, PROGRESS.resolve(target),
                                                PROGRESS.qos)
@@ -116,10 +115,19 @@ class Recorder(Node):
         self._flushed = time.monotonic()
         self.bag.flush()
 
-    def _on_matched(self, topic, status):
-        self.publishers_matched[topic] = status.current_count
-        if status.current_count_change > 0:
-            self.get_logger().info(f'matched {topic}: {status.current_count} publisher(s)')
+    def _on_flush_timer(self):
+        self.flush()
+        self.poll_matches()
+
+    def poll_matches(self, only_new=False):
+        """Note (and log) the publishers matched on each topic; with ``only_new`` counts only
+        go up. (Polled: the events executor does not deliver a match that happened before the
+        node was added to it.)"""
+        for topic, subscription in self._readers.items():
+            count, before = subscription.get_publisher_count(), self.publishers_matched.get(topic, 0)
+            if count > before:
+                self.get_logger().info(f'matched {topic}: {count} publisher(s)')
+            self.publishers_matched[topic] = max(count, before) if only_new else count
 
     def _on_message(self, topic, msgtype, data):
         """One serialized message (bytes, as received: the recorder never deserializes the
@@ -136,6 +144,7 @@ class Recorder(Node):
             if impact:
                 self.cut_ns = max(self.cut_ns, covered)  # its whole contact goes in
         if topic not in self.bag.counts:
+            self.poll_matches(only_new=True)
             self.get_logger().info(f'receiving {topic}')
         self.bag.write(topic, msgtype, stamp, data)
         self.covered_ns[topic] = max(self.covered_ns.get(topic, 0), covered)
