@@ -8,7 +8,7 @@
 #      .venv/lib/contact_sim/ holds the executables, as `ros2 run` expects,
 #   5. `source .venv/bin/activate` then also sets AMENT_PREFIX_PATH and puts
 #      .venv/lib/contact_sim (the executables: contact_sim_node, contact_sim_record, contact-sim)
-#      on PATH.
+#      on PATH; `deactivate` puts both back, and activating twice adds nothing twice.
 # Re-running it is safe and quick.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."

@@ -80,8 +80,13 @@ def test_activating_the_venv_puts_the_executables_on_path():
 def _workspace(tmp_path):
     """A workspace with the checkout's tracked files in src/contact_sim, and its environment."""
     src = tmp_path / 'src' / 'contact_sim'
-    files = subprocess.run(['git', 'ls-files'], cwd=ROOT, capture_output=True, text=True,
-                           check=True).stdout.split()
+    listing = subprocess.run(['git', 'ls-files'], cwd=ROOT, capture_output=True, text=True)
+    if listing.returncode == 0:
+        files = listing.stdout.split()
+    else:   # not a git checkout (e.g. a copy in a workspace): everything but build products
+        skip = {'.git', '.venv', 'build', 'install', 'log', '__pycache__', '.pytest_cache'}
+        files = [str(p.relative_to(ROOT)) for p in ROOT.rglob('*')
+                 if p.is_file() and not skip & set(p.relative_to(ROOT).parts)]
     for name in files:
         if (ROOT / name).is_file():
             (src / name).parent.mkdir(parents=True, exist_ok=True)
