@@ -987,8 +987,10 @@ def test_a_recorded_flat_out_run_holds_every_sample_of_every_topic(own_domain, w
         spin_until(lambda: clock and clock[-1] > (offset + 80) * 1e9, '80 simulated seconds',
                    timeout=300)
     finally:
-        assert_clean_exit(recorder)
-        assert_clean_exit(node)
+        try:
+            assert_clean_exit(recorder)
+        finally:
+            assert_clean_exit(node)
     assert 'stopped before' not in recorder.output()
     recorded = read_bag(bag)
     assert set(recorded) == set(TYPE_NAMES)
@@ -1027,6 +1029,8 @@ def test_a_recorder_killed_with_sigkill_loses_at_most_a_second_and_recovers(own_
         recorder.popen.wait(TIMEOUT)
         _clean_shm(recorder.started)
     finally:
+        if recorder.popen.poll() is None:   # the test failed before the kill
+            recorder.stop()
         assert_clean_exit(node)
     assert not (bag / 'metadata.yaml').exists()
     out = subprocess.run([executable('contact_sim_record'), '--recover', str(bag)], env=env,
