@@ -15,7 +15,7 @@ setup(
         ('share/' + package_name + '/config', glob('config/*.yaml')),
     ],
     install_requires=['setuptools', 'numpy', 'scipy', 'numba'],
-    extras_require={'plot': ['matplotlib'], 'record': ['rosbags']},
+    extras_require={'plot': ['matplotlib'], 'record': ['rosbags'], 'test': ['pytest']},
     zip_safe=True,
     maintainer='contact_sim developers',
     maintainer_email='dev@contact-sim.local',
@@ -24,8 +24,8 @@ setup(
     entry_points={
         'console_scripts': [
             'contact-sim = contact_sim.cli:main',
-            'contact_sim_node = contact_sim.node:main',
-            'contact_sim_record = contact_sim.node:record_main',
+            'contact_sim_node = contact_sim.ros.node:main',
+            'contact_sim_record = contact_sim.ros.recorder:record_main',
         ],
     },
 )

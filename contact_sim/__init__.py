@@ -1,11 +1,15 @@
 """contact_sim: the Azad-Featherstone compliant contact model and its relatives.
 
-The core library imports neither rclpy nor any ROS package; only ``contact_sim.node`` does.
+The core library imports neither rclpy nor any ROS package; only the ``contact_sim.ros``
+subpackage (the node, the recorder) does.
 SI units throughout; z > 0 is penetration and ż > 0 is approach.
 """
+from .bounce_fit import fit_bounces
+from .bounces import predict_bounces
 from .contact import Contact, build_contact, build_mass, require_contact
 from .drop import (Advance, DropResult, DropSimulation, DropState, ImpactRecord, Samples,
                    check_drop, simulate_drop)
+from .flight import AirDrag, FlightPath
 from .fitting import DampingFit, compare_laws, damping_for_restitution, fit_damping
 from .hertz import effective_modulus, equivalent_radius, hertz_stiffness, reduced_mass, sphere_mass
 from .laws import AZAD_FEATHERSTONE, HUNT_CROSSLEY, LAWS, LEE_WANG, LINEAR, ContactLaw, get_law
@@ -19,10 +23,10 @@ __version__ = '0.1.0'
 
 __all__ = [
     'AZAD_FEATHERSTONE', 'HUNT_CROSSLEY', 'LAWS', 'LEE_WANG', 'LINEAR', 'MATERIALS',
-    'Advance', 'Contact', 'ContactLaw', 'DampingFit', 'DropResult', 'DropSimulation', 'DropState',
-    'ImpactRecord', 'ImpactResult', 'InputError', 'Material', 'Samples', 'build_contact',
+    'AirDrag', 'Advance', 'Contact', 'ContactLaw', 'DampingFit', 'DropResult', 'DropSimulation', 'DropState',
+    'FlightPath', 'ImpactRecord', 'ImpactResult', 'InputError', 'Material', 'Samples', 'build_contact',
     'build_mass', 'check_drop', 'compare_laws', 'contact_duration', 'require_contact',
     'damping_for_restitution', 'damping_group', 'effective_modulus', 'equivalent_radius',
-    'fit_damping', 'get_law', 'get_material', 'hertz_stiffness', 'max_penetration', 'peak_force',
+    'fit_bounces', 'fit_damping', 'get_law', 'get_material', 'hertz_stiffness', 'max_penetration', 'peak_force', 'predict_bounces',
     'reduced_mass', 'restitution', 'simulate_drop', 'simulate_impact', 'sphere_mass',
 ]

@@ -8,7 +8,7 @@
 #      .venv/lib/contact_sim/ holds the executables, as `ros2 run` expects,
 #   5. `source .venv/bin/activate` then also sets AMENT_PREFIX_PATH and puts
 #      .venv/lib/contact_sim (the executables: contact_sim_node, contact_sim_record, contact-sim)
-#      on PATH.
+#      on PATH; `deactivate` puts both back, and activating twice adds nothing twice.
 # Re-running it is safe and quick.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -32,12 +32,40 @@ fi
         --event-handlers console_direct- summary- >/dev/null
 )
 
-marker='# contact_sim activation hook v2'
+marker='# contact_sim activation hook v4'
 if ! grep -qF "$marker" .venv/bin/activate; then
+    # drop an older hook (it is the end of the file), then append this one
+    sed -i '/^# contact_sim activation hook/,$d' .venv/bin/activate
     cat >> .venv/bin/activate <<'HOOK'
-# contact_sim activation hook v2
+# contact_sim activation hook v4
 # contact_sim: ament prefix (the venv root is where ROS tools look for packages), and the
-# package's executables, in <prefix>/lib/contact_sim where `ros2 run` looks for them
+# package's executables, in <prefix>/lib/contact_sim where `ros2 run` looks for them.
+# `deactivate` puts AMENT_PREFIX_PATH back as it was (PATH is the venv's own job); activating
+# again first deactivates, so nothing is added twice.
+if [ -n "${_CONTACT_SIM_ACTIVE:-}" ]; then   # activated again: start from the saved value
+    if [ -n "${_CONTACT_SIM_HAD_AMENT_PREFIX_PATH:-}" ]; then
+        AMENT_PREFIX_PATH="$_CONTACT_SIM_OLD_AMENT_PREFIX_PATH"
+    else
+        unset AMENT_PREFIX_PATH
+    fi
+fi
+_CONTACT_SIM_ACTIVE=1
+_CONTACT_SIM_OLD_AMENT_PREFIX_PATH="${AMENT_PREFIX_PATH:-}"
+_CONTACT_SIM_HAD_AMENT_PREFIX_PATH="${AMENT_PREFIX_PATH+1}"
+eval "_contact_sim_venv_$(declare -f deactivate)"
+deactivate () {
+    if [ -n "${_CONTACT_SIM_HAD_AMENT_PREFIX_PATH:-}" ]; then
+        AMENT_PREFIX_PATH="$_CONTACT_SIM_OLD_AMENT_PREFIX_PATH"
+        export AMENT_PREFIX_PATH
+    else
+        unset AMENT_PREFIX_PATH
+    fi
+    unset _CONTACT_SIM_OLD_AMENT_PREFIX_PATH _CONTACT_SIM_HAD_AMENT_PREFIX_PATH _CONTACT_SIM_ACTIVE
+    _contact_sim_venv_deactivate "$@"
+    if [ "${1:-}" != "nondestructive" ]; then
+        unset -f _contact_sim_venv_deactivate deactivate
+    fi
+}
 AMENT_PREFIX_PATH="$VIRTUAL_ENV${AMENT_PREFIX_PATH:+:$AMENT_PREFIX_PATH}"
 PATH="$VIRTUAL_ENV/lib/contact_sim:$PATH"
 export AMENT_PREFIX_PATH PATH

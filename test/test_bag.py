@@ -1,5 +1,6 @@
-"""contact_sim.bag: rosbag2 files written with rosbags (no ROS needed), read back by rosbags."""
+"""contact_sim.ros.bag: rosbag2 files written with rosbags (no ROS needed), read back by rosbags."""
 import json
+from pathlib import Path
 import subprocess
 import sys
 
@@ -10,7 +11,7 @@ pytest.importorskip('rosbags', reason='the optional recording extra (pip install
 from rosbags.highlevel import AnyReader  # noqa: E402
 from rosbags.typesys import Stores, get_typestore  # noqa: E402
 
-from contact_sim.bag import BagWriter, write_bag
+from contact_sim.ros.bag import BagWriter, write_bag
 
 TYPESTORE = get_typestore(Stores.ROS2_KILTED)
 WRENCH = 'geometry_msgs/msg/WrenchStamped'
@@ -150,7 +151,55 @@ def test_an_existing_bag_is_never_overwritten(tmp_path):
 
 
 def test_bag_module_imports_no_ros():
-    code = ('import sys, contact_sim.bag; '
+    code = ('import sys, contact_sim.ros.bag; '
             'assert not [m for m in sys.modules if m.split(".")[0] in '
             '("rclpy", "std_msgs", "geometry_msgs", "rosgraph_msgs")], "ROS imported"')
     subprocess.run([sys.executable, '-c', code], check=True)
+
+
+@pytest.mark.parametrize('storage', ['mcap', 'sqlite3'])
+def test_a_killed_writer_loses_only_what_came_after_its_last_flush_and_recovers(tmp_path,
+                                                                               storage):
+    """A writer process killed without close(): what it flushed is recovered by recover_bag,
+    which writes the missing metadata, so rosbags opens the bag; what came after is lost."""
+    path = tmp_path / 'bag'
+    code = f'''
+import os, sys
+sys.path.insert(0, {str(Path(__file__).parent)!r})
+from test_bag import messages
+from contact_sim.ros.bag import BagWriter
+bag = BagWriter({str(path)!r}, {storage!r})
+items = list(messages())
+for i, item in enumerate(items):
+    bag.write(*item)
+    if i == 29:
+        bag.flush()
+os._exit(9)   # killed: no close(), no metadata.yaml
+'''
+    assert subprocess.run([sys.executable, '-c', code]).returncode == 9
+    assert not (path / 'metadata.yaml').exists()
+    from contact_sim.ros.bag import recover_bag
+    counts = recover_bag(path)
+    flushed = list(messages())[:30]
+    expected = {}
+    for topic, *_ in flushed:
+        expected[topic] = expected.get(topic, 0) + 1
+    assert counts == expected
+    with AnyReader([path]) as reader:
+        got = [(c.topic, ts, bytes(raw)) for c, ts, raw in reader.messages()]
+    assert sorted(got) == sorted((topic, ts, bytes(data)) for topic, _, ts, data in flushed)
+    with pytest.raises(ValueError, match='metadata.yaml already'):
+        recover_bag(path)
+
+
+def test_recover_names_what_is_wrong(tmp_path):
+    from contact_sim.ros.bag import recover_bag
+    with pytest.raises(ValueError, match='not a bag directory'):
+        recover_bag(tmp_path / 'missing')
+    (tmp_path / 'empty').mkdir()
+    with pytest.raises(ValueError, match='holds 0 storage files'):
+        recover_bag(tmp_path / 'empty')
+    (tmp_path / 'junk').mkdir()
+    (tmp_path / 'junk' / 'junk.mcap').write_bytes(b'not an mcap file')
+    with pytest.raises(ValueError, match='not an MCAP file'):
+        recover_bag(tmp_path / 'junk')

@@ -1,0 +1,294 @@
+"""CPU and throughput of contact_sim_node, read from /proc CPU times of the node process.
+
+    python bench/bench_node.py            # every scenario (about 2 minutes)
+    python bench/bench_node.py --quick    # shorter windows
+
+Scenarios (the node is the installed console entry point, in its own process; each run gets its
+own ROS_DOMAIN_ID):
+  rest-100Hz     real time, 100 Hz, the ball at rest, no subscriber: CPU % of one core
+  rest-1kHz      real time, 1 kHz, the ball at rest, a reliable subscriber on every topic
+                 counting the messages: CPU %, ticks/s on each topic
+  floor          µs per tick to encode and publish one tick on every topic (wrench, contact,
+                 pose, twist, /clock), no simulation: the node's CDR encoders, and rclpy message
+                 objects for comparison (measured in this process, no subscriber)
+  flat-out       real_time_factor 0, 100 Hz, no subscriber: simulated s per wall s (from
+                 ~/reset replies) and the node's CPU µs per tick, against the floor
+  settle         real time, 100 Hz: the longest executor turn (CPU time of one timer callback)
+                 over the first 5 s, which include the bouncing and the settling, in this process
+The executor comparison (--executors) runs a bare 100 Hz / 1 kHz timer publishing five messages
+under each executor.
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import rclpy
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from std_srvs.srv import Trigger
+
+TICK = os.sysconf('SC_CLK_TCK')
+
+
+def cpu_seconds(pid):
+    """utime + stime of a process (all its threads), in s."""
+    fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / TICK
+
+
+def executable(name):
+    from ament_index_python.packages import get_package_prefix
+    return str(Path(get_package_prefix('contact_sim')) / 'lib' / 'contact_sim' / name)
+
+
+class NodeProcess:
+    def __init__(self, params, workdir):
+        args = [executable('contact_sim_node'), '--ros-args']
+        for key, value in params.items():
+            args += ['-p', f'{key}:={value}']
+        self.log = open(Path(workdir) / f'node-{time.monotonic_ns()}.log', 'w+')
+        self.popen = subprocess.Popen(args, stdout=self.log, stderr=subprocess.STDOUT,
+                                      start_new_session=True)
+
+    def cpu(self):
+        return cpu_seconds(self.popen.pid)
+
+    def stop(self):
+        os.killpg(self.popen.pid, 2)
+        self.popen.wait(20)
+        self.log.seek(0)
+        return self.log.read()
+
+
+def measure_cpu(process, seconds, spin=None):
+    """CPU % of one core used by ``process`` over ``seconds`` of wall time."""
+    c0, w0 = process.cpu(), time.monotonic()
+    while time.monotonic() - w0 < seconds:
+        if spin is not None:
+            spin(0.05)
+        else:
+            time.sleep(0.05)
+    return 100.0 * (process.cpu() - c0) / (time.monotonic() - w0)
+
+
+def wait_for_service(node, executor, name, timeout=20.0):
+    client = node.create_client(Trigger, name)
+    deadline = time.monotonic() + timeout
+    while not client.service_is_ready():
+        if time.monotonic() > deadline:
+            raise RuntimeError(f'no service {name}')
+        executor.spin_once(timeout_sec=0.1)
+    return client
+
+
+def call_reset(client, executor):
+    """Reset the drop; returns the simulated time (s) the reply names."""
+    while True:
+        future = client.call_async(Trigger.Request())
+        deadline = time.monotonic() + 5.0
+        while not future.done() and time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.05)
+        if future.done():
+            return float(re.search(r'at t = ([0-9.]+) s', future.result().message).group(1))
+        client.remove_pending_request(future)
+
+
+def scenario_rest(rate, window, workdir, subscribe):
+    from contact_sim.ros.messages import TOPICS
+    process = NodeProcess({'publish_rate': f'{rate:.1f}'}, workdir)
+    from rclpy.experimental.events_executor import EventsExecutor
+    node = rclpy.create_node(f'bench_{int(rate)}')
+    executor = EventsExecutor()   # (a subscriber that keeps up: raw messages, counted)
+    executor.add_node(node)
+    counts = {}
+    if subscribe:
+        qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1000,
+                         reliability=ReliabilityPolicy.RELIABLE,
+                         durability=DurabilityPolicy.VOLATILE)
+        for topic in TOPICS:
+            if topic.kind == 'impact':
+                continue
+            name = topic.resolve('/contact_sim')
+            counts[name] = 0
+
+            def count(_msg, name=name):
+                counts[name] += 1
+            node.create_subscription(topic.msg_type, name, count, qos, raw=True)
+    wait_for_service(node, executor, '/contact_sim/reset')
+    # the default drop comes to rest within 3 s of simulated time
+    deadline = time.monotonic() + 4.0
+    while time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.05)
+    start = dict(counts)
+    w0 = time.monotonic()
+    cpu = measure_cpu(process, window, spin=lambda t: executor.spin_once(timeout_sec=t))
+    wall = time.monotonic() - w0
+    rates = {name: (counts[name] - start[name]) / wall for name in counts}
+    log = process.stop()
+    node.destroy_node()
+    return cpu, rates, log
+
+
+def floor(ticks=20000):
+    """µs per tick to encode and publish wrench, contact, pose, twist and /clock (no subscriber)."""
+    from contact_sim.ros import messages as m
+    node = rclpy.create_node('bench_floor')
+    topics = [t for t in m.TOPICS if t.kind != 'impact']
+    pubs = {t.key: node.create_publisher(t.msg_type, f'/bench_floor/{t.key}', t.qos)
+            for t in topics}
+    enc = {t.key: t.template('plate').encode for t in topics}
+    t0 = time.perf_counter()
+    for i in range(ticks):
+        ns = 1_000_000_000 + i * 10_000_000
+        pubs['wrench'].publish(enc['wrench'](ns, 0.66))
+        pubs['contact'].publish(enc['contact'](ns, 1e-7, 0.0, 1.0))
+        pubs['pose'].publish(enc['pose'](ns, 0.0127))
+        pubs['twist'].publish(enc['twist'](ns, 0.0))
+        pubs['clock'].publish(enc['clock'](ns))
+    cdr = (time.perf_counter() - t0) / ticks * 1e6
+    t0 = time.perf_counter()
+    for i in range(ticks // 4):
+        ns = 1_000_000_000 + i * 10_000_000
+        pubs['wrench'].publish(m.wrench_msg(ns, 0.66, 'plate'))
+        pubs['contact'].publish(m.contact_msg(ns, 1e-7, 0.0, 1.0, 'plate'))
+        pubs['pose'].publish(m.pose_msg(ns, 0.0127, 0.0, 'plate'))
+        pubs['twist'].publish(m.twist_msg(ns, 0.0, 'plate'))
+        pubs['clock'].publish(m.clock_msg(ns))
+    objects = (time.perf_counter() - t0) / (ticks // 4) * 1e6
+    node.destroy_node()
+    return cdr, objects
+
+
+def scenario_flat_out(window, workdir):
+    process = NodeProcess({'real_time_factor': '0.0'}, workdir)
+    node = rclpy.create_node('bench_flat')
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    client = wait_for_service(node, executor, '/contact_sim/reset')
+    sim0, c0, w0 = call_reset(client, executor), process.cpu(), time.monotonic()
+    deadline = w0 + window
+    while time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.05)
+    sim1, c1, w1 = call_reset(client, executor), process.cpu(), time.monotonic()
+    log = process.stop()
+    node.destroy_node()
+    ticks = (sim1 - sim0) * 100.0
+    return ((sim1 - sim0) / (w1 - w0), (sim1 - sim0) / (c1 - c0), 1e6 * (c1 - c0) / ticks,
+            100.0 * (c1 - c0) / (w1 - w0), log)
+
+
+def settle(seconds=5.0):
+    """Longest timer callback (s) of a node run in this process for ``seconds`` of wall time,
+    and the simulated time it ended at."""
+    from rclpy.experimental.events_executor import EventsExecutor
+    from contact_sim.ros.node import ContactSimNode
+    node = ContactSimNode()
+    turns = []
+    inner = node._turn
+
+    def timed():   # CPU time of this thread: the turn's own cost, not the machine's load
+        t0 = time.thread_time()
+        inner()
+        turns.append((time.thread_time() - t0, node._sim.time))
+    node._turn = timed
+    executor = EventsExecutor()
+    executor.add_node(node)
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        executor.spin_once(timeout_sec=0.1)
+    longest = max(turns)
+    mean = sum(t for t, _ in turns) / len(turns)
+    executor.remove_node(node)
+    node.destroy_node()
+    return longest, mean, len(turns)
+
+
+def executors(window=5.0):
+    """A bare timer publishing five messages per tick under each executor: CPU % and ticks/s."""
+    code = r'''
+import os, sys, time, rclpy
+from rclpy.clock import Clock, ClockType
+from geometry_msgs.msg import WrenchStamped
+kind, rate, window = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
+rclpy.init()
+node = rclpy.create_node('bench_executor')
+pubs = [node.create_publisher(WrenchStamped, f'~/w{i}', 10) for i in range(5)]
+ticks = [0]
+def tick():
+    ticks[0] += 1
+    for p in pubs:
+        p.publish(WrenchStamped())
+node.create_timer(1.0 / rate, tick, clock=Clock(clock_type=ClockType.STEADY_TIME))
+if kind == 'events':
+    from rclpy.experimental.events_executor import EventsExecutor as E
+elif kind == 'multi':
+    from rclpy.executors import MultiThreadedExecutor as E
+else:
+    from rclpy.executors import SingleThreadedExecutor as E
+ex = E(); ex.add_node(node)
+t0, c0 = time.monotonic(), os.times()
+while time.monotonic() - t0 < window:
+    ex.spin_once(timeout_sec=0.1)
+c1, t1 = os.times(), time.monotonic()
+print(f'{100 * (c1.user + c1.system - c0.user - c0.system) / (t1 - t0):.1f} {ticks[0] / (t1 - t0):.0f}')
+'''
+    rows = []
+    for kind in ('single', 'multi', 'events'):
+        for rate in (100.0, 1000.0):
+            out = subprocess.run([sys.executable, '-c', code, kind, str(rate), str(window)],
+                                 capture_output=True, text=True, timeout=60).stdout.split()
+            rows.append((kind, rate, float(out[0]), float(out[1])))
+    return rows
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    parser.add_argument('--quick', action='store_true', help='5 s windows instead of 10 s')
+    parser.add_argument('--executors', action='store_true', help='also compare the executors')
+    options = parser.parse_args()
+    window = 5.0 if options.quick else 10.0
+    os.environ.setdefault('ROS_DOMAIN_ID', str(1 + os.getpid() % 101))
+    os.environ['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
+    with tempfile.TemporaryDirectory(prefix='bench_node_') as workdir:
+        os.environ['ROS_LOG_DIR'] = workdir
+        if options.executors:
+            print(f'executors: a bare timer publishing 5 messages per tick, {window:g} s')
+            print('  executor  rate (Hz)  CPU (% of a core)  ticks/s')
+            for kind, rate, cpu, ticks in executors(window):
+                print(f'  {kind:8s} {rate:9.0f} {cpu:18.1f} {ticks:8.0f}')
+        rclpy.init()
+        try:
+            cpu, _, log = scenario_rest(100.0, window, workdir, subscribe=False)
+            print(f'rest-100Hz  real time, 100 Hz, at rest, no subscriber: {cpu:.1f} % of a core'
+                  f' (target <= 5 %)')
+            cpu, rates, log = scenario_rest(1000.0, window, workdir, subscribe=True)
+            print(f'rest-1kHz   real time, 1 kHz, at rest, reliable subscriber on every topic: '
+                  f'{cpu:.1f} % of a core (target <= 50 %); messages/s: '
+                  + ', '.join(f'{name.rsplit("/", 1)[1]} {r:.0f}' for name, r in rates.items()))
+            if 'cannot be held' in log:
+                print('            node log: ' + next(line for line in log.splitlines()
+                                                     if 'cannot be held' in line))
+            (longest, at), mean, turns = settle()
+            print(f'settle      real time, 100 Hz, first 5 s (bouncing and settling): longest '
+                  f'executor turn {longest * 1e3:.1f} ms of CPU (ending at t = {at:.3f} s), mean '
+                  f'{mean * 1e3:.2f} ms over {turns} turns')
+            cdr, objects = floor()
+            print(f'floor       encode + publish one tick on 5 topics, no subscriber: '
+                  f'{cdr:.1f} us (CDR templates), {objects:.1f} us (rclpy message objects)')
+            speed, per_cpu, per_tick, cpu, log = scenario_flat_out(window, workdir)
+            print(f'flat-out    real_time_factor 0, 100 Hz, no subscriber: {speed:.0f} x real '
+                  f'time in wall time ({cpu:.0f} % of a core: the rest of the time the node '
+                  f'was runnable but not running), {per_cpu:.0f} simulated s per CPU s of the '
+                  f'node, {per_tick:.1f} us of node CPU per tick ({per_tick / cdr:.2f} x the '
+                  f'floor)')
+        finally:
+            rclpy.try_shutdown()
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,406 @@
+"""``contact_sim_node``: simulates a sphere dropped on a plate and publishes its contact wrench, state
+and impacts, stamped with simulated time.
+
+Data flows one way:
+
+    parameters --params.build_model--> Model --make_simulation--> cs.DropSimulation
+        --advance--> samples and impact records --messages.TOPICS encoders--> topics
+
+Frames and signs (REP 103, SI units): the plate frame (``frame_id``, default ``plate``) has z up
+and the plate's surface (the top of the lower sphere, for two spheres) at z = 0. The sphere moves
+along that z axis only. Penetration z > 0 means the undeformed bodies overlap; its rate ż > 0 means
+approach. README.md documents every topic, service and parameter.
+
+The loop. Simulated time is cut into ticks of ``dt`` = real_time_factor / publish_rate s
+(1 / publish_rate s when running as fast as possible), counted from an anchor (the start, a
+~/reset or a change of real_time_factor). A steady-clock timer (period 1/publish_rate, at least
+``WAKE_PERIOD``; 0 when running as fast as possible) runs ``_on_timer``, which works through
+every tick that is due: in real time, those whose wall time has come (a late timer costs no
+tick: it publishes the missed ones at once; at 100 Hz each wake publishes two ticks, since a
+wake of the executor costs about 0.2 ms of CPU); as fast as possible, as many as fit in
+``FAST_TURN`` s of wall time. Each tick publishes, on ~/wrench and ~/contact, every contact point
+the engine passed and the tick's end; each completed impact; and the tick's end on ~/pose,
+~/twist and /clock. The engine is called ``TURN_STEP_BUDGET`` integrator steps at a time and a
+turn ends when its wall budget is spent (the tick goes on at the next turn), so a long settling
+(about 1000 integrator steps between permanent contact and the closed-form rest, 0.5 s of CPU for
+the default drop) is spread over many turns and services stay live. Real time that cannot be held
+(more than ``MAX_LAG`` s behind) is logged once, with the tick rate achieved, and the node skips
+ahead (the states of the skipped ticks are not published; the contact points are).
+
+Waiting for readers. A reliable reader that falls behind makes the middleware refuse a publish
+once the writer's history is full of samples it has not acknowledged; the node then keeps that
+message and the rest of its tick and publishes them, in order, at its next turn: it waits for its
+readers instead of dropping samples (best-effort readers, such as ``ros2 topic hz``, are not
+waited for). DDS acknowledgements alone are too coarse to pace a node running as fast as possible
+(Fast DDS acknowledges on its heartbeats: ``Publisher.wait_for_all_acked`` took 1-2 s after as few
+as 10 samples), so ``contact_sim_record`` also acknowledges itself: it publishes on ``~/recorded``
+(``rosgraph_msgs/Clock``) the simulated time up to which it has recorded every topic, and the
+node, running as fast as possible, publishes no tick more than ``LEAD_TICKS`` ticks beyond it
+while a recorder is there (it pauses its timer and resumes when the recorder catches up or goes
+away). The recorder's subscriptions are keep-all, so nothing is dropped on its side either.
+"""
+import math
+import time
+
+import rclpy
+import rclpy.logging
+from rcl_interfaces.msg import ParameterType, ParameterValue, SetParametersResult
+from rcl_interfaces.srv import GetParameters
+from rclpy.clock import Clock, ClockType
+from rclpy.exceptions import ParameterException
+from rclpy.executors import ExternalShutdownException
+from rclpy.experimental.events_executor import EventsExecutor
+from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
+from rclpy.node import Node
+from rclpy.serialization import serialize_message
+from std_srvs.srv import Trigger
+
+from .messages import PROGRESS, TOPICS, contact_samples, impact_msg, impact_ok, to_ns
+from .params import DEFAULTS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, build_model, descriptor, \
+    make_simulation, require_shallow_contact
+from .query import answer_queries
+
+TURN_STEP_BUDGET = 20    # integrator steps per engine call (~10 ms); then the wall budget is checked
+FAST_TURN = 0.02         # s of wall time per executor turn when running as fast as possible
+REAL_TURN = 0.75         # of the timer period: wall time per turn at most in real time
+WAKE_PERIOD = 0.02       # s: in real time the node wakes at most every 20 ms (50 Hz)
+MAX_LAG = 2.0            # s behind real time before the node skips ahead (and says so, once)
+LEAD_TICKS = 300         # ticks ahead of a recorder's acknowledgement (< state history 1000)
+WATCH_PERIOD = 0.5       # s: a paused node checks this often whether its recorder has gone
+
+
+class StartupError(Exception):
+    """The initial parameters are invalid: the node cannot start."""
+
+
+class ContactSimNode(Node):
+    """Simulates a sphere dropped on a plate and publishes its contact wrench, state and impacts."""
+
+    def __init__(self, **kwargs):
+        super().__init__(NODE_NAME, **kwargs)
+        try:
+            for spec in PARAMETERS:
+                self.declare_parameter(spec.name, spec.default, descriptor(spec))
+            self._model = build_model(self._values())
+        except (ParameterException, ValueError) as error:
+            raise StartupError(str(error)) from None
+        self._warn_unknown_overrides()
+        self._sim = make_simulation(self._model)
+        self._offset = 0.0        # s: stamp = offset + simulator time; grows at each ~/reset
+        self._last_sample_ns = -1
+        self._last_state_ns = -1
+        self._steady = Clock(clock_type=ClockType.STEADY_TIME)  # pacing ignores use_sim_time
+
+        frame = self._model.frame_id  # read-only
+        self._pub, self._encode = {}, {}
+        for topic in TOPICS:
+            if topic.kind == 'clock' and not self._model.publish_clock:
+                continue
+            self._pub[topic.key] = self.create_publisher(topic.msg_type, topic.name, topic.qos)
+            if topic.fields or topic.kind == 'clock':
+                self._encode[topic.key] = topic.template(frame).encode
+        self._state_keys = [t.key for t in TOPICS if t.kind == 'state' and t.key in self._pub]
+        self.create_service(GetParameters, '~/query_restitution', self._on_query)
+        self.create_service(Trigger, '~/reset', self._on_reset)
+        self.add_on_set_parameters_callback(self._on_set_parameters)
+        self.add_post_set_parameters_callback(self._on_parameters_set)
+        self._recorded_ns = None  # the recorder's acknowledgement, see PROGRESS
+        self._progress = self.create_subscription(PROGRESS.msg_type, PROGRESS.name,
+                                                  self._on_recorded, PROGRESS.qos)
+        self._paused = False
+        self.create_timer(WATCH_PERIOD, self._resume_if_free, clock=self._steady)
+        self._lag_logged = False
+        self._pending = []        # (topic key, bytes) a reliable reader has not had room for yet
+        self._timer = None
+        self._start_loop()
+        self.get_logger().info(self._model.summary())
+
+    # ---- parameters ------------------------------------------------------------------------
+
+    def _values(self, changes=()):
+        values = {name: self.get_parameter(name).value for name in PARAMETER_NAMES}
+        values.update({p.name: p.value for p in changes})
+        return values
+
+    def _warn_unknown_overrides(self):
+        unknown = sorted(name for name in getattr(self, '_parameter_overrides', {})
+                         if not self.has_parameter(name))
+        if unknown:
+            self.get_logger().warning(f'ignoring unknown parameters: {", ".join(unknown)} '
+                                      f'(known: {", ".join(PARAMETER_NAMES)})')
+
+    def _on_set_parameters(self, parameters):
+        """Validate a parameter change as a whole; nothing changes unless all of it is valid."""
+        ours = [p for p in parameters if p.name in DEFAULTS]
+        if not ours:
+            return SetParametersResult(successful=True)
+        try:
+            values = self._values(ours)
+            model = build_model(values)
+            # a new contact acts from the next contact phase of the running drop
+            require_shallow_contact(model.contact, model.radius, self._sim,
+                                    values['stiffness'] > 0.0, running=True)
+        except Exception as error:  # any failure rejects the change, never the node
+            names = ', '.join(p.name for p in ours)
+            return SetParametersResult(successful=False, reason=f'rejected {names}: {error}')
+        return SetParametersResult(successful=True)
+
+    def _on_parameters_set(self, parameters):
+        """Apply an accepted change: the contact at once (engine: from the next contact)."""
+        if not any(p.name in DEFAULTS for p in parameters):
+            return
+        old = self._model
+        try:
+            new = build_model(self._values())
+        except Exception as error:  # validated already: should not happen; keep running
+            self.get_logger().error(f'could not apply the accepted parameters: {error}')
+            return
+        self._model = new
+        log = self.get_logger()
+        if new.contact != old.contact:
+            self._sim.set_contact(new.contact)
+            log.info(f'contact changed, from the next contact phase: {new.summary()}')
+        if (new.mass, new.gravity, new.height, new.velocity) != \
+                (old.mass, old.gravity, old.height, old.velocity):
+            log.info(f'mass, gravity or initial conditions changed, from the next ~/reset: '
+                     f'{new.summary()}')
+        if new.real_time_factor != old.real_time_factor:
+            self._start_loop()
+            log.info(f'real_time_factor = {new.real_time_factor:g}'
+                     + (' (as fast as possible)' if new.fast else ''))
+
+    # ---- simulation loop -------------------------------------------------------------------
+
+    def _start_loop(self):
+        """(Re)start the loop timer and anchor tick 0 at the current simulated and wall time."""
+        model = self._model
+        self._anchor_wall, self._anchor_sim, self._tick = time.monotonic(), self._sim.time, 0
+        self._dt = 1.0 / model.publish_rate if model.fast \
+            else model.real_time_factor / model.publish_rate
+        if self._timer is not None:
+            self.destroy_timer(self._timer)
+        self._paused = False
+        period = 0.0 if model.fast else max(1.0 / model.publish_rate, WAKE_PERIOD)
+        self._period = period
+        self._timer = self.create_timer(period, self._on_timer, clock=self._steady)
+
+    def _ticks_due(self, now):
+        """Ticks (since the anchor) whose wall time has come; every one when running flat out."""
+        if self._model.fast:
+            return math.inf
+        return int((now - self._anchor_wall) * self._model.publish_rate)
+
+    def _on_timer(self):
+        try:
+            self._turn()
+        except Exception:
+            if rclpy.ok(context=self.context):
+                raise
+            # Ctrl-C shut the context down during the turn (rclpy's handler runs in its own
+            # thread): the publishers are gone; spin() returns next
+
+    def _turn(self):
+        if self._pending and not self._send_pending():
+            return   # a reliable reader still has no room: the next turn tries again
+        start = time.monotonic()
+        fast = self._model.fast
+        deadline = start + (FAST_TURN if fast else REAL_TURN * self._period)
+        due = self._ticks_due(start)
+        if fast:
+            due = min(due, self._ticks_allowed())
+            if due <= self._tick:   # a recorder is behind: wait for it (see _on_recorded)
+                self._timer.cancel()
+                self._paused = True
+                return
+        elif due - self._tick > MAX_LAG * self._model.publish_rate:
+            self._skip_ahead(due, start)
+        while self._tick < due:
+            if not self._run_tick(deadline):
+                return    # out of wall time inside the tick: the next turn goes on with it
+            if self._pending or time.monotonic() > deadline:
+                return
+
+    def _send(self, key, data):
+        """Publish, or keep ``data`` for the next turn if a reliable reader has had no room for
+        this topic's samples within the middleware's blocking time (the writer's history is
+        full of samples it has not acknowledged): the node waits for its readers."""
+        if self._pending:
+            self._pending.append((key, data))
+            return
+        try:
+            self._pub[key].publish(data)
+        except _rclpy.RCLError:
+            if not rclpy.ok(context=self.context):
+                raise
+            self._pending.append((key, data))
+
+    def _send_pending(self):
+        """Publish what waits, in order; True when all of it went out."""
+        pending, self._pending = self._pending, []
+        for i, (key, data) in enumerate(pending):
+            try:
+                self._pub[key].publish(data)
+            except _rclpy.RCLError:
+                if not rclpy.ok(context=self.context):
+                    raise
+                self._pending = pending[i:]
+                return False
+        return True
+
+    def _ticks_allowed(self):
+        """Ticks (since the anchor) a recorder lets the node publish: LEAD_TICKS beyond what it
+        has acknowledged; unlimited without a recorder or before its first acknowledgement."""
+        if self._recorded_ns is None or self._progress.get_publisher_count() == 0:
+            return math.inf
+        recorded = self._recorded_ns * 1e-9 - self._offset - self._anchor_sim
+        return max(0, math.floor(recorded / self._dt + 1e-6)) + LEAD_TICKS
+
+    def _on_recorded(self, msg):
+        self._recorded_ns = PROGRESS.stamp_ns(msg)
+        if self._paused and self._ticks_allowed() > self._tick:
+            self._resume()
+
+    def _resume_if_free(self):
+        if self._paused and self._ticks_allowed() > self._tick:
+            self._resume()
+
+    def _resume(self):
+        self._paused = False
+        self._timer.reset()
+
+    def _skip_ahead(self, due, now):
+        """Real time cannot be held: say so once, with the rate achieved, and jump to ``due``."""
+        if not self._lag_logged:
+            self._lag_logged = True
+            achieved = self._tick / max(now - self._anchor_wall, 1e-9)
+            self.get_logger().warning(
+                f'publish_rate {self._model.publish_rate:g} Hz at real_time_factor '
+                f'{self._model.real_time_factor:g} cannot be held: {achieved:.0f} ticks/s achieved;'
+                f' skipping ahead (the states of skipped ticks are not published; logged once)')
+        self._tick = due - 1
+
+    def _run_tick(self, deadline):
+        """Advance to the end of the next tick and publish it; False if the wall budget ran out
+        first (what was integrated so far is published; the tick goes on at the next turn)."""
+        target = self._anchor_sim + (self._tick + 1) * self._dt
+        sim = self._sim
+        while True:
+            try:
+                advance = sim.advance(target, max_steps=TURN_STEP_BUDGET)
+            except Exception as error:  # keep the node alive and the last good state
+                self.get_logger().error(f'simulation step to t = {target:.9f} s failed: {error}',
+                                        throttle_duration_sec=5.0)
+                self._tick += 1
+                return True
+            end = self._publish_samples(advance)
+            if sim.time >= target:
+                break
+            if time.monotonic() > deadline:
+                return False
+        self._tick += 1
+        if end is not None:
+            self._publish_state(*end)
+        return True
+
+    def _publish_samples(self, advance):
+        """Publish the contact points and impacts of one engine call; return the last point as
+        (ns, z, zdot) (None if not finite)."""
+        send, encode, offset = self._send, self._encode, self._offset
+        encode_wrench, encode_contact = encode['wrench'], encode['contact']
+        points, skipped = contact_samples(advance.samples, offset, self._last_sample_ns)
+        for ns, z, zdot, force in points:
+            send('wrench', encode_wrench(ns, force))
+            send('contact', encode_contact(ns, z, zdot, 1.0 if force > 0.0 else 0.0))
+        if points:
+            self._last_sample_ns = points[-1][0]
+        t, z, zdot = (float(advance.samples.time[-1]), float(advance.samples.penetration[-1]),
+                      float(advance.samples.penetration_rate[-1]))
+        end = (to_ns(offset + t), z, zdot) if math.isfinite(t + z + zdot) else None
+        for record in advance.impacts:
+            message = impact_msg(record, offset)
+            if impact_ok(message):
+                send('impact', serialize_message(message))
+            else:
+                skipped += 1
+        if skipped:
+            self.get_logger().warning(f'skipped {skipped} non-finite values',
+                                      throttle_duration_sec=5.0)
+        return end
+
+    def _publish_state(self, ns, z, zdot):
+        if ns <= self._last_state_ns:
+            return
+        self._last_state_ns = ns
+        send, encode = self._send, self._encode
+        send('pose', encode['pose'](ns, self._model.radius - z))
+        send('twist', encode['twist'](ns, -zdot))
+        if 'clock' in encode:
+            send('clock', encode['clock'](ns))
+
+    # ---- services --------------------------------------------------------------------------
+
+    def _on_query(self, request, response):
+        model = self._model
+        answers = answer_queries(list(request.names), model.contact, model.mass)
+        values = []
+        for name, (value, reason) in zip(request.names, answers):
+            if value is None:
+                self.get_logger().warning(f'query_restitution: cannot answer {name!r}: {reason}')
+                values.append(ParameterValue(type=ParameterType.PARAMETER_NOT_SET))
+            else:
+                values.append(ParameterValue(type=ParameterType.PARAMETER_DOUBLE,
+                                             double_value=value))
+        response.values = values
+        return response
+
+    def _on_reset(self, request, response):
+        model = self._model
+        try:
+            sim = make_simulation(model)
+        except Exception as error:
+            response.success = False
+            response.message = f'reset failed: {error}'
+            return response
+        self._offset += self._sim.time
+        self._sim = sim
+        self._start_loop()
+        response.success = True
+        response.message = f'drop restarted at t = {self._offset:.9f} s: {model.summary()}'
+        self.get_logger().info(response.message)
+        return response
+
+
+def spin(node, executor):
+    """Spin until the context shuts down (Ctrl-C, SIGTERM), one turn at a time.
+
+    (``EventsExecutor.spin()`` in rclpy 9.1 does not return when the context shuts down; a turn
+    of ``spin_once`` raises ExternalShutdownException then.)
+    """
+    while rclpy.ok(context=node.context):
+        executor.spin_once(timeout_sec=0.5)
+
+
+def main(args=None):
+    """``contact_sim_node``: run until SIGINT/SIGTERM (exit code 0; 2 on bad parameters)."""
+    rclpy.init(args=args)
+    node = None
+    try:
+        node = ContactSimNode()
+        executor = EventsExecutor(context=node.context)
+        executor.add_node(node)
+        spin(node, executor)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    except StartupError as error:
+        rclpy.logging.get_logger(NODE_NAME).fatal(f'invalid parameters: {error}')
+        return 2
+    finally:
+        if node is not None:
+            node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == '__main__':
+    import sys
+    sys.exit(main())

@@ -1,0 +1,265 @@
+"""``contact_sim_record``: records a contact_sim node's topics (the table in ``messages.TOPICS``) to
+a rosbag2 directory with the ``rosbags`` library, for installs without rosbag2.
+
+Lossless: every subscription is reliable and keep-all (``messages.RECORD_QOS``), so a recorder
+that falls behind makes the node wait (see ``node.py``) instead of losing samples. Crash-safe: the
+bag is flushed to disk at least every ``FLUSH_PERIOD`` s (``bag.BagWriter.flush``), so after a
+SIGKILL at most the last second is lost, and ``contact_sim_record --recover BAG`` writes the
+missing index and metadata (``bag.recover_bag``). A clean stop makes a consistent cut (``cut``).
+"""
+import argparse
+import math
+import signal
+import sys
+import time
+from functools import partial
+
+import rclpy
+from rclpy.executors import ExternalShutdownException
+from rclpy.experimental.events_executor import EventsExecutor
+from rclpy.node import Node
+from rclpy.signals import SignalHandlerOptions
+from rclpy.utilities import remove_ros_args
+
+from .messages import PROGRESS, RECORD_QOS, TOPICS, clock_msg
+from .params import NODE_NAME
+
+FLUSH_PERIOD = 0.5  # s of wall time between flushes of the bag to disk
+REPORT_PERIOD = 0.02  # s of wall time between acknowledgements on ~/recorded
+
+
+def spin_until_signal(node, stop_after=None, drain=None, drain_timeout=10.0):
+    """Spin ``node`` until SIGINT or SIGTERM (or ``stop_after`` wall seconds), then return.
+
+    The signals only set a flag, checked between executor turns, so a callback is never cut off
+    and the context is shut down after spinning has stopped, not under the executor's feet.
+    With ``drain`` (called once at the stop; it returns a predicate that is true when nothing
+    more is needed), spinning goes on after the stop until that predicate holds, for at most
+    ``drain_timeout`` wall seconds; a signal during it (a second one, after a signal) ends it at
+    once. Returns whether the predicate held in the end (True without ``drain``). rclpy must be
+    initialised with ``SignalHandlerOptions.NO``.
+    """
+    stop = []
+    previous = {sig: signal.signal(sig, lambda *_: stop.append(True))
+                for sig in (signal.SIGINT, signal.SIGTERM)}
+    deadline = math.inf if stop_after is None else time.monotonic() + stop_after
+    executor = EventsExecutor(context=node.context)
+    executor.add_node(node)
+    drained = True
+    try:
+        while not stop and node.context.ok() and time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.1)
+        if drain is not None:
+            done, limit, signals = drain(), time.monotonic() + drain_timeout, len(stop)
+            while not (drained := done()) and len(stop) == signals and node.context.ok() \
+                    and time.monotonic() < limit:
+                executor.spin_once(timeout_sec=0.05)
+    finally:
+        executor.remove_node(node)
+        executor.shutdown()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+    return drained
+
+
+class Recorder(Node):
+    """Subscribes to a contact_sim node's topics (and /clock) and writes them to a rosbag2 file.
+
+    Each message is stored with its simulated time (message_time_ns) as the bag timestamp, so the
+    bag's timeline is the simulation's even when the node runs faster than real time.
+    """
+
+    def __init__(self, output, storage='mcap', target=f'/{NODE_NAME}', clock=True, **kwargs):
+        super().__init__('contact_sim_record', **kwargs)
+        from .bag import BagWriter  # rosbags is needed only for recording
+        self.bag = BagWriter(output, storage)
+        self._topics = {}  # full name -> Topic
+        self._readers = {}
+        for topic in TOPICS:
+            if topic.kind == 'clock' and not clock:
+                continue
+            name = topic.resolve(target)
+            self._topics[name] = topic
+            self._readers[name] = self.create_subscription(
+                topic.msg_type, name, partial(self._on_message, name, topic.type_name),
+                RECORD_QOS, raw=True)
+        self.topics = list(self._topics)
+        self.covered_ns = {}   # topic -> simulated time (ns) its recorded messages reach
+        self.publishers_matched = {}  # topic -> number of matched publishers
+        self.cut_ns = None     # set at the stop: see cut()
+        self._flushed = time.monotonic()
+        self.create_timer(FLUSH_PERIOD, self._on_flush_timer)
+        # the acknowledgement that paces a node running as fast as possible (node.py)
+        self._progress = self.create_publisher(PROGRESS.msg_type, PROGRESS.resolve(target),
+                                               PROGRESS.qos)
+        self._reported_ns = -1
+        self.create_timer(REPORT_PERIOD, self.report)
+        self.get_logger().info(f'recording {", ".join(self.topics)} to {self.bag.path} '
+                               f'({storage})')
+
+    def recorded_ns(self):
+        """The simulated time (ns) up to which every continuous topic that delivered anything is
+        recorded; None before the first message."""
+        reached = [ns for topic, ns in self.covered_ns.items() if self._topics[topic].continuous]
+        return min(reached) if reached else None
+
+    def report(self):
+        """Acknowledge on ~/recorded what is recorded (if it moved on; not while stopping)."""
+        ns = self.recorded_ns()
+        if self._progress is not None and ns is not None and ns > self._reported_ns:
+            self._reported_ns = ns
+            self._progress.publish(clock_msg(ns))
+
+    def flush(self):
+        """Put what has been recorded on disk (at most every FLUSH_PERIOD s, and by the timer)."""
+        self._flushed = time.monotonic()
+        self.bag.flush()
+
+    def _on_flush_timer(self):
+        self.flush()
+        self.poll_matches()
+
+    def poll_matches(self, only_new=False):
+        """Note (and log) the publishers matched on each topic; with ``only_new`` counts only
+        go up. (Polled: the events executor does not deliver a match that happened before the
+        node was added to it.)"""
+        for topic, subscription in self._readers.items():
+            count, before = subscription.get_publisher_count(), self.publishers_matched.get(topic, 0)
+            if count > before:
+                self.get_logger().info(f'matched {topic}: {count} publisher(s)')
+            self.publishers_matched[topic] = max(count, before) if only_new else count
+
+    def _on_message(self, topic, msgtype, data):
+        """One serialized message (bytes, as received: the recorder never deserializes the
+        continuous topics)."""
+        spec = self._topics[topic]
+        stamp, covered = spec.times_of_cdr(data)
+        impact = spec.kind == 'impact'
+        if self.cut_ns is not None:  # stopping
+            if stamp > self.cut_ns and (impact or spec.continuous):
+                # past the cut: a contact that began after it, or a continuous topic that is
+                # ahead of the others (it has reached the cut: it is not waited for any more)
+                self.covered_ns[topic] = max(self.covered_ns.get(topic, 0), covered)
+                return
+            if impact:
+                self.cut_ns = max(self.cut_ns, covered)  # its whole contact goes in
+        if topic not in self.bag.counts:
+            self.poll_matches(only_new=True)
+            self.get_logger().info(f'receiving {topic}')
+        self.bag.write(topic, msgtype, stamp, data)
+        self.covered_ns[topic] = max(self.covered_ns.get(topic, 0), covered)
+        if impact:
+            self.get_logger().debug(f'recorded the impact at t = {stamp * 1e-9:.9f} s')
+        if time.monotonic() - self._flushed > FLUSH_PERIOD:
+            self.flush()
+
+    def cut(self):
+        """At a stop: a predicate that holds once the bag is a consistent cut of the simulation.
+
+        DDS delivers each topic in order but not in step with the others: when the stop comes,
+        one topic can lag seconds behind (a backlog, or a lost sample waiting for its repair).
+        The cut is the latest simulated time any of the node's topics has reached, an impact
+        counting up to the end of its contact; it holds once every one of them with a matched
+        publisher has reached it too, except the sparse ~/impact. An impact that arrives
+        meanwhile and began before the cut moves it on to the end of its contact; one that
+        began after it is not recorded. So every recorded impact has its whole wrench trace,
+        and every continuous topic reaches the same simulated time. /clock, a global topic
+        that another node may publish, neither sets the cut nor is waited for.
+        """
+        if self._progress is not None:  # stopping: the node no longer waits for this recorder
+            self.destroy_publisher(self._progress)
+            self._progress = None
+        own = [ns for topic, ns in self.covered_ns.items()
+               if self._topics[topic].kind != 'clock']
+        if not own:
+            return lambda: True
+        self.cut_ns = max(own)
+        behind = self.lagging()
+        if behind:
+            self.get_logger().info(f'stopping: waiting for {", ".join(behind)} to reach '
+                                   f't = {self.cut_ns * 1e-9:.9f} s (Ctrl-C to stop now)')
+        return lambda: not self.lagging()
+
+    def lagging(self):
+        """The continuous topics with a publisher whose messages do not reach the cut yet."""
+        if self.cut_ns is None:
+            return []
+        return [topic for topic in self.topics if self._topics[topic].continuous
+                and self.publishers_matched.get(topic, 0) > 0
+                and self.covered_ns.get(topic, -1) < self.cut_ns]
+
+    def close(self):
+        self.bag.close()
+        counts = ', '.join(f'{topic} {self.bag.counts.get(topic, 0)}' for topic in self.topics)
+        self.get_logger().info(f'wrote {self.bag.path}: {counts}')
+
+
+def record_parser():
+    parser = argparse.ArgumentParser(
+        prog='contact_sim_record',
+        description='Record a contact_sim node\'s topics and /clock to a rosbag2 file (MCAP by '
+                    'default) with the rosbags library; stop with Ctrl-C.')
+    parser.add_argument('-o', '--output', default=None,
+                        help='bag directory to create (default: contact_sim_YYYY_MM_DD-HH_MM_SS)')
+    parser.add_argument('-s', '--storage', choices=('mcap', 'sqlite3'), default='mcap',
+                        help='storage format (default: mcap)')
+    parser.add_argument('--node', default=f'/{NODE_NAME}',
+                        help='fully qualified name of the node to record (default: /contact_sim)')
+    parser.add_argument('--no-clock', action='store_true', help='do not record /clock')
+    parser.add_argument('--duration', type=float, default=None,
+                        help='stop after this many wall-clock seconds (default: until Ctrl-C)')
+    parser.add_argument('--recover', metavar='BAG', default=None,
+                        help='do not record: make the bag BAG that a killed recorder left '
+                             'readable (rewrites its index and writes metadata.yaml), like '
+                             '`ros2 bag reindex`')
+    return parser
+
+
+def record_main(args=None):
+    """``contact_sim_record``: record until SIGINT/SIGTERM or --duration; exit code 0.
+
+    ``args`` is a full argument vector like ``sys.argv`` (default: ``sys.argv``).
+    """
+    argv = sys.argv if args is None else args
+    options = record_parser().parse_args(remove_ros_args(argv)[1:])
+    if options.recover is not None:
+        return recover_main(options.recover)
+    output = options.output or time.strftime('contact_sim_%Y_%m_%d-%H_%M_%S')
+    rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
+    recorder = None
+    code = 0
+    try:
+        recorder = Recorder(output, options.storage, options.node, clock=not options.no_clock)
+        if not spin_until_signal(recorder, stop_after=options.duration, drain=recorder.cut):
+            recorder.get_logger().warning(
+                f'stopped before {", ".join(recorder.lagging())} caught up: the bag ends '
+                f'earlier on those topics')
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    except ValueError as error:  # e.g. the output directory exists
+        print(f'contact_sim_record: error: {error}', file=sys.stderr)
+        code = 2
+    finally:
+        if recorder is not None:
+            recorder.close()
+            recorder.destroy_node()
+        rclpy.try_shutdown()
+    return code
+
+
+def recover_main(path):
+    """``contact_sim_record --recover BAG``: exit code 0, or 2 with one line naming the problem."""
+    from .bag import recover_bag
+    try:
+        counts = recover_bag(path)
+    except (OSError, ValueError) as error:
+        print(f'contact_sim_record: error: {error}', file=sys.stderr)
+        return 2
+    total = sum(counts.values())
+    listing = ', '.join(f'{topic} {count}' for topic, count in counts.items())
+    print(f'recovered {path}: {total} messages ({listing})')
+    return 0
+
+
+if __name__ == '__main__':
+    sys.exit(record_main())
