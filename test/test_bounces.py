@@ -308,9 +308,10 @@ def test_cli_bounces_report_and_parameter_file(golf_csv, tmp_path, capsys):
     import yaml
     doc = yaml.safe_load(params.read_text())
     values = doc['contact_sim']['ros__parameters']
-    from contact_sim.node import PARAMETER_NAMES
-    known = set(PARAMETER_NAMES) | {'air_density', 'drag_coefficient'}
-    assert set(values) <= known
+    from contact_sim.ros.params import DEFAULTS, PARAMETER_NAMES, build_model
+    assert set(values) <= set(PARAMETER_NAMES)
+    model = build_model({**DEFAULTS, **values})     # the node takes the file as it is
+    assert model.drag.drag_coefficient == 0.3 and model.drag.radius == 0.0214
     assert values['contact_law'] == 'azad_featherstone'
     assert values['stiffness'] == GOLF_K and values['sphere_mass'] == GOLF_MASS
     assert values['drag_coefficient'] == 0.3 and values['initial_height'] == 0.8

@@ -448,11 +448,15 @@ def test_bad_parameters_are_rejected_with_reasons_and_the_node_goes_on(sim, clie
          "plate_material = 'unobtainium' is unknown: allowed one of"),
         (dict(contact_law='bouncy'), "contact_law = 'bouncy' is unknown: allowed one of"),
         (dict(contact_law='linear'), 'Hertz stiffness needs n = 1.5'),
-        (dict(initial_velocity=float('nan')), 'initial_velocity = nan is not finite'),
+        # rclpy's own range check (-1e5..1e5, the engine's) refuses NaN before the node does
+        (dict(initial_velocity=float('nan')), 'initial_velocity out of range Min: -100000.0'),
         (dict(damping_factor=float('inf')), 'damping_factor = inf is not finite'),
         (dict(sphere_radius=0.0), 'sphere_radius = 0.0 is out of range: allowed 0 < sphere_radius'),
         (dict(gravity=-9.81), 'gravity'),
         (dict(stiffness=5e4), 'allowed stiffness >= 9.2'),  # the sphere would sink below R
+        (dict(damping=1e30), 'damping = 1e+30 is too large for this drop'),   # a creep for ever
+        (dict(drag_coefficient=-0.5), 'drag_coefficient'),
+        (dict(sphere_mass=1e-300), 'or sphere_mass = 0 for the mass from sphere density'),
         (dict(publish_rate=50.0), 'read-only'),
         (dict(frame_id='world'), 'read-only'),
         (dict(gravity=10), 'type'),
@@ -464,7 +468,7 @@ def test_bad_parameters_are_rejected_with_reasons_and_the_node_goes_on(sim, clie
         assert next(iter(values)) in result.reason or 'type' in reason, result.reason
     # a contact change acts on the running drop at once: it must suit that drop too
     (result,) = client.set_parameters(NODE, atomically=True, stiffness=5e4, initial_height=0.01)
-    assert not result.successful and 'too small for the running drop' in result.reason
+    assert not result.successful and 'the running drop (until ~/reset) refuses it: stiffness = 5e+04' in result.reason
     # an atomic change with one bad value changes nothing at all
     (result,) = client.set_parameters(NODE, atomically=True, sphere_material='custom',
                                       sphere_youngs_modulus=-5.0)
@@ -804,20 +808,28 @@ def test_a_contact_too_soft_for_the_drop_is_rejected_at_the_exact_bound():
     assert first_depth(5e4, highest * 0.99) < radius < first_depth(5e4, highest * 1.01)
     # the Hertz stiffness of soft custom materials is checked the same way
     soft = {**cs_params.DEFAULTS, 'sphere_material': 'custom', 'sphere_youngs_modulus': 1e3}
-    with pytest.raises(ValueError, match='Hertz stiffness .* is too small for this drop'):
+    with pytest.raises(ValueError, match=r'^stiffness = 165.1 N/m\^1.5 is too small for this '
+                                         r'drop: .*\(stiffness = 0: k is the Hertz stiffness'):
         cs_params.build_model(soft)
     # no drop (no gravity, no speed), no bound
     cs_params.build_model({**values, 'stiffness': 1e-300, 'gravity': 0.0, 'initial_velocity': 0.0})
 
 
 def test_the_depth_check_skips_a_sphere_that_never_lands_and_guards_the_running_drop():
-    soft = cs.Contact(cs.AZAD_FEATHERSTONE, 1.0, 0.0)
-    upwards = cs.DropSimulation(soft, 0.067, 1.0, velocity=-1.0, gravity=0.0)
-    cs_params.require_shallow_contact(soft, 0.0127, upwards, True, running=True)  # never lands
-    falling = cs.DropSimulation(soft, 0.067, 1.0, velocity=-1.0, gravity=9.81)
-    with pytest.raises(ValueError, match=r'stiffness = 1 N/m\^1.5 is too small for the running '
-                                         r'drop \(until ~/reset\): .* allowed stiffness >= '):
-        cs_params.require_shallow_contact(soft, 0.0127, falling, True, running=True)
+    values = {**cs_params.DEFAULTS, 'stiffness': 1.0, 'damping': 0.0}
+    soft = cs_params.Model(**{**vars(cs_params.build_model(cs_params.DEFAULTS)),
+                              'contact': cs.Contact(cs.AZAD_FEATHERSTONE, 1.0, 0.0)})
+    upwards = cs.DropSimulation(soft.contact, 0.067, 1.0, velocity=-1.0, gravity=0.0,
+                                radius=0.0127)
+    cs_params.check_running(upwards, soft, values)  # never lands: nothing to check
+    falling = cs.DropSimulation(cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 0.0), 0.067, 1.0,
+                                velocity=-1.0, gravity=9.81, radius=0.0127)
+    with pytest.raises(ValueError, match=r'^the running drop \(until ~/reset\) refuses it: '
+                                         r'stiffness = 1 N/m\^1.5 is too small for this drop: '
+                                         r'.* allowed stiffness >= '):
+        cs_params.check_running(falling, soft, values)
+    with pytest.raises(ValueError, match='stiffness = 1 N/m'):   # as set_contact would refuse
+        falling.set_contact(soft.contact)
 
 
 # ------------------------------------------------------------------------------------------

@@ -56,8 +56,8 @@ from rclpy.serialization import serialize_message
 from std_srvs.srv import Trigger
 
 from .messages import PROGRESS, TOPICS, contact_samples, impact_msg, impact_ok, to_ns
-from .params import DEFAULTS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, build_model, descriptor, \
-    make_simulation, require_shallow_contact
+from .params import DEFAULTS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, build_model, \
+    check_running, descriptor, make_simulation
 from .query import answer_queries
 
 TURN_STEP_BUDGET = 20    # integrator steps per engine call (~10 ms); then the wall budget is checked
@@ -138,8 +138,7 @@ class ContactSimNode(Node):
             values = self._values(ours)
             model = build_model(values)
             # a new contact acts from the next contact phase of the running drop
-            require_shallow_contact(model.contact, model.radius, self._sim,
-                                    values['stiffness'] > 0.0, running=True)
+            check_running(self._sim, model, values)
         except Exception as error:  # any failure rejects the change, never the node
             names = ', '.join(p.name for p in ours)
             return SetParametersResult(successful=False, reason=f'rejected {names}: {error}')
@@ -160,9 +159,9 @@ class ContactSimNode(Node):
         if new.contact != old.contact:
             self._sim.set_contact(new.contact)
             log.info(f'contact changed, from the next contact phase: {new.summary()}')
-        if (new.mass, new.gravity, new.height, new.velocity) != \
-                (old.mass, old.gravity, old.height, old.velocity):
-            log.info(f'mass, gravity or initial conditions changed, from the next ~/reset: '
+        if (new.mass, new.gravity, new.height, new.velocity, new.drag) != \
+                (old.mass, old.gravity, old.height, old.velocity, old.drag):
+            log.info(f'mass, gravity, drag or initial conditions changed, from the next ~/reset: '
                      f'{new.summary()}')
         if new.real_time_factor != old.real_time_factor:
             self._start_loop()

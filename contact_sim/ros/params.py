@@ -3,24 +3,26 @@ values into the simulation's model (``build_model``).
 
 ``build_model(values)`` is the single entry point from parameter values (a dict name -> value) to
 the validated ``Model`` the node runs; everything model-related the node does goes through it
-(start-up, every set-parameters check, applying a change) and ``make_simulation``. The domain
-rules it applies (contact from materials, mass from density, ``require_shallow_contact``, ranges)
-are today's, kept here as they were in ``contact_sim/node.py``; switching them to the core
-library's API is a change of this module only.
+(start-up, every set-parameters check, applying a change) and ``make_simulation``. It applies no
+domain rule of its own: the contact from materials or overrides (``cs.build_contact``), the mass
+from density (``cs.build_mass``), the ranges of the drop and the depth check (``cs.check_drop``,
+run by ``cs.DropSimulation``) are the core library's, the same ones the command line uses. The
+core refuses with an ``InputError`` keyed by its own field names; ``PARAMETER_KEYS`` spells them
+as this node's parameters, so a refusal names the parameter the user set.
 
 Flat plate: ``plate_radius`` 0.0 (the default) means a flat plate (R2 = inf); ``.inf`` is accepted
 too, but 0.0 is what the node declares and dumps, because ``ros2 param dump`` writes ``.inf`` and
 ``ros2 param load`` then reads it back as a string.
 """
 import math
-import re
 from dataclasses import dataclass
 
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 
 import contact_sim as cs
-from contact_sim.validation import require_nonnegative, require_positive, require_range, \
-    require_real
+from contact_sim.drop import GRAVITY_MAX, HEIGHT_MAX, VELOCITY_MAX
+from contact_sim.flight import AIR_DENSITY
+from contact_sim.validation import InputError, require_positive, require_range
 
 NODE_NAME = 'contact_sim'
 INF = math.inf
@@ -88,13 +90,21 @@ PARAMETERS = (
          f'Damping factor lambda* [N s/m^(p+q+1/2)], N s/m^2 for azad_featherstone; used when '
          f'damping is 0; {_CONTACT_NOTE}', (0.0, INF), constraints='0 <= damping_factor < inf'),
     Spec('gravity', 9.81, f'Gravitational acceleration g, pulling the sphere down [m/s^2]; '
-         f'{_RESET_NOTE}', (0.0, INF), constraints='0 <= gravity < inf'),
+         f'{_RESET_NOTE}', (0.0, GRAVITY_MAX), constraints=f'0 <= gravity <= {GRAVITY_MAX:g}'),
     Spec('initial_height', 1.0,
          f'Initial height of the sphere\'s lowest point above the plate [m]; {_RESET_NOTE}',
-         (0.0, INF), constraints='0 <= initial_height < inf'),
+         (0.0, HEIGHT_MAX), constraints=f'0 <= initial_height <= {HEIGHT_MAX:g}'),
     Spec('initial_velocity', 0.0,
          f'Initial downward velocity [m/s] (> 0 = towards the plate); {_RESET_NOTE}',
-         constraints='finite'),
+         (-VELOCITY_MAX, VELOCITY_MAX),
+         constraints=f'-{VELOCITY_MAX:g} <= initial_velocity <= {VELOCITY_MAX:g}'),
+    Spec('air_density', AIR_DENSITY,
+         f'Air density rho_air [kg/m^3] for the drag in flight (used when drag_coefficient > 0); '
+         f'{_RESET_NOTE}', (0.0, 100.0), constraints='0 <= air_density <= 100'),
+    Spec('drag_coefficient', 0.0,
+         f'Drag coefficient C_d of the sphere [-]: quadratic air drag 1/2 rho_air C_d pi R1^2 v^2 '
+         f'in flight (closed form; neglected during contact); 0 = vacuum; {_RESET_NOTE}',
+         (0.0, 10.0), constraints='0 <= drag_coefficient <= 10'),
     Spec('publish_rate', 100.0,
          'Publish ticks per second [Hz]: wall-clock rate at a finite real_time_factor, simulated '
          'ticks per simulated second when real_time_factor is 0 or .inf',
@@ -144,6 +154,7 @@ class Model:
     sphere: cs.Material
     plate: cs.Material
     plate_radius: float   # m, inf = flat
+    drag: cs.AirDrag = None   # None = vacuum
 
     @property
     def fast(self):
@@ -153,89 +164,85 @@ class Model:
     def summary(self):
         plate = 'flat plate' if math.isinf(self.plate_radius) \
             else f'sphere R2 = {self.plate_radius * 1e3:g} mm'
+        drag = '' if self.drag is None else f', air drag C_d = {self.drag.drag_coefficient:g}'
         return (f'{self.contact.law.name}: {self.sphere.name} sphere '
                 f'R1 = {self.radius * 1e3:g} mm, '
                 f'm = {self.mass * 1e3:.4g} g on {self.plate.name} {plate}; '
                 f'k = {self.contact.stiffness:.4g} N/m^{self.contact.law.n:g}, '
                 f'lambda = {self.contact.damping:.4g}; drop from {self.height:g} m at '
-                f'{self.velocity:g} m/s, g = {self.gravity:g} m/s^2')
+                f'{self.velocity:g} m/s, g = {self.gravity:g} m/s^2{drag}')
 
 
-def _renamed(error, **names):
-    """The library's ValueError text with its field names replaced by parameter names."""
-    text = str(error)
-    for old, new in names.items():
-        text = re.sub(rf'\b{old}\b', new, text)
-    return ValueError(text)
+# The core's field keys (cs.InputError.field) as this node's parameters spell them; keys that are
+# parameter names already (stiffness, damping, damping_factor, gravity, plate_radius, ...) need
+# no entry.
+PARAMETER_KEYS = {'law': 'contact_law', 'sphere': 'sphere_material', 'plate': 'plate_material',
+                  'radius': 'sphere_radius', 'mass': 'sphere_mass', 'height': 'initial_height',
+                  'velocity': 'initial_velocity'}
+_MATERIAL_FIELDS = ('youngs_modulus', 'poisson_ratio', 'density')
+
+
+def refusal(error, values):
+    """The core's refusal in this node's words: the parameter names, and what a 0 means here."""
+    text = error.render(PARAMETER_KEYS)
+    if error.field == 'mass' and values.get('sphere_mass') != 0.0:
+        text += ', or sphere_mass = 0 for the mass from sphere density and radius'
+    if error.field == 'stiffness' and values.get('stiffness') == 0.0:
+        text += (" (stiffness = 0: k is the Hertz stiffness from the materials' moduli and "
+                 'Poisson ratios and the radii)')
+    return text
 
 
 def _material(values, body):
-    fields = ('youngs_modulus', 'poisson_ratio', 'density')
+    """The ``body`` material; its custom constants are checked even when a library one is used."""
     try:
-        custom = cs.Material(f'custom_{body}', *(values[f'{body}_{f}'] for f in fields))
-    except ValueError as error:
-        raise _renamed(error, **{f: f'{body}_{f}' for f in fields}) from None
+        custom = cs.Material(f'custom_{body}', *(values[f'{body}_{f}'] for f in _MATERIAL_FIELDS))
+    except InputError as error:
+        raise (error.rekeyed(f'{body}_{error.field}') if error.field in _MATERIAL_FIELDS
+               else error) from None
     name = values[f'{body}_material']
     if name == 'custom':
         return custom
-    try:
-        return cs.get_material(name)
-    except ValueError:
-        raise ValueError(f'{body}_material = {name!r} is unknown: allowed one of {_MATERIALS} '
-                         f'or custom (then {body}_youngs_modulus, {body}_poisson_ratio and '
-                         f'{body}_density apply)') from None
+    if name not in cs.MATERIALS:
+        key = f'{body}_material'
+        raise InputError(key, name, '{n[%s]} = {value} is unknown: allowed one of %s or custom '
+                         '(then %s_youngs_modulus, %s_poisson_ratio and %s_density apply)'
+                         % (key, _MATERIALS, body, body, body), value=repr(name))
+    return cs.MATERIALS[name]
 
 
-def _contact(values, sphere, plate, radius, plate_radius):
-    """The Contact: Hertz k and λ = λ* √R (eqs. 5, 6, 9, 10), unless overridden."""
-    try:
-        law = cs.get_law(values['contact_law'])
-    except ValueError as error:
-        raise _renamed(error, law='contact_law') from None
-    damping_factor = require_nonnegative('damping_factor', values['damping_factor'])
-    stiffness = require_nonnegative('stiffness', values['stiffness'])
-    damping = require_nonnegative('damping', values['damping'])
-    if law.n != 1.5 and stiffness == 0.0:
-        raise ValueError(f'contact_law = {law.name!r} has n = {law.n:g}: Hertz stiffness needs '
-                         'n = 1.5; set stiffness > 0 (N/m^n) to give k directly')
-    try:
-        # with a stiffness override any law goes: Hertz is then used for λ = λ* √R only
-        hertz = cs.Contact.from_materials(law if law.n == 1.5 else cs.AZAD_FEATHERSTONE, sphere,
-                                          plate, radius, plate_radius, damping_factor)
-    except ValueError as error:
-        raise _renamed(error, radius='sphere_radius') from None
-    return cs.Contact(law, stiffness or hertz.stiffness, damping or hertz.damping)
+def _drag(values, radius):
+    """The air drag of the flights (``cs.AirDrag``), or None for the vacuum (C_d = 0)."""
+    drag = cs.AirDrag(values['air_density'], values['drag_coefficient'], radius)
+    return drag if drag.active else None
 
 
 def _build_model(values):
-    """Validate parameter values (a dict name -> value) and build the Model.
-
-    Raises ValueError naming the parameter, its value and the allowed range (the core library's
-    messages, with its field names replaced by the parameter names).
-    """
-    radius = require_positive('sphere_radius', values['sphere_radius'])
+    """Validate parameter values (a dict name -> value) and build the Model (InputError keyed by
+    the core's field names on a refusal)."""
+    radius = require_positive('radius', values['sphere_radius'])
     plate_radius = flat_or_radius(values['plate_radius'])
     sphere = _material(values, 'sphere')
     plate = _material(values, 'plate')
-    contact = _contact(values, sphere, plate, radius, plate_radius)
-    mass = require_nonnegative('sphere_mass', values['sphere_mass'])
-    if mass == 0.0:
-        mass = cs.sphere_mass(sphere.density, radius)
+    damping = values['damping']
+    contact = cs.build_contact(
+        values['contact_law'], stiffness=values['stiffness'] or None,      # 0 = Hertz
+        damping=damping or None, damping_factor=None if damping else values['damping_factor'],
+        sphere=sphere, plate=plate, radius=radius, plate_radius=plate_radius)
     frame_id = values['frame_id']
     if not isinstance(frame_id, str) or not frame_id.strip():
-        raise ValueError(f'frame_id = {frame_id!r} is invalid: allowed a non-empty string')
+        raise InputError('frame_id', frame_id, '{n[frame_id]} = {value} is invalid: allowed a '
+                         'non-empty string', value=repr(frame_id))
     model = Model(
-        contact=contact, mass=mass, radius=radius,
-        gravity=require_nonnegative('gravity', values['gravity']),
-        height=require_nonnegative('initial_height', values['initial_height']),
-        velocity=require_real('initial_velocity', values['initial_velocity']),
+        contact=contact, mass=cs.build_mass(values['sphere_mass'] or None, sphere, radius),
+        radius=radius, gravity=values['gravity'], height=values['initial_height'],
+        velocity=values['initial_velocity'],
         real_time_factor=require_range('real_time_factor', values['real_time_factor'], 0.0,
                                        allow_inf=True),
         publish_rate=require_range('publish_rate', values['publish_rate'], 0.1, 10000.0),
         frame_id=frame_id, publish_clock=bool(values['publish_clock']),
-        sphere=sphere, plate=plate, plate_radius=plate_radius)
-    make_simulation(model)  # the engine's own checks, e.g. on mass, height and gravity
-    require_shallow_contact(contact, radius, model, stiffness_given=values['stiffness'] > 0.0)
+        sphere=sphere, plate=plate, plate_radius=plate_radius, drag=_drag(values, radius))
+    make_simulation(model)  # the engine's checks: ranges of the drop, and the depth check
     return model
 
 
@@ -246,45 +253,13 @@ def flat_or_radius(value):
     return require_positive('plate_radius', value, allow_inf=True)
 
 
-def require_shallow_contact(contact, radius, drop, stiffness_given, running=False):
-    """Reject a contact so soft that a drop would sink the sphere deeper than its radius.
-
-    ``drop`` has the drop's ``mass`` (kg), ``gravity`` (m/s²), ``height`` (m) and downward
-    ``velocity`` (m/s): a Model, or the running DropSimulation (``running=True``). Hertz contact
-    (and every law here) assumes z << R. Undamped, the first impact at speed
-    v1 = sqrt(v0² + 2 g h) stops at the depth z where k z^(n+1)/(n+1) = m v1²/2 + m g z, so
-    z <= R holds when k >= (n+1)(m v1²/2 + m g R) / R^(n+1). Damping only makes z smaller, so
-    this bound is sufficient (and independent of λ). Without gravity a sphere thrown upwards or
-    at rest never lands: nothing to check.
-    """
-    mass, gravity, height, velocity = drop.mass, drop.gravity, drop.height, drop.velocity
-    if gravity == 0.0 and velocity <= 0.0:
-        return
-    n = contact.law.n
-    speed_sq = velocity ** 2 + 2.0 * gravity * height
-    minimum = (n + 1.0) * (0.5 * mass * speed_sq + mass * gravity * radius) / radius ** (n + 1.0)
-    k = contact.stiffness
-    if k >= minimum:
-        return
-    field = 'stiffness' if stiffness_given else \
-        'the Hertz stiffness (from the materials\' moduli and Poisson ratios)'
-    allowed = f'allowed stiffness >= {minimum:.4g} N/m^{n:g}'
-    # or, with this k, the highest drop: m v1²/2 <= k R^(n+1)/(n+1) - m g R
-    top_speed_sq = 2.0 * (k * radius ** (n + 1.0) / (n + 1.0) - mass * gravity * radius) / mass
-    if not running and gravity > 0.0 and top_speed_sq > velocity ** 2:
-        highest = (top_speed_sq - velocity ** 2) / (2.0 * gravity)
-        allowed += f' or initial_height <= {highest:.4g} m'
-    which = 'the running drop (until ~/reset)' if running else 'this drop'
-    raise ValueError(
-        f'{field} = {k:.4g} N/m^{n:g} is too small for {which}: a {mass:.4g} kg sphere '
-        f'hitting at {math.sqrt(speed_sq):.4g} m/s would sink more than its radius '
-        f'({radius:g} m) into the plate, where no contact law here applies; {allowed}')
-
-
 def build_model(values):
-    """``_build_model``, with arithmetic overflow from extreme values turned into a ValueError."""
+    """``_build_model``; a refusal is a ValueError naming the parameter, its value and the
+    allowed range (the core's message, see ``refusal``)."""
     try:
         return _build_model(values)
+    except InputError as error:
+        raise ValueError(refusal(error, values)) from None
     except ArithmeticError as error:
         def departure(name):   # orders of magnitude away from the default
             value, default = values[name], DEFAULTS[name]
@@ -297,9 +272,19 @@ def build_model(values):
                          f'physically sensible magnitudes') from None
 
 
+def check_running(sim, model, values):
+    """Check ``model``'s contact against the running drop ``sim`` (its initial conditions bound
+    the energy until the next ~/reset), as ``sim.set_contact`` will; ValueError as build_model."""
+    try:
+        sim.check(model.contact)
+    except InputError as error:
+        raise ValueError('the running drop (until ~/reset) refuses it: '
+                         f'{refusal(error, values)}') from None
+
+
 def make_simulation(model):
-    """A fresh drop at t = 0 from the model's initial conditions."""
+    """A fresh drop at t = 0 from the model's initial conditions (the engine checks them)."""
     return cs.DropSimulation(model.contact, model.mass, model.height, velocity=model.velocity,
-                             gravity=model.gravity)
+                             gravity=model.gravity, radius=model.radius, drag=model.drag)
 
 
