@@ -1,6 +1,6 @@
 """`contact-sim`: a thin command line over the core library (no ROS).
 
-Subcommands: materials, restitution, drop, fit.  Run `contact-sim <subcommand> --help`.
+Subcommands: materials, restitution, drop, fit, bounces.  Run `contact-sim <subcommand> --help`.
 """
 import argparse
 import csv
@@ -20,7 +20,7 @@ from .hertz import equivalent_radius, sphere_mass
 from .laws import AZAD_FEATHERSTONE, LAWS, get_law
 from .materials import MATERIALS
 from .restitution import restitution
-from .validation import require_nonnegative, require_range
+from .validation import require_nonnegative, require_range, require_real
 
 LAW_NAMES = list(LAWS)  # azad_featherstone, hunt_crossley, lee_wang, linear
 
@@ -74,14 +74,50 @@ class Setup:
     skipped: dict = field(default_factory=dict)    # law name -> reason
 
 
+def material(args, body):
+    """The ``body`` ('sphere' or 'plate') material: the library one named by --sphere/--plate,
+    with any of --BODY-modulus, --BODY-poisson, --BODY-density replacing its values; without a
+    library name, a custom material from those three (``None`` if nothing is given)."""
+    from .materials import Material
+    name = getattr(args, body)
+    custom = {name_: getattr(args, f'{body}_{option}', None) for name_, option in
+              (('youngs_modulus', 'modulus'), ('poisson_ratio', 'poisson'),
+               ('density', 'density'))}
+    given = {k: v for k, v in custom.items() if v is not None}
+    if not given:
+        return None if name is None else MATERIALS[name]
+    if name is None:
+        missing = [f'--{body}-{o}' for k, o in (('youngs_modulus', 'modulus'),
+                                                ('poisson_ratio', 'poisson')) if k not in given]
+        if missing:
+            raise ValueError(f'{body}_material is incomplete: give {" and ".join(missing)} '
+                             f'(or --{body} MATERIAL to start from)')
+        given.setdefault('density', 1.0 if body == 'plate' else math.nan)
+    base = MATERIALS[name] if name is not None else None
+    values = {k: given.get(k, getattr(base, k, None)) for k in custom}
+    if math.isnan(values['density']):
+        values['density'] = None
+    try:
+        return Material(f'{name or "custom"} (modified)' if name else 'custom',
+                        values['youngs_modulus'], values['poisson_ratio'],
+                        values['density'] if values['density'] is not None else 1.0)
+    except ValueError as error:
+        text = str(error)
+        for name_, option in (('youngs_modulus', 'modulus'), ('poisson_ratio', 'poisson'),
+                              ('density', 'density')):
+            text = text.replace(name_, f'{body}_{option}')
+        raise ValueError(text) from None
+
+
 def _mass(args):
     if args.mass is not None:
         return args.mass, 'given'
-    if args.sphere is None or args.radius is None:
-        raise ValueError('mass is missing: give --mass M (kg), or --sphere and --radius for '
-                         "the sphere's mass from its density")
-    return (sphere_mass(MATERIALS[args.sphere].density, args.radius),
-            f'from the {args.sphere} density')
+    sphere = material(args, 'sphere')
+    if sphere is None or args.radius is None or (
+            args.sphere is None and getattr(args, 'sphere_density', None) is None):
+        raise ValueError('mass is missing: give --mass M (kg), or --sphere (or '
+                         "--sphere-density) and --radius for the sphere's mass from its density")
+    return (sphere_mass(sphere.density, args.radius), f'from the {sphere.name} density')
 
 
 def _equivalent_radius(args):
@@ -107,13 +143,14 @@ def _damping(args, radius):
 
 def _hertz_stiffness(law, args):
     """k from the materials, or ``None`` when the law cannot use a Hertz stiffness."""
-    if args.sphere is None or args.plate is None or args.radius is None:
+    sphere, plate = material(args, 'sphere'), material(args, 'plate')
+    if sphere is None or plate is None or args.radius is None:
         raise ValueError('stiffness is missing: give --stiffness K (N/m^n), or --sphere, '
-                         '--plate and --radius for the Hertz stiffness')
+                         '--plate (or their --*-modulus and --*-poisson) and --radius for the '
+                         'Hertz stiffness')
     if law.n != 1.5:   # Hertz theory gives k for F = k z^1.5 only
         return None
-    return Contact.from_materials(law, args.sphere, args.plate, args.radius,
-                                  args.plate_radius).stiffness
+    return Contact.from_materials(law, sphere, plate, args.radius, args.plate_radius).stiffness
 
 
 def build_setup(args, laws, with_damping=True):
@@ -155,10 +192,11 @@ def damping_unit(law, extra=0.0):
 def describe_contact(setup, args):
     """One line saying which bodies and mass the numbers are for."""
     parts = []
-    if args.sphere is not None and args.radius is not None:
+    sphere, plate_material = material(args, 'sphere'), material(args, 'plate')
+    if sphere is not None and args.radius is not None:
         plate = 'flat' if math.isinf(args.plate_radius) else f'R2 = {args.plate_radius:g} m'
-        parts.append(f'{args.sphere} sphere R1 = {args.radius:g} m on {args.plate or "?"} '
-                     f'({plate})')
+        parts.append(f'{sphere.name} sphere R1 = {args.radius:g} m on '
+                     f'{plate_material.name if plate_material else "?"} ({plate})')
     if setup.radius is not None:
         parts.append(f'R = {setup.radius:.4g} m')
     parts.append(f'm = {setup.mass:.4g} kg')
@@ -244,9 +282,12 @@ def _drop(args):
     contact = next(iter(setup.contacts.values()))
     rate = args.sample_rate if args.plot else None
     require_nonnegative('height', args.height)   # released above the plate, as in the node
+    require_real('initial_velocity', args.initial_velocity)
     result = simulate_drop(contact, setup.mass, args.height, gravity=args.gravity,
-                           duration=args.duration, sample_rate=rate)
-    print(f'# drop from {args.height:g} m, gravity {args.gravity:g} m/s^2, '
+                           duration=args.duration, sample_rate=rate,
+                           velocity=args.initial_velocity)
+    thrown = f' at {args.initial_velocity:g} m/s downward' if args.initial_velocity else ''
+    print(f'# drop from {args.height:g} m{thrown}, gravity {args.gravity:g} m/s^2, '
           f'{args.duration:g} s simulated')
     print(f'# {describe_contact(setup, args)} ({setup.mass_source})')
     print('\n'.join(contact_lines(setup)))
@@ -297,8 +338,11 @@ def _is_number(text):
     return True
 
 
-def read_restitution_csv(path):
-    """(speeds, restitutions) from ``speed,restitution`` rows: optional header, # comments."""
+def read_restitution_csv(path, with_uncertainties=False):
+    """(speeds, restitutions) from ``speed,restitution`` rows: optional header, # comments.
+
+    A third column is the uncertainty of e (> 0; returned as a third array, NaN where empty,
+    with ``with_uncertainties``); further columns are ignored.  e >= 1 is accepted (noise)."""
     name = 'stdin' if path == '-' else path
     try:
         if path == '-':
@@ -314,48 +358,71 @@ def read_restitution_csv(path):
         content = line.split('#', 1)[0].strip()
         if content:
             rows.append((number, next(csv.reader(io.StringIO(content)))))
-    speeds, values = [], []
+    speeds, values, sigmas = [], [], []
     for index, (number, cells) in enumerate(rows):
         where = f'{name} line {number}'
         cells = [c.strip() for c in cells]
-        if len(cells) != 2:
+        if len(cells) < 2:
             raise ValueError(f'{where}: {len(cells)} columns in {",".join(cells)!r}: '
-                             'allowed exactly two, speed,restitution')
+                             'allowed speed,restitution[,uncertainty,...]')
         if index == 0 and not any(_is_number(c) for c in cells):
             continue  # a header
         try:
             speeds.append(require_range('speed', cells[0], 0.0, low_open=True))
-            values.append(require_range('restitution', cells[1], 0.0, 1.0,
-                                        low_open=True, high_open=True))
+            values.append(require_range('restitution', cells[1], 0.0, low_open=True))
+            sigmas.append(require_range('uncertainty', cells[2], 0.0, low_open=True)
+                          if len(cells) > 2 and cells[2] else math.nan)
         except ValueError as error:
             raise ValueError(f'{where}: {error}') from None
     if not speeds:
         raise ValueError(f'data = {name!r} has no speed,restitution rows: allowed at least one')
+    if with_uncertainties:
+        return np.asarray(speeds), np.asarray(values), np.asarray(sigmas)
     return np.asarray(speeds), np.asarray(values)
 
 
 def _fit(args):
-    speeds, measured = read_restitution_csv(args.data)
+    speeds, measured, sigmas = read_restitution_csv(args.data, with_uncertainties=True)
+    if np.all(np.isnan(sigmas)):
+        sigmas = None
+    elif np.any(np.isnan(sigmas)):
+        raise ValueError(f'uncertainty is missing on line(s) of {args.data}: allowed an '
+                         'uncertainty on every row or on none')
     laws = _law_list(args, LAW_NAMES)
     setup = build_setup(args, laws, with_damping=False)
     if len(laws) == 1:
         fits = [fit_damping(laws[0], setup.contacts[laws[0].name].stiffness, setup.mass,
-                            speeds, measured, args.confidence)]
+                            speeds, measured, args.confidence, args.loss, sigmas)]
     else:
         stiffness = {name: c.stiffness for name, c in setup.contacts.items()}
         fits = compare_laws(stiffness, setup.mass, speeds, measured, laws=list(stiffness),
-                            confidence=args.confidence)
+                            confidence=args.confidence, loss=args.loss, uncertainties=sigmas)
     source = 'stdin' if args.data == '-' else args.data
     print(f'# fit of lambda to {len(speeds)} point(s) of {source}, speeds '
           f'{speeds.min():g} to {speeds.max():g} m/s, least squares in e')
     print(f'# {describe_contact(setup, args)} ({setup.mass_source})')
     print('\n'.join(contact_lines(setup, show_damping=False)))
     print_fit_summary(fits, setup.radius, args.confidence)
+    _print_fit_flags(fits[0], speeds, measured, sigmas)
     for fit in fits:
         print_fit_points(fit, speeds, measured)
     if args.plot:
         _plot_fit(args, setup, fits, speeds, measured)
     return 0
+
+
+def _print_fit_flags(fit, speeds, measured, sigmas):
+    """e >= 1 points, the weighting and the robust loss's down-weighted points."""
+    if sigmas is not None:
+        print('# residuals weighted by 1/uncertainty (third column)')
+    for i in fit.flagged:
+        print(f'# note: point {i + 1} (speed {speeds[i]:g} m/s) has e = {measured[i]:g} >= 1: '
+              'kept as measurement noise, no lambda matches it alone')
+    if fit.loss != 'linear':
+        down = [i for i, w in enumerate(fit.weights) if w < 0.5]
+        print(f'# loss {fit.loss}: down-weighted points (weight < 0.5, {fit.law.name}): '
+              + (', '.join(f'{i + 1} (speed {speeds[i]:g}, weight {fit.weights[i]:.2f})'
+                           for i in down) or 'none'))
 
 
 def print_fit_summary(fits, radius, confidence):
@@ -407,6 +474,14 @@ def _contact_options(damping=True):
     mats.add_argument('--plate-radius', type=float, default=math.inf, metavar='R2',
                       help='plate radius in m: inf (default) is a flat plate, finite a second '
                            'sphere; 1/R = 1/R1 + 1/R2')
+    for body in ('sphere', 'plate'):   # custom materials, or changes to a library one
+        mats.add_argument(f'--{body}-modulus', type=float, metavar='E',
+                          help=f"{body} Young's modulus in Pa, 0 < E")
+        mats.add_argument(f'--{body}-poisson', type=float, metavar='NU',
+                          help=f'{body} Poisson ratio, -1 < NU < 0.5')
+        mats.add_argument(f'--{body}-density', type=float, metavar='RHO',
+                          help=f'{body} density in kg/m^3, 0 < RHO' + (
+                              ' (for the mass)' if body == 'sphere' else ' (not used)'))
     direct = parent.add_argument_group('contact given directly')
     direct.add_argument('--stiffness', type=float, metavar='K',
                         help='k in N/m^n (overrides the Hertz value), 0 < K')
@@ -474,6 +549,9 @@ def _add_drop(sub):
                    help='gravity in m/s^2, >= 0 (default 9.81)')
     p.add_argument('--duration', type=float, default=5.0,
                    help='simulated time in s, > 0 (default 5)')
+    p.add_argument('--initial-velocity', type=float, default=0.0, metavar='V',
+                   help='initial velocity in m/s, > 0 towards the plate (default 0: released '
+                        'at rest)')
     _plot_option(p, 'height and contact force vs time')
     p.add_argument('--sample-rate', type=float, default=1000.0, metavar='HZ',
                    help='trajectory sampling for --plot in Hz (default 1000); every '
@@ -488,14 +566,19 @@ def _add_fit(sub):
         description='Least-squares fit of lambda to measured restitution (cs.fit_damping for\n'
                     'one law, cs.compare_laws for several), with k fixed from the materials\n'
                     'or --stiffness, as in the paper\'s Fig. 5.',
-        notes='\n\ndata file: rows "speed,restitution" (m/s, 0 < e < 1); an optional header\n'
-              'row; text after # is a comment; - reads stdin.\n\nexample:\n'
+        notes='\n\ndata file: rows "speed,restitution" (m/s, 0 < e; e >= 1 is kept and flagged)\n'
+              'and optionally a third column, the uncertainty of e (used as weights 1/u^2);\n'
+              'further columns are ignored; an optional header row; text after # is a\n'
+              'comment; - reads stdin.\n\nexample:\n'
               '  contact-sim fit data.csv --sphere steel --plate cast_iron --radius 0.0127\n')
     p.add_argument('data', help='CSV file of speed,restitution rows, or - for stdin')
     p.add_argument('--law', action='append', choices=LAW_NAMES,
                    help='force law, repeatable (default: all four, ranked by rms residual)')
     p.add_argument('--confidence', type=float, default=0.95,
                    help='confidence level of the interval on lambda, 0 < C < 1 (default 0.95)')
+    p.add_argument('--loss', choices=['linear', 'soft_l1', 'huber', 'cauchy', 'arctan'],
+                   default='linear', help='least-squares loss (default linear; soft_l1 etc. '
+                                          'down-weight outliers)')
     _plot_option(p, 'the data and the fitted curves on a log speed axis')
     p.set_defaults(run=_fit)
 
@@ -510,6 +593,8 @@ def build_parser():
     _add_restitution(sub)
     _add_drop(sub)
     _add_fit(sub)
+    from . import cli_bounces   # calibration from recorded bounces (its own module)
+    cli_bounces.add_parser(sub)
     return parser
 
 

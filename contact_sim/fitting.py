@@ -50,6 +50,9 @@ class DampingFit:
 
     ``pointwise_damping`` is the λ that would match each point alone: a law that describes the
     data gives nearly constant values (their spread, ``pointwise_spread``, is max/min).
+    ``flagged`` lists the points with e >= 1 (measurement noise near e = 1: kept in the fit,
+    but no λ matches them alone, so their pointwise λ is 0 for e = 1 and nan above); ``loss``
+    is the least-squares loss used and ``weights`` the robust weight of each point (1 = full).
     """
 
     law: ContactLaw
@@ -60,10 +63,15 @@ class DampingFit:
     pointwise_damping: np.ndarray
     confidence_interval: tuple
     confidence_level: float
+    flagged: tuple = ()
+    loss: str = 'linear'
+    weights: np.ndarray = None
 
     @property
     def pointwise_spread(self):
-        return float(np.max(self.pointwise_damping) / np.min(self.pointwise_damping))
+        lam = self.pointwise_damping[np.isfinite(self.pointwise_damping)
+                                     & (self.pointwise_damping > 0.0)]
+        return float(np.max(lam) / np.min(lam)) if lam.size else math.nan
 
     def contact(self):
         return Contact(self.law, self.stiffness, self.damping)
@@ -78,59 +86,118 @@ def _check_data(speeds, restitutions):
     if v.size < 1:
         raise ValueError('speeds is empty: allowed at least one (speed, restitution) point')
     for name, arr, ok, rng in (('speeds', v, np.isfinite(v) & (v > 0), '0 < speed < inf'),
-                               ('restitutions', e, np.isfinite(e) & (e > 0) & (e < 1),
-                                '0 < restitution < 1')):
+                               ('restitutions', e, np.isfinite(e) & (e > 0),
+                                '0 < restitution < inf (e >= 1 is kept and flagged)')):
         if not np.all(ok):
             i = int(np.flatnonzero(~ok)[0])
             raise ValueError(f'{name}[{i}] = {float(arr[i])!r} is out of range: allowed {rng}')
     return v, e
 
 
-def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95):
+LOSSES = ('linear', 'soft_l1', 'huber', 'cauchy', 'arctan')   # scipy.optimize.least_squares
+
+
+def _robust_weights(loss, z2):
+    """IRLS weight ρ'(z²) of each point for a least_squares loss (1 = full weight)."""
+    if loss == 'soft_l1':
+        return 1.0 / np.sqrt(1.0 + z2)
+    if loss == 'huber':
+        return np.where(z2 <= 1.0, 1.0, 1.0 / np.sqrt(np.maximum(z2, 1e-300)))
+    if loss == 'cauchy':
+        return 1.0 / (1.0 + z2)
+    if loss == 'arctan':
+        return 1.0 / (1.0 + z2 * z2)
+    return np.ones_like(z2)
+
+
+def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, loss='linear',
+                uncertainties=None):
     """Fit λ to measured (speed, restitution) points by least squares in e; see ``DampingFit``.
 
     The confidence interval is linearised in ln λ: λ exp(± t σ / |J|), with J = ∂e/∂ln λ at the
     optimum and σ² the residual variance (N - 1 degrees of freedom; zero width for one point).
+    Points with e >= 1 (noise near e = 1) are kept in the fit and listed in ``flagged``.
+    ``uncertainties`` (σ_e per point, > 0) weight each residual by 1/σ_e.  ``loss`` (one of
+    ``LOSSES``, as in ``scipy.optimize.least_squares``) makes the fit robust: its scale is one
+    σ_e when uncertainties are given, else 1.4826 × the median absolute residual of the plain fit;
+    ``weights`` reports how much each point still counts.
     """
     law = get_law(law)
     stiffness = require_positive('stiffness', stiffness)
     mass = require_positive('mass', mass)
     confidence = require_range('confidence', confidence, 0.0, 1.0, low_open=True,
                                high_open=True)
+    if loss not in LOSSES:
+        raise ValueError(f'loss = {loss!r} is unknown: allowed one of {", ".join(LOSSES)}')
     v, e = _check_data(speeds, restitutions)
-    pointwise = np.array([damping_for_restitution(law, stiffness, mass, ei, vi)
-                          for vi, ei in zip(v, e)])
+    if uncertainties is None:
+        sigma = np.ones(v.size)
+    else:
+        sigma = np.asarray(uncertainties, dtype=float).ravel()
+        if sigma.size != v.size:
+            raise ValueError(f'uncertainties has {sigma.size} values for {v.size} points: '
+                             'allowed one per point')
+        bad = ~(np.isfinite(sigma) & (sigma > 0.0))
+        if np.any(bad):
+            i = int(np.flatnonzero(bad)[0])
+            raise ValueError(f'uncertainties[{i}] = {float(sigma[i])!r} is out of range: '
+                             'allowed 0 < uncertainty < inf')
+    flagged = tuple(int(i) for i in np.flatnonzero(e >= 1.0))
+    pointwise = np.array([damping_for_restitution(law, stiffness, mass, ei, vi) if ei <= 1.0
+                          else math.nan for vi, ei in zip(v, e)])
 
     def model(lam):
         return restitution(Contact(law, stiffness, lam), mass, v)
 
     def sse(log_lam):
-        return float(np.sum((model(math.exp(log_lam)) - e) ** 2))
+        return float(np.sum(((model(math.exp(log_lam)) - e) / sigma) ** 2))
 
-    lo, hi = math.log(pointwise.min()), math.log(pointwise.max())
-    if hi - lo < 1e-12:
-        lam = float(pointwise[0])
+    usable = pointwise[np.isfinite(pointwise) & (pointwise > 0.0)]
+    weights = np.ones(v.size)
+    if usable.size == 0:
+        lam = 0.0          # every point at e >= 1: the elastic contact fits best
     else:
-        best = minimize_scalar(sse, bounds=(lo, hi), method='bounded',
-                               options={'xatol': 1e-10})
-        lam = math.exp(best.x)
+        lo, hi = math.log(usable.min()), math.log(usable.max())
+        if flagged:        # points at e >= 1 pull λ below every pointwise value
+            lo -= 3.0
+        if hi - lo < 1e-12:
+            lam = float(usable[0])
+        else:
+            best = minimize_scalar(sse, bounds=(lo, hi), method='bounded',
+                                   options={'xatol': 1e-10})
+            lam = math.exp(best.x)
+        if loss != 'linear':
+            from scipy.optimize import least_squares
+            r0 = (model(lam) - e) / sigma
+            scale = 1.0 if uncertainties is not None else max(
+                1.4826 * float(np.median(np.abs(r0))), 1e-12)
+            robust = least_squares(lambda x: (model(math.exp(x[0])) - e) / sigma,
+                                   [math.log(lam)], loss=loss, f_scale=scale,
+                                   xtol=1e-12, ftol=1e-12)
+            lam = math.exp(float(robust.x[0]))
+            weights = _robust_weights(loss, (((model(lam) - e) / sigma) / scale) ** 2)
     residuals = model(lam) - e
     rms = float(np.sqrt(np.mean(residuals ** 2)))
     # linearised in ln λ, so the interval stays positive: ln λ ± t σ / |∂e/∂ln λ|
     h = 1e-6
-    jac = (model(lam * math.exp(h)) - model(lam * math.exp(-h))) / (2 * h)
+    jac = (model(lam * math.exp(h)) - model(lam * math.exp(-h))) / (2 * h) if lam > 0.0 \
+        else np.zeros(v.size)
     dof = v.size - 1
     if dof > 0 and np.any(jac != 0.0):
         from scipy.stats import t as student_t  # slow to import: only when needed
-        sigma = math.sqrt(float(np.sum(residuals ** 2)) / dof)
-        half = float(student_t.ppf(0.5 + confidence / 2, dof) * sigma / np.sqrt(np.sum(jac ** 2)))
+        w = weights / sigma ** 2
+        scale2 = float(np.sum(w * residuals ** 2)) / dof
+        half = float(student_t.ppf(0.5 + confidence / 2, dof) * math.sqrt(scale2)
+                     / np.sqrt(np.sum(w * jac ** 2)))
     else:
         half = 0.0
     return DampingFit(law, stiffness, lam, rms, residuals, pointwise,
-                      (lam * math.exp(-half), lam * math.exp(half)), confidence)
+                      (lam * math.exp(-half), lam * math.exp(half)), confidence, flagged,
+                      loss, weights)
 
 
-def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.95):
+def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.95,
+                 loss='linear', uncertainties=None):
     """Fit each law to the same data and rank them, best (lowest rms residual) first.
 
     ``stiffness`` is one value for every law or a mapping law name -> stiffness (the linear
@@ -140,5 +207,6 @@ def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.
     fits = []
     for law in chosen:
         k = stiffness[law.name] if isinstance(stiffness, dict) else stiffness
-        fits.append(fit_damping(law, k, mass, speeds, restitutions, confidence))
+        fits.append(fit_damping(law, k, mass, speeds, restitutions, confidence, loss,
+                                uncertainties))
     return sorted(fits, key=lambda fit: fit.rms_residual)

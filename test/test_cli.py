@@ -229,7 +229,7 @@ def test_bad_input_exits_2_with_one_line_naming_the_field(capsys, argv, field):
 
 @pytest.mark.parametrize('rows, message', [
     ('speed,restitution\n1,0.5\n2,abc\n', 'line 3: restitution = '),
-    ('1,0.5\n2,1.5\n', 'line 2: restitution = 1.5 is out of range: allowed 0 < restitution < 1'),
+    ('1,0.5\n2,0\n', 'line 2: restitution = 0.0 is out of range: allowed 0 < restitution'),
     ('1,0.5\n2\n', 'line 2: 1 columns'),
     ('1,0.5\nspeed,restitution\n', "line 2: speed = 'speed'"),
     ('# nothing\n', 'no speed,restitution rows'),

@@ -1,4 +1,6 @@
 """Damping from restitution: the exact inverse, least-squares fits, law comparison."""
+import math
+
 import numpy as np
 import pytest
 
@@ -67,7 +69,7 @@ def test_compare_laws_ranks_the_generating_law_first():
 @pytest.mark.parametrize('speeds, restitutions, pattern', [
     ([1.0, 2.0], [0.5], r'speeds and restitutions have 2 and 1 values'),
     ([1.0, -2.0], [0.5, 0.4], r'speeds\[1\] = -2\.0 is out of range: allowed 0 < speed < inf'),
-    ([1.0, 2.0], [0.5, 1.2], r'restitutions\[1\] = 1\.2 is out of range: allowed 0 < restitution < 1'),
+    ([1.0, 2.0], [0.5, 0.0], r'restitutions\[1\] = 0\.0 is out of range: allowed 0 < restitution'),
     ([1.0, float('nan')], [0.5, 0.4], r'speeds\[1\] = nan is out of range'),
     ([], [], r'speeds is empty'),
 ])
@@ -90,3 +92,64 @@ def test_confidence_interval_stays_positive_for_scattered_data():
     data = np.array([0.9, 0.3, 0.85, 0.2, 0.8, 0.25])
     lo, hi = cs.fit_damping('azad_featherstone', K, M, speeds, data).confidence_interval
     assert 0 < lo < hi
+
+
+def test_points_at_or_above_one_are_kept_and_flagged():
+    """Noise near e = 1 (issue 8): accepted, flagged, and the fit and spread stay sensible."""
+    k, m = 1e10, 0.066
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, k, 2e4)
+    v = np.array([0.1, 0.3, 1.0, 3.0])
+    e = cs.restitution(contact, m, v)
+    noisy = e.copy()
+    noisy[0] = 1.003
+    fit = cs.fit_damping(cs.AZAD_FEATHERSTONE, k, m, v, noisy)
+    assert fit.flagged == (0,)
+    assert math.isnan(fit.pointwise_damping[0])
+    assert fit.damping == pytest.approx(2e4, rel=0.2)
+    assert math.isfinite(fit.pointwise_spread) and fit.pointwise_spread < 1.01
+    elastic = cs.fit_damping(cs.AZAD_FEATHERSTONE, k, m, [1.0, 2.0], [1.0, 1.01])
+    assert elastic.damping == 0.0 and elastic.flagged == (0, 1)
+
+
+def test_robust_loss_and_uncertainties():
+    k, m = 1e10, 0.066
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, k, 2e4)
+    v = np.geomspace(0.1, 5.0, 12)
+    e = cs.restitution(contact, m, v) + np.random.default_rng(1).normal(0.0, 1e-3, v.size)
+    outlier = e.copy()
+    outlier[5] -= 0.08
+    plain = cs.fit_damping(cs.AZAD_FEATHERSTONE, k, m, v, outlier)
+    robust = cs.fit_damping(cs.AZAD_FEATHERSTONE, k, m, v, outlier, loss='soft_l1')
+    assert abs(robust.damping / 2e4 - 1) < 0.3 * abs(plain.damping / 2e4 - 1)
+    assert robust.weights[5] < 0.2 and np.all(np.delete(robust.weights, 5) > 0.5)
+    # a point with a large stated uncertainty hardly counts
+    sigma = np.full(v.size, 1e-3)
+    sigma[5] = 1.0
+    weighted = cs.fit_damping(cs.AZAD_FEATHERSTONE, k, m, v, outlier, uncertainties=sigma)
+    assert weighted.damping == pytest.approx(robust.damping, rel=0.05)
+    with pytest.raises(ValueError, match=r'uncertainties\[0\] = 0.0 is out of range'):
+        cs.fit_damping(cs.AZAD_FEATHERSTONE, k, m, v, e, uncertainties=np.zeros(v.size))
+    with pytest.raises(ValueError, match='loss = .l3. is unknown'):
+        cs.fit_damping(cs.AZAD_FEATHERSTONE, k, m, v, e, loss='l3')
+
+
+def test_fit_cli_accepts_noise_above_one_uncertainties_and_loss(tmp_path, capsys):
+    from contact_sim import cli
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 2e4)
+    v = np.array([0.05, 0.3, 1.0, 2.0, 3.0])
+    e = cs.restitution(contact, 0.066, v)
+    rows = ['speed,restitution,uncertainty,trial']
+    for i, (vi, ei) in enumerate(zip(v, e)):
+        ei = 1.001 if i == 0 else (ei - 0.05 if i == 3 else ei)
+        rows.append(f'{vi},{ei},{0.5 if i == 3 else 0.001},{i}')
+    path = tmp_path / 'points.csv'
+    path.write_text('\n'.join(rows) + '\n')
+    code = cli.main(['fit', str(path), '--stiffness', '1e10', '--mass', '0.066', '--law',
+                     'azad_featherstone', '--loss', 'soft_l1'])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert 'point 1 (speed 0.05 m/s) has e = 1.001 >= 1' in out
+    assert 'weighted by 1/uncertainty' in out and 'loss soft_l1' in out
+    lam = float(next(ln for ln in out.splitlines() if ln.startswith('azad_featherstone: '))
+                .split()[3])
+    assert lam == pytest.approx(2e4, rel=0.1)
