@@ -552,12 +552,12 @@ class DropSimulation:
         return True
 
     def _carry(self, mode):
-        """Switch to the carried state if the plate's acceleration is above -g/2 and the contact's
+        """Switch to the carried state if the plate's acceleration is above -g/4 and the contact's
         oscillation about the quasi-static depth has decayed below ``settle_tolerance``."""
         phase = mode.integrator
         t = phase.time
         p_acc = self.plate.state(t)[2]
-        if p_acc <= -0.5 * self.gravity:
+        if p_acc <= -0.25 * self.gravity:    # hysteresis: carried from -g/4, released at -g/2
             return False
         until = min(self.plate.next_acceleration_below(t, -0.5 * self.gravity),
                     self.plate.forcing_piece(t)[1])
