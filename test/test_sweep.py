@@ -50,3 +50,17 @@ def test_sweep_on_a_local_dask_cluster():
         remote = sweep(TABLE, [1.2], executor=executor)
         np.testing.assert_array_equal(local[0], remote[0])
         assert sweep(_square, [2, 5], executor=executor) == [4, 25]
+
+
+def test_bifurcation_example_runs_as_a_script(tmp_path):
+    import subprocess
+    import sys
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[1]
+    out = subprocess.run([sys.executable, str(root / 'examples' / 'bifurcation.py'),
+                          '--points', '3', '--bounces', '10', '--transient', '10',
+                          '--workers', '1', '--gamma', '0.8', '1.5',
+                          '--out', str(tmp_path / 'b.png')],
+                         capture_output=True, text=True, check=True)
+    assert 'azad_featherstone' in out.stdout and 'linear' in out.stdout
+    assert (tmp_path / 'b.png').read_bytes()[:4] == b'\x89PNG'
