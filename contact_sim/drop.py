@@ -360,8 +360,15 @@ class DropSimulation:
                 z, zdot = mode.state(mode.until)
                 self._begin_contact(mode.until, z, zdot)
             elif isinstance(mode, _Contact) and self.plate is not None:
-                if not self._plate_contact(mode, t_end, points):
+                if budget <= 0 and not mode.integrator.lifted_off \
+                        and mode.integrator.time < min(t_end, mode.valid_until):
+                    t_end = mode.integrator.time    # out of budget: stop where the integrator is
+                    points.extend(self._take_points(mode.integrator, t_end))
                     break
+                taken = self._plate_contact(mode, t_end, points)
+                if taken is None:
+                    break
+                budget -= taken
             elif isinstance(mode, _Contact):
                 phase = mode.integrator
                 points.extend(self._take_points(phase, t_end))
@@ -525,14 +532,15 @@ class DropSimulation:
         self._emitted = 0
 
     def _plate_contact(self, mode, t_end, points):
-        """One move of a contact on the moving plate; False when ``advance`` must stop."""
+        """One move of a contact on the moving plate: the integrator steps taken, or ``None`` when
+        ``advance`` must stop."""
         phase, knot = mode.integrator, mode.valid_until
         points.extend(self._take_points(phase, min(t_end, knot)))
         if phase.lifted_off and phase.end[0] <= knot:
             if phase.end[0] > t_end:
-                return False
+                return None
             self._finish_contact(mode)
-            return True
+            return 0
         if (phase.lifted_off or phase.time >= knot) and knot <= t_end:
             # the forcing changes at the knot: restart there from the dense output (the last step
             # integrated the forcing continued smoothly past the knot: exact up to it)
@@ -543,13 +551,12 @@ class DropSimulation:
                       max([mode.peak] + [pt[3] for pt in kept]),
                       max([mode.depth] + [pt[1] for pt in kept]))
             self._begin_plate_contact(knot, z, zdot, record)
-            return True
+            return 0
         if phase.time >= t_end:
-            return False
+            return None
         if self._carry(mode):
-            return True
-        phase.run(min(t_end, knot), self.PLATE_CHUNK)
-        return True
+            return 0
+        return phase.run(min(t_end, knot), self.PLATE_CHUNK)
 
     def _carry(self, mode):
         """Switch to the carried state if the plate's acceleration is above -g/4 and the contact's

@@ -234,3 +234,19 @@ def test_vibrating_table_below_one_g_carries_a_lossy_sphere():
     z, zdot = sim.state.penetration, sim.state.penetration_rate
     acc = plate.state(3.0)[2]
     assert z == pytest.approx(MASS * (G + acc) / lossy.stiffness, rel=1e-9)
+
+
+def test_chunked_advance_and_step_budget_on_a_vibrating_table():
+    plate = SinusoidalPlate(0.002, 20.0, 0.5)        # Γ ≈ 3.2: bouncing, never carried
+    one = DropSimulation(STEEL, MASS, 0.02, plate=plate)
+    one.advance(0.5)
+    chunked = DropSimulation(STEEL, MASS, 0.02, plate=plate)
+    for t in np.linspace(0.0013, 0.5, 97):
+        chunked.advance(float(t))
+    assert chunked.impacts == one.impacts and len(one.impacts) > 5
+    limited = DropSimulation(STEEL, MASS, 0.02, plate=plate)
+    while limited.time < 0.5:
+        before = limited.total_steps
+        limited.advance(0.5, max_steps=5)
+        assert limited.total_steps - before <= 5 + DropSimulation.PLATE_CHUNK
+    assert limited.impacts == one.impacts
