@@ -620,6 +620,10 @@ class DropSimulation:
             p, pv, _ = self.plate.state(t)
             return y - p, v - pv, abs(y) + abs(p)
 
+        def curvature(t, h):      # a lower bound of G'' = y'' - p̈ on [t, t + h]
+            return -(g + kappa * v_up * v_up + beta * v_up) - self.plate.acceleration_range(
+                t, t + h)[1]
+
         t = t0
         if z0 > 0.0:
             law, contact = self.contact.law, self.contact
@@ -629,8 +633,13 @@ class DropSimulation:
                 G, dG, scale = gap(t)
                 return -G, -dG, scale
 
+            def curvature_inside(t, h):   # a lower bound of -G'' = p̈ - y'' (y'' <= -g in vacuum,
+                return self.plate.acceleration_range(t, t + h)[0] + (  # <= 0 with drag)
+                    g if self.drag is None else 0.0)
+
             for _ in range(10000):
-                out = plate_motion.first_gap_root(inside, t, bound, t + stretch)
+                out = plate_motion.first_gap_root(inside, t, bound, t + stretch,
+                                                  local_curvature=curvature_inside)
                 t_stop = out[0] if out is not None else t + stretch
 
                 def phi(dt, start=t):
@@ -643,10 +652,11 @@ class DropSimulation:
                 t = t_stop
                 if out is not None:
                     break
+                stretch *= 2.0
             else:
                 raise RuntimeError(f'no exit from the plate surface found after t = {t0!r}')
         while True:
-            found = plate_motion.first_gap_root(gap, t, bound)
+            found = plate_motion.first_gap_root(gap, t, bound, local_curvature=curvature)
             t_root, G, dG = found
             if dG < 0.0:
                 return t_root

@@ -14,6 +14,7 @@ A plate motion is any object with the methods of ``PlateMotion``:
 
 * ``state(t)`` -> (p, ṗ, p̈);
 * ``acceleration_bound()`` -> an upper bound of |p̈| over all t (the flights' root bracket);
+* ``acceleration_range(t0, t1)`` -> (min, max) of p̈ over [t0, t1] (the local bracket);
 * ``forcing_piece(t)`` -> (Forcing, t_until): p̈ on [t, t_until) as a ``phase.Forcing``;
 * ``next_acceleration_below(t, level)`` -> the first time >= t at which p̈ <= level (inf: never).
 
@@ -53,6 +54,11 @@ class PlateMotion:
 
     def next_acceleration_below(self, t, level):
         raise NotImplementedError
+
+    def acceleration_range(self, t0, t1):
+        """(min, max) of p̈ over [t0, t1]; by default ± ``acceleration_bound()``."""
+        bound = self.acceleration_bound()
+        return -bound, bound
 
     def jerk(self, t):
         return 0.0
@@ -106,6 +112,19 @@ class SinusoidalPlate(PlateMotion):
 
     def acceleration_bound(self):
         return self.amplitude * self.angular_frequency ** 2
+
+    def acceleration_range(self, t0, t1):
+        """(min, max) of p̈ over [t0, t1] (exact: the extremes of sin on the phase interval)."""
+        w, aw2 = self.angular_frequency, self.amplitude * self.angular_frequency ** 2
+        a0, a1 = self.state(t0)[2], self.state(t1)[2]
+        lo, hi = min(a0, a1), max(a0, a1)
+        th0, th1 = w * t0 + self.phase, w * t1 + self.phase
+        two_pi = 2.0 * math.pi
+        if math.floor((th1 - 1.5 * math.pi) / two_pi) > math.floor((th0 - 1.5 * math.pi) / two_pi):
+            hi = aw2                            # sin = -1 inside
+        if math.floor((th1 - 0.5 * math.pi) / two_pi) > math.floor((th0 - 0.5 * math.pi) / two_pi):
+            lo = -aw2                           # sin = +1 inside
+        return lo, hi
 
     def forcing_piece(self, t):
         w = self.angular_frequency
@@ -199,6 +218,14 @@ class CommandedPlate(PlateMotion):
     def acceleration_bound(self):
         return max(abs(a) for a in self._pieces[3])
 
+    def acceleration_range(self, t0, t1):
+        """(min, max) of p̈ over [t0, t1]: over the pieces it overlaps."""
+        starts, acc = self._pieces[0], self._pieces[3]
+        values = [0.0] if t0 < starts[0] else []
+        if t1 >= starts[0]:
+            values += acc[self._piece(max(t0, starts[0])):self._piece(t1) + 1]
+        return min(values), max(values)
+
     def forcing_piece(self, t):
         starts, acc = self._pieces[0], self._pieces[3]
         if t < starts[0]:
@@ -239,24 +266,46 @@ def plate_or_none(plate):
 EPS = np.finfo(float).eps
 
 
-def first_gap_root(gap, t0, curvature_bound, t_max=math.inf, max_steps=100000):
+def _quadratic_positive(g, dg, curvature, h):
+    """True if g + dg s + ½ curvature s² > 0 for every s in [0, h]."""
+    if g + dg * h + 0.5 * curvature * h * h <= 0.0:
+        return False
+    if curvature > 0.0 and dg < 0.0 and -dg / curvature < h:
+        return g - 0.5 * dg * dg / curvature > 0.0      # the vertex inside
+    return True
+
+
+def first_gap_root(gap, t0, curvature_bound, t_max=math.inf, max_steps=100000,
+                   local_curvature=None):
     """First t in [t0, t_max] where the gap G(t) reaches <= ~0, with no root skipped.
 
     ``gap(t)`` returns (G, G', scale): the gap (m), its rate (m/s) and a length scale of the
     operands (for the rounding tolerance).  With |G''| <= M = ``curvature_bound`` on the whole
     interval, G(t + s) >= G + G' s - ½ M s² > 0 for 0 <= s < h = (G' + √(G'² + 2 M G)) / M:
     each step to t + h is safe (no root inside), and converges quadratically to a transversal
-    root, geometrically to a tangent one.  Returns (t, G, G') at the first point where
-    G <= tolerance (16 eps × scale), or ``None`` past ``t_max``.
+    root, geometrically to a tangent one.  ``local_curvature(t, h)``, a lower bound of G'' on
+    [t, t + h], allows longer safe steps (tried by doubling the last one; the global step is the
+    fallback): where G'' >= 0 nearby, e.g. just after a release where G grows like s³.
+    Returns (t, G, G') at the first point where G <= tolerance (16 eps × scale), or ``None`` past
+    ``t_max``.
     """
     t = t0
     M = max(curvature_bound, 1e-300)
+    trial = 0.0
     for _ in range(max_steps):
         G, dG, scale = gap(t)
         if G <= 16.0 * EPS * max(scale, 1e-9):
             return t, G, dG
         disc = math.sqrt(dG * dG + 2.0 * M * G)
         h = (dG + disc) / M if dG >= 0.0 else 2.0 * G / (disc - dG)
+        if local_curvature is not None:
+            trial = max(2.0 * trial, 2.0 * h)
+            while trial > h:
+                if _quadratic_positive(G, dG, local_curvature(t, trial), trial):
+                    h = trial
+                    break
+                trial *= 0.5
+            trial = h
         t_next = t + h
         if t_next == t:
             return t, G, dG
