@@ -284,8 +284,9 @@ def first_gap_root(gap, t0, curvature_bound, t_max=math.inf, max_steps=100000,
     interval, G(t + s) >= G + G' s - ½ M s² > 0 for 0 <= s < h = (G' + √(G'² + 2 M G)) / M:
     each step to t + h is safe (no root inside), and converges quadratically to a transversal
     root, geometrically to a tangent one.  ``local_curvature(t, h)``, a lower bound of G'' on
-    [t, t + h], allows longer safe steps (tried by doubling the last one; the global step is the
-    fallback): where G'' >= 0 nearby, e.g. just after a release where G grows like s³.
+    [t, t + h], allows longer safe steps (twice the last one, tried once while the steps are not
+    shrinking; the global step is the fallback): where G'' >= 0 nearby, e.g. just after a release,
+    where G grows like s³.
     Returns (t, G, G') at the first point where G <= tolerance (16 eps × scale), or ``None`` past
     ``t_max``.
     """
@@ -298,14 +299,12 @@ def first_gap_root(gap, t0, curvature_bound, t_max=math.inf, max_steps=100000,
             return t, G, dG
         disc = math.sqrt(dG * dG + 2.0 * M * G)
         h = (dG + disc) / M if dG >= 0.0 else 2.0 * G / (disc - dG)
-        if local_curvature is not None:
-            trial = max(2.0 * trial, 2.0 * h)
-            while trial > h:
-                if _quadratic_positive(G, dG, local_curvature(t, trial), trial):
-                    h = trial
-                    break
-                trial *= 0.5
-            trial = h
+        if local_curvature is not None and h >= 0.5 * trial:
+            # the steps are not shrinking (no root ahead yet): try twice the last one, once
+            trial = 2.0 * max(trial, h)
+            if _quadratic_positive(G, dG, local_curvature(t, trial), trial):
+                h = trial
+        trial = h
         t_next = t + h
         if t_next == t:
             return t, G, dG
