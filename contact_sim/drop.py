@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from . import plate as plate_motion
 from .contact import require_contact
 from .flight import FlightPath
 from .phase import PhaseIntegrator, contact_phase, lift_off_energy, phase_scales
@@ -123,12 +124,22 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None):
 
 @dataclass(frozen=True)
 class DropState:
-    """The sphere at one instant: time (s), penetration z (m), rate ż (m/s), force F (N)."""
+    """The sphere at one instant: time (s), penetration z (m), rate ż (m/s), force F (N).
+
+    With a moving plate z = p - y is relative to the plate's surface at height p (m, moving at
+    ṗ m/s): ``plate_position``, ``plate_velocity``; F acts up on the sphere, -F on the plate."""
 
     time: float
     penetration: float
     penetration_rate: float
     force: float
+    plate_position: float = 0.0
+    plate_velocity: float = 0.0
+
+    @property
+    def plate_force(self):
+        """The contact's reaction on the plate (N, up positive): -F."""
+        return -self.force
 
     @property
     def in_contact(self):
@@ -137,7 +148,11 @@ class DropState:
 
 @dataclass(frozen=True)
 class Samples:
-    """Sampled trajectory: equal-length arrays of t (s), z (m), ż (m/s) and F (N)."""
+    """Sampled trajectory: equal-length arrays of t (s), z (m), ż (m/s) and F (N).
+
+    F is the force on the sphere (up); ``plate_force`` = -F is its reaction on the plate.  With a
+    moving plate, z and ż are relative to the plate; ``DropSimulation.plate_samples`` gives p, ṗ.
+    """
 
     time: np.ndarray
     penetration: np.ndarray
@@ -153,6 +168,11 @@ class Samples:
     def concatenate(cls, parts):
         return cls(*(np.concatenate([getattr(p, f) for p in parts]) if parts else np.empty(0)
                      for f in ('time', 'penetration', 'penetration_rate', 'force')))
+
+    @property
+    def plate_force(self):
+        """The reaction on the plate (N, up positive): -F."""
+        return -self.force
 
 
 @dataclass(frozen=True)
@@ -242,6 +262,12 @@ class _Contact:
     rest: _Rest = None        # set when the oscillation has decayed: the closed form takes over
     resumed: bool = False     # started by set_contact with the sphere inside: not an impact
     record: int = None        # index in impacts of this phase's permanent-contact record
+    # with a moving plate: the forcing is exact until ``valid_until`` (s), where the phase is
+    # restarted; ``first_point``, ``peak`` and ``depth`` carry the contact's record across
+    valid_until: float = math.inf
+    first_point: tuple = None
+    peak: float = 0.0
+    depth: float = -math.inf
 
     @property
     def finish_time(self):
@@ -249,6 +275,50 @@ class _Contact:
         if self.integrator.lifted_off:
             return self.integrator.end[0]
         return self.rest.start if self.rest is not None else None
+
+
+@dataclass
+class _PlateFlight(_Flight):
+    """A flight over a moving plate: the sphere's absolute path (lowest point at height y0 (m),
+    moving up at v0 (m/s) at ``start``; drag if ``path``), and z = p(t) - y(t) relative."""
+
+    plate: object = None
+    y0: float = 0.0
+    v0: float = 0.0
+
+    def absolute(self, t, gravity):
+        dt = t - self.start
+        if self.path is not None:
+            return self.path.state(dt)
+        return self.y0 + self.v0 * dt - 0.5 * gravity * dt * dt, self.v0 - gravity * dt
+
+    def state(self, t, gravity):
+        y, v = self.absolute(t, gravity)
+        p, pv, _ = self.plate.state(t)
+        return p - y, pv - v
+
+
+@dataclass
+class _Carried:
+    """The sphere carried by the plate (plate acceleration above -g/2): quasi-static, the depth
+    z_s(t) = (m (g + p̈(t)) / k)^(1/n) at which the contact force carries the sphere along, until
+    ``until`` (s): the plate's acceleration falls to -g/2, or a set-point knot changes it."""
+
+    start: float
+    until: float
+    plate: object
+    contact: object
+    mass: float
+    gravity: float
+
+    def state(self, t):
+        # the acceleration of the carried stretch: at ``until`` its left limit (a knot)
+        _, _, acc = self.plate.state(min(t, math.nextafter(self.until, -math.inf)))
+        load = self.mass * max(self.gravity + acc, 0.0)
+        z = self.contact.static_penetration(load)
+        jerk = self.plate.jerk(t) if hasattr(self.plate, 'jerk') else 0.0
+        rate = z * jerk / (self.contact.law.n * (self.gravity + acc)) if load > 0.0 else 0.0
+        return z, rate
 
 
 def _first_upward_root(func, t_max, samples=64):
@@ -274,10 +344,18 @@ class DropSimulation:
     form (``flight.FlightPath``); it needs gravity > 0.  Drag is neglected during contact: its
     impulse there is at most κ v τc of the momentum (``flight.contact_drag_impulse_ratio``), e.g.
     2e-4 for a table-tennis ball at 3 m/s.
+
+    ``plate`` (a ``plate.PlateMotion``: ``SinusoidalPlate``, ``CommandedPlate``; default
+    ``None``, the fixed plate) moves the plate's surface to height p(t): ``height`` is then above
+    p(0), ``velocity`` the sphere's own downward velocity, and z, ż are relative to the plate
+    (``plate`` module).  Flights end at the first root of the gap, bracketed rigorously
+    (``plate.first_gap_root``); contacts take the plate's acceleration as forcing (compiled
+    engine); a sphere the plate carries is advanced quasi-statically (``_Carried``) while the
+    plate's acceleration is above -g/2.  A plate that does not move is today's fixed plate.
     """
 
     def __init__(self, contact, mass, height, velocity=0.0, gravity=9.81, rtol=DROP_RTOL,
-                 settle_tolerance=1e-3, radius=None, drag=None):
+                 settle_tolerance=1e-3, radius=None, drag=None, plate=None):
         self.mass = require_range('mass', mass, *MASS_RANGE, unit='kg')
         self.gravity = require_range('gravity', gravity, 0.0, GRAVITY_MAX, unit='m/s^2')
         self.height = _height(height)
@@ -290,6 +368,9 @@ class DropSimulation:
         if self.drag is not None:
             require_positive('gravity', self.gravity)   # drag flights are under gravity
             self._drag_rates = self.drag.rates(self.mass, self.gravity)
+        self.plate = plate_motion.plate_or_none(plate)
+        if self.plate is not None:
+            require_positive('gravity', self.gravity)   # a moving plate needs gravity > 0
         self._initial_contact = require_contact(contact)
         self.reset()
 
@@ -311,7 +392,8 @@ class DropSimulation:
         self.settle_time = None
         self._emitted = 0
         self._mode = None
-        self._enter_free_motion(0.0, -self.height, self.velocity)
+        rate = self.velocity + (self.plate.state(0.0)[1] if self.plate is not None else 0.0)
+        self._enter_free_motion(0.0, -self.height, rate)
 
     def check(self, contact, height=None, velocity=None):
         """``check_drop`` of ``contact`` for this drop (its initial conditions by default)."""
@@ -329,10 +411,10 @@ class DropSimulation:
         contact = require_contact(contact)
         self.check(contact)
         mode = self._mode
-        if isinstance(mode, (_Flight, _Rest)):
+        if isinstance(mode, (_Flight, _Rest, _Carried)):
             z, zdot = self._state_at(self.time)
             self.contact = contact
-            if isinstance(mode, _Rest):
+            if isinstance(mode, (_Rest, _Carried)):
                 self._begin_contact(self.time, z, zdot, resumed=True)
             else:   # the new contact may push at once (after a lift-off at z > 0)
                 self._enter_free_motion(self.time, z, zdot, resumed=True)
@@ -342,12 +424,25 @@ class DropSimulation:
     @property
     def state(self):
         z, zdot = self._state_at(self.time)
+        p, pv = self.plate.state(self.time)[:2] if self.plate is not None else (0.0, 0.0)
         return DropState(float(self.time), float(z), float(zdot),
-                         float(self.contact.force(z, zdot)))
+                         float(self.contact.force(z, zdot)), float(p), float(pv))
 
     @property
     def in_contact(self):
-        return isinstance(self._mode, (_Contact, _Rest))
+        return isinstance(self._mode, (_Contact, _Rest, _Carried))
+
+    @property
+    def carried(self):
+        """True while the plate carries the sphere (the quasi-static state)."""
+        return isinstance(self._mode, _Carried)
+
+    def plate_samples(self, samples):
+        """(p, ṗ, p̈) of the plate (m, m/s, m/s²) at the times of ``samples`` (zeros if fixed)."""
+        t = np.asarray(samples.time, dtype=float)
+        if self.plate is None:
+            return np.zeros_like(t), np.zeros_like(t), np.zeros_like(t)
+        return tuple(np.array(v) for v in zip(*(self.plate.state(float(ti)) for ti in t)))
 
     def advance(self, t_end, max_steps=None):
         """Advance to ``t_end`` (s); return the contact points passed and the impacts completed.
@@ -368,6 +463,21 @@ class DropSimulation:
                     break
                 z, zdot = mode.state(mode.contact_time, self.gravity)
                 self._begin_contact(mode.contact_time, max(z, 0.0), zdot)
+            elif isinstance(mode, _Carried):
+                if mode.until > t_end:
+                    break
+                z, zdot = mode.state(mode.until)
+                self._begin_contact(mode.until, z, zdot)
+            elif isinstance(mode, _Contact) and self.plate is not None:
+                if budget <= 0 and not mode.integrator.lifted_off \
+                        and mode.integrator.time < min(t_end, mode.valid_until):
+                    t_end = mode.integrator.time    # out of budget: stop where the integrator is
+                    points.extend(self._take_points(mode.integrator, t_end))
+                    break
+                taken = self._plate_contact(mode, t_end, points)
+                if taken is None:
+                    break
+                budget -= taken
             elif isinstance(mode, _Contact):
                 phase = mode.integrator
                 points.extend(self._take_points(phase, t_end))
@@ -405,7 +515,7 @@ class DropSimulation:
         mode = self._mode
         if isinstance(mode, _Flight):
             return mode.state(t, self.gravity)
-        if isinstance(mode, _Rest):
+        if isinstance(mode, (_Rest, _Carried)):
             return mode.state(t)
         phase = mode.integrator
         if t == phase.start_time:
@@ -425,6 +535,9 @@ class DropSimulation:
     def _begin_contact(self, t, z, zdot, resumed=False):
         if self._pending_contact is not None:
             self.contact, self._pending_contact = self._pending_contact, None
+        if self.plate is not None:
+            self._begin_plate_contact(t, z, zdot, resumed=resumed)
+            return
         phase = contact_phase(self.contact, self.mass, self.gravity, t, z, zdot,
                               rtol=self.rtol, atol=self.rtol * 1e-2)
         floor = (lift_off_energy(self.contact, self.mass, self.gravity)
@@ -498,7 +611,7 @@ class DropSimulation:
     def _finish_contact(self, mode):
         phase = mode.integrator
         self.steps += phase.steps
-        impact_time, _, impact_rate, _ = phase.points[0]
+        impact_time, _, impact_rate, _ = mode.first_point or phase.points[0]
         impact_speed = max(impact_rate, 0.0)
         if mode.resumed:        # a contact change moved the sphere: no impact to record
             if phase.lifted_off:
@@ -514,7 +627,8 @@ class DropSimulation:
             rebound = max(-zdot, 0.0)
             record = ImpactRecord(impact_time, impact_speed, rebound,
                                   rebound / impact_speed if impact_speed > 0.0 else 0.0,
-                                  t - impact_time, phase.peak_force, phase.max_penetration)
+                                  t - impact_time, max(phase.peak_force, mode.peak),
+                                  max(phase.max_penetration, mode.depth))
             self.impacts.append(record)
             if self._pending_contact is not None:
                 self.contact, self._pending_contact = self._pending_contact, None
@@ -527,6 +641,9 @@ class DropSimulation:
 
     def _enter_free_motion(self, t, z, zdot, after_lift_off=False, resumed=False):
         """Start a flight at (t, z, ż), or a contact at once if the force is already on."""
+        if self.plate is not None:
+            self._enter_plate_flight(t, z, zdot, after_lift_off)
+            return
         contact, g = self.contact, self.gravity
         if not after_lift_off and z > 0.0 and float(contact.force(z, zdot)) > 0.0:
             self._begin_contact(t, z, zdot, resumed=resumed)
@@ -547,6 +664,161 @@ class DropSimulation:
             lowest = z - zdot * zdot / (2.0 * g) if 0.0 < t_top < dt else min(
                 z, self._mode.state(t + dt, g)[0])
             self.apex_heights.append(-lowest)
+
+    # -- a moving plate (``plate`` module) ------------------------------------------------------
+    PLATE_CHUNK = 32    # contact steps between two tests for the carried state
+
+    def _begin_plate_contact(self, t, z, zdot, record=None, resumed=False):
+        """A contact phase on the moving plate from (t, z, ż), its forcing exact until the next
+        knot of the plate's motion; ``record`` carries (first point, peak, depth) across knots."""
+        forcing, until = self.plate.forcing_piece(t)
+        phase = contact_phase(self.contact, self.mass, self.gravity, t, z, zdot,
+                              rtol=self.rtol, atol=self.rtol * 1e-2, forcing=forcing)
+        mode = _Contact(phase, -math.inf, valid_until=until, resumed=resumed)
+        if record is not None:
+            mode.first_point, mode.peak, mode.depth = record
+        self._mode = mode
+        self._emitted = 0
+
+    def _plate_contact(self, mode, t_end, points):
+        """One move of a contact on the moving plate: the integrator steps taken, or ``None`` when
+        ``advance`` must stop."""
+        phase, knot = mode.integrator, mode.valid_until
+        points.extend(self._take_points(phase, min(t_end, knot)))
+        if phase.lifted_off and phase.end[0] <= knot:
+            if phase.end[0] > t_end:
+                return None
+            self._finish_contact(mode)
+            return 0
+        if (phase.lifted_off or phase.time >= knot) and knot <= t_end:
+            # the forcing changes at the knot: restart there from the dense output (the last step
+            # integrated the forcing continued smoothly past the knot: exact up to it)
+            z, zdot = phase.state_at(knot)
+            kept = [pt for pt in phase.points if pt[0] <= knot]
+            self.steps += phase.steps
+            record = (mode.first_point or phase.points[0],
+                      max([mode.peak] + [pt[3] for pt in kept]),
+                      max([mode.depth] + [pt[1] for pt in kept]))
+            self._begin_plate_contact(knot, z, zdot, record, resumed=mode.resumed)
+            return 0
+        if phase.time >= t_end:
+            return None
+        if self._carry(mode):
+            return 0
+        return phase.run(min(t_end, knot), self.PLATE_CHUNK)
+
+    def _carry(self, mode):
+        """Switch to the carried state if the plate's acceleration is above -g/4 and the contact's
+        oscillation about the quasi-static depth has decayed below ``settle_tolerance``."""
+        phase = mode.integrator
+        t = phase.time
+        p_acc = self.plate.state(t)[2]
+        if p_acc <= -0.25 * self.gravity:    # hysteresis: carried from -g/4, released at -g/2
+            return False
+        until = min(self.plate.next_acceleration_below(t, -0.5 * self.gravity),
+                    self.plate.forcing_piece(t)[1])
+        carried = _Carried(t, until, self.plate, self.contact, self.mass, self.gravity)
+        z_s, rate_s = carried.state(t)
+        z, zdot = phase.state
+        law = self.contact.law
+        k_lin = law.n * self.contact.stiffness * z_s ** (law.n - 1.0)
+        deviation = math.hypot(z - z_s, (zdot - rate_s) * math.sqrt(self.mass / k_lin))
+        if not deviation < self.settle_tolerance * z_s:
+            return False
+        self.steps += phase.steps
+        if self.permanent_contact_time is None:
+            self.permanent_contact_time = (mode.first_point or phase.points[0])[0]
+        self._mode = carried
+        return True
+
+    def _enter_plate_flight(self, t, z, zdot, after_lift_off):
+        """Free motion over the moving plate from (t, z, ż): a contact at once if the force is on,
+        else the flight to the next touch (``_plate_touch``)."""
+        contact, g = self.contact, self.gravity
+        if not after_lift_off and z > 0.0 and float(contact.force(z, zdot)) > 0.0:
+            self._begin_contact(t, z, zdot)
+            return
+        p, pv, _ = self.plate.state(t)
+        y0, v0 = p - z, pv - zdot
+        path = None
+        if self.drag is not None:
+            path = FlightPath(y0, v0, g, *self._drag_rates)
+        flight = _PlateFlight(t, z, zdot, math.inf, path, self.plate, y0, v0)
+        flight.contact_time = self._plate_touch(flight, t, z, zdot)
+        self._mode = flight
+        if after_lift_off and v0 > 0.0:
+            top = path.apex_height if path is not None else y0 + 0.5 * v0 * v0 / g
+            self.apex_heights.append(top)
+
+    def _plate_touch(self, flight, t0, z0, zdot0):
+        """Absolute time (s) at which the force switches on again over the moving plate.
+
+        Above the plate (z <= 0) it is the first root of the gap G = y - p going down, rigorously
+        bracketed (``plate.first_gap_root``, |G''| <= g + drag + max|p̈|); a tangent graze with G'
+        >= 0 at the root (within rounding) is passed.  Inside the undeformed surface with zero
+        force (after a lift-off at z > 0) the force returns when φ turns positive, searched on
+        64 samples per stretch as for the fixed plate, unless the sphere leaves the surface first.
+        """
+        g = self.gravity
+        v_up = max(flight.v0, 0.0)
+        kappa, beta = self._drag_rates if self.drag is not None else (0.0, 0.0)
+        bound = g + kappa * v_up * v_up + beta * v_up + self.plate.acceleration_bound()
+
+        def gap(t):
+            y, v = flight.absolute(t, g)
+            p, pv, _ = self.plate.state(t)
+            return y - p, v - pv, abs(y) + abs(p)
+
+        def curvature(t, h):      # a lower bound of G'' = y'' - p̈ on [t, t + h]
+            return -(g + kappa * v_up * v_up + beta * v_up) - self.plate.acceleration_range(
+                t, t + h)[1]
+
+        t = t0
+        if z0 > 0.0:
+            law, contact = self.contact.law, self.contact
+            stretch = 2.0 * abs(zdot0) / g + 1e-9
+
+            def inside(t):
+                G, dG, scale = gap(t)
+                return -G, -dG, scale
+
+            def curvature_inside(t, h):   # a lower bound of -G'' = p̈ - y'' (y'' <= -g in vacuum,
+                return self.plate.acceleration_range(t, t + h)[0] + (  # <= 0 with drag)
+                    g if self.drag is None else 0.0)
+
+            for _ in range(10000):
+                out = plate_motion.first_gap_root(inside, t, bound, t + stretch,
+                                                  local_curvature=curvature_inside)
+                t_stop = out[0] if out is not None else t + stretch
+
+                def phi(dt, start=t):
+                    zz, rate = flight.state(start + dt, g)
+                    return float(law.reduced_force(zz, rate, contact.stiffness, contact.damping))
+
+                root = _first_upward_root(phi, t_stop - t)
+                if root is not None:
+                    return t + root
+                t = t_stop
+                if out is not None:
+                    break
+                stretch *= 2.0
+            else:
+                raise RuntimeError(f'no exit from the plate surface found after t = {t0!r}')
+        while True:
+            found = plate_motion.first_gap_root(gap, t, bound, local_curvature=curvature)
+            t_root, G, dG = found
+            if dG < 0.0:
+                return t_root
+            # a tangent graze (or the lift-off point itself): pass it, nudging until G > 0
+            nudge = max(1e-12, 4.0 * plate_motion.EPS * abs(t_root))
+            for _ in range(200):
+                G2, dG2, scale = gap(t_root + nudge)
+                if G2 > 16.0 * plate_motion.EPS * max(scale, 1e-9):
+                    break
+                if G2 < 0.0 and dG2 < 0.0:
+                    return t_root + nudge
+                nudge *= 2.0
+            t = t_root + nudge
 
     def _surface_time(self, z, zdot):
         """Ballistic time (s) to rise from z > 0 to the undeformed surface (inf: never)."""
@@ -604,7 +876,7 @@ class DropResult:
 
 def simulate_drop(contact, mass, height, gravity=9.81, duration=5.0, sample_rate=None,
                   velocity=0.0, rtol=DROP_RTOL, settle_tolerance=1e-3, radius=None,
-                  max_steps=MAX_STEPS, drag=None):
+                  max_steps=MAX_STEPS, drag=None, plate=None):
     """Drop a sphere from ``height`` (m) and follow it for ``duration`` (s).
 
     With ``sample_rate`` (Hz) the result carries a trajectory sampled on that grid plus every
@@ -614,6 +886,7 @@ def simulate_drop(contact, mass, height, gravity=9.81, duration=5.0, sample_rate
     is bounded: at most ``MAX_SAMPLES`` samples, and ``max_steps`` integrator steps, beyond
     which an ``InputError`` on ``duration`` says how far the drop got.
     ``drag``: a ``flight.AirDrag`` for the flights (default ``None``, vacuum).
+    ``plate``: a ``plate.PlateMotion`` (default ``None``, the fixed plate; see ``DropSimulation``).
     """
     duration = require_range('duration', duration, 0.0, DURATION_MAX, low_open=True, unit='s')
     max_steps = require_int('max_steps', max_steps, 1, 10 ** 9)
@@ -627,7 +900,8 @@ def simulate_drop(contact, mass, height, gravity=9.81, duration=5.0, sample_rate
                                                   '{n[sample_rate]}', '{n[duration]}',
                                                   MAX_SAMPLES))
     sim = DropSimulation(contact, mass, height, velocity=velocity, gravity=gravity, rtol=rtol,
-                         settle_tolerance=settle_tolerance, radius=radius, drag=drag)
+                         settle_tolerance=settle_tolerance, radius=radius, drag=drag,
+                         plate=plate)
 
     def advance(t):
         part = sim.advance(t, max_steps=max_steps - sim.total_steps)

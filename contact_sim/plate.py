@@ -1,0 +1,314 @@
+"""A prescribed plate motion: the vibrating table and a plate commanded by timed set-points.
+
+The plate's surface is at height p(t) (m, up positive), with velocity ṗ (m/s) and acceleration
+p̈ (m/s²).  The drop engine (``drop.DropSimulation(..., plate=...)``) works in the relative
+coordinate z = p - y (penetration of the sphere's lowest point y), so that during contact
+
+    m z̈ = m (g + p̈(t)) - F(z, ż),
+
+the plate's acceleration enters as forcing beside gravity (``forcing_piece``, a ``phase.Forcing``
+that is exact on an interval).  The contact force F acts up on the sphere, its reaction -F on the
+plate.
+
+A plate motion is any object with the methods of ``PlateMotion``:
+
+* ``state(t)`` -> (p, ṗ, p̈);
+* ``acceleration_bound()`` -> an upper bound of |p̈| over all t (the flights' root bracket);
+* ``acceleration_range(t0, t1)`` -> (min, max) of p̈ over [t0, t1] (the local bracket);
+* ``forcing_piece(t)`` -> (Forcing, t_until): p̈ on [t, t_until) as a ``phase.Forcing``;
+* ``next_acceleration_below(t, level)`` -> the first time >= t at which p̈ <= level (inf: never).
+
+Two are provided:
+
+* ``SinusoidalPlate(amplitude a, frequency f, phase ϕ)``: p = a sin(2π f t + ϕ), so
+  Γ = a (2π f)² / g is the table's peak acceleration in units of g;
+* ``CommandedPlate(times, positions, velocities)``: set-points (tᵢ, pᵢ, vᵢ) joined by the C¹
+  piecewise-quadratic interpolant with a knot at each interval's midpoint: constant acceleration
+  on each half-interval, chosen so that p and ṗ match both set-points.  Constant accelerations
+  make every piece an exact forcing of the compiled contact phase (no kernel change); the
+  interpolant is C¹ (no velocity jump, hence no impulse on a carried sphere).  Outside the
+  set-points the plate moves at constant velocity (zero acceleration): before t₀ it extrapolates
+  (p₀, v₀) backwards, after the last set-point it holds the last velocity.
+"""
+import bisect
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .phase import Forcing
+from .validation import require_nonnegative, require_real
+
+
+class PlateMotion:
+    """The protocol of a prescribed plate motion (see the module docstring); a base class."""
+
+    def state(self, t):
+        raise NotImplementedError
+
+    def acceleration_bound(self):
+        raise NotImplementedError
+
+    def forcing_piece(self, t):
+        raise NotImplementedError
+
+    def next_acceleration_below(self, t, level):
+        raise NotImplementedError
+
+    def acceleration_range(self, t0, t1):
+        """(min, max) of p̈ over [t0, t1]; by default ± ``acceleration_bound()``."""
+        bound = self.acceleration_bound()
+        return -bound, bound
+
+    def jerk(self, t):
+        return 0.0
+
+    @property
+    def moving(self):
+        return True
+
+
+def _constant_forcing(acceleration):
+    """A constant acceleration as a ``phase.Forcing``: A sin(0·t + π/2) = A."""
+    return Forcing(acceleration_amplitude=acceleration, angular_frequency=0.0, phase=math.pi / 2)
+
+
+@dataclass(frozen=True)
+class SinusoidalPlate(PlateMotion):
+    """A table vibrating as p(t) = a sin(2π f t + ϕ): ``amplitude`` a >= 0 (m), ``frequency``
+    f >= 0 (Hz), ``phase`` ϕ (rad).  a = 0 (or f = 0 with ϕ = 0) is the fixed plate."""
+
+    amplitude: float = 0.0
+    frequency: float = 0.0
+    phase: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, 'amplitude', require_nonnegative('amplitude', self.amplitude))
+        object.__setattr__(self, 'frequency', require_nonnegative('frequency', self.frequency))
+        object.__setattr__(self, 'phase', require_real('phase', self.phase))
+
+    @property
+    def angular_frequency(self):
+        return 2.0 * math.pi * self.frequency
+
+    @property
+    def moving(self):
+        return self.amplitude > 0.0 and (self.frequency > 0.0 or math.sin(self.phase) != 0.0)
+
+    def peak_acceleration_ratio(self, gravity=9.81):
+        """Γ = a ω² / g."""
+        return self.amplitude * self.angular_frequency ** 2 / gravity
+
+    def state(self, t):
+        w, a = self.angular_frequency, self.amplitude
+        th = w * t + self.phase
+        s, c = math.sin(th), math.cos(th)
+        return a * s, a * w * c, -a * w * w * s
+
+    def jerk(self, t):
+        """d p̈ / dt (m/s³)."""
+        w = self.angular_frequency
+        return -self.amplitude * w ** 3 * math.cos(w * t + self.phase)
+
+    def acceleration_bound(self):
+        return self.amplitude * self.angular_frequency ** 2
+
+    def acceleration_range(self, t0, t1):
+        """(min, max) of p̈ over [t0, t1] (exact: the extremes of sin on the phase interval)."""
+        w, aw2 = self.angular_frequency, self.amplitude * self.angular_frequency ** 2
+        a0, a1 = self.state(t0)[2], self.state(t1)[2]
+        lo, hi = min(a0, a1), max(a0, a1)
+        th0, th1 = w * t0 + self.phase, w * t1 + self.phase
+        two_pi = 2.0 * math.pi
+        if math.floor((th1 - 1.5 * math.pi) / two_pi) > math.floor((th0 - 1.5 * math.pi) / two_pi):
+            hi = aw2                            # sin = -1 inside
+        if math.floor((th1 - 0.5 * math.pi) / two_pi) > math.floor((th0 - 0.5 * math.pi) / two_pi):
+            lo = -aw2                           # sin = +1 inside
+        return lo, hi
+
+    def forcing_piece(self, t):
+        w = self.angular_frequency
+        return Forcing(-self.amplitude * w * w, w, self.phase), math.inf
+
+    def next_acceleration_below(self, t, level):
+        """First t' >= t with p̈(t') = -a ω² sin(ω t' + ϕ) <= level (closed form)."""
+        aw2 = self.amplitude * self.angular_frequency ** 2
+        if aw2 == 0.0 or self.frequency == 0.0:
+            return t if self.state(t)[2] <= level else math.inf
+        s = -level / aw2                       # need sin θ >= s
+        if s > 1.0:
+            return math.inf
+        w = self.angular_frequency
+        th = w * t + self.phase
+        if math.sin(th) >= s:
+            return t
+        lo = math.asin(s)                      # the window [lo, π - lo] (mod 2π)
+        k = math.ceil((th - lo) / (2.0 * math.pi))
+        return max(t, (lo + 2.0 * math.pi * k - self.phase) / w)
+
+
+@dataclass(frozen=True)
+class CommandedPlate(PlateMotion):
+    """A plate through set-points: ``times`` tᵢ (s, strictly increasing), ``positions`` pᵢ (m),
+    ``velocities`` vᵢ (m/s), equal lengths >= 1; the interpolation is stated in the module
+    docstring (C¹, constant acceleration on each half-interval, constant velocity outside)."""
+
+    times: tuple
+    positions: tuple
+    velocities: tuple
+
+    def __post_init__(self):
+        arrays = {}
+        for name in ('times', 'positions', 'velocities'):
+            try:
+                arr = np.asarray(getattr(self, name), dtype=float).ravel()
+            except (TypeError, ValueError):
+                raise ValueError(f'{name} = {getattr(self, name)!r} is invalid: allowed a '
+                                 'sequence of finite numbers') from None
+            if arr.size == 0 or not np.all(np.isfinite(arr)):
+                raise ValueError(f'{name} is out of range: allowed a non-empty sequence of '
+                                 'finite numbers')
+            arrays[name] = arr
+        n = arrays['times'].size
+        for name in ('positions', 'velocities'):
+            if arrays[name].size != n:
+                raise ValueError(f'{name} has {arrays[name].size} values: allowed as many as '
+                                 f'times ({n})')
+        if n > 1 and not np.all(np.diff(arrays['times']) > 0.0):
+            raise ValueError('times is out of range: allowed strictly increasing times')
+        for name, arr in arrays.items():
+            object.__setattr__(self, name, tuple(arr.tolist()))
+        t, p, v = arrays['times'], arrays['positions'], arrays['velocities']
+        h = 0.5 * np.diff(t)
+        dv = (v[1:] - v[:-1]) / h if n > 1 else np.empty(0)
+        a1 = 0.5 * (2.0 * (p[1:] - p[:-1] - 2.0 * v[:-1] * h) / h ** 2 - dv) if n > 1 \
+            else np.empty(0)
+        a2 = dv - a1
+        # pieces: start time, position, velocity, acceleration (the last runs to +inf)
+        starts, pos, vel, acc = [], [], [], []
+        for i in range(n - 1):
+            mid_p = p[i] + v[i] * h[i] + 0.5 * a1[i] * h[i] ** 2
+            starts += [t[i], t[i] + h[i]]
+            pos += [p[i], mid_p]
+            vel += [v[i], v[i] + a1[i] * h[i]]
+            acc += [a1[i], a2[i]]
+        starts.append(t[-1])
+        pos.append(p[-1])
+        vel.append(v[-1])
+        acc.append(0.0)
+        object.__setattr__(self, '_pieces', tuple(tuple(float(x) for x in seq)
+                                                  for seq in (starts, pos, vel, acc)))
+
+    def _piece(self, t):
+        starts = self._pieces[0]
+        return max(bisect.bisect_right(starts, t) - 1, 0)
+
+    def state(self, t):
+        starts, pos, vel, acc = self._pieces
+        if t < starts[0]:
+            return pos[0] + vel[0] * (t - starts[0]), vel[0], 0.0
+        i = self._piece(t)
+        dt = t - starts[i]
+        return pos[i] + vel[i] * dt + 0.5 * acc[i] * dt * dt, vel[i] + acc[i] * dt, acc[i]
+
+    def jerk(self, t):
+        """d p̈ / dt (m/s³): zero inside every piece."""
+        return 0.0
+
+    def acceleration_bound(self):
+        return max(abs(a) for a in self._pieces[3])
+
+    def acceleration_range(self, t0, t1):
+        """(min, max) of p̈ over [t0, t1]: over the pieces it overlaps."""
+        starts, acc = self._pieces[0], self._pieces[3]
+        values = [0.0] if t0 < starts[0] else []
+        if t1 >= starts[0]:
+            values += acc[self._piece(max(t0, starts[0])):self._piece(t1) + 1]
+        return min(values), max(values)
+
+    def forcing_piece(self, t):
+        starts, acc = self._pieces[0], self._pieces[3]
+        if t < starts[0]:
+            return _constant_forcing(0.0), starts[0]
+        i = j = self._piece(t)
+        while j + 1 < len(starts) and abs(acc[j + 1] - acc[i]) <= 1e-12 * abs(acc[i]):
+            # knots that change nothing (up to the rounding of the interpolant's coefficients)
+            j += 1
+        return _constant_forcing(acc[i]), (starts[j + 1] if j + 1 < len(starts) else math.inf)
+
+    def next_acceleration_below(self, t, level):
+        starts, acc = self._pieces[0], self._pieces[3]
+        if t < starts[0]:
+            if 0.0 <= level:
+                return t
+            t = starts[0]
+        for i in range(self._piece(t), len(starts)):
+            if acc[i] <= level:
+                return max(t, starts[i])
+        return math.inf
+
+
+def plate_or_none(plate):
+    """``None`` for no plate or a plate that does not move (today's fixed plate)."""
+    if plate is None:
+        return None
+    if not isinstance(plate, PlateMotion):
+        raise ValueError(f'plate = {plate!r} is invalid: allowed None, a SinusoidalPlate, a '
+                         'CommandedPlate or another plate.PlateMotion')
+    if not plate.moving:
+        return None
+    if isinstance(plate, SinusoidalPlate) and plate.frequency == 0.0:
+        return None if plate.amplitude * math.sin(plate.phase) == 0.0 else plate
+    return plate
+
+
+# -- flights: the first root of the gap, rigorously bracketed ----------------------------------
+EPS = np.finfo(float).eps
+
+
+def _quadratic_positive(g, dg, curvature, h):
+    """True if g + dg s + ½ curvature s² > 0 for every s in [0, h]."""
+    if g + dg * h + 0.5 * curvature * h * h <= 0.0:
+        return False
+    if curvature > 0.0 and dg < 0.0 and -dg / curvature < h:
+        return g - 0.5 * dg * dg / curvature > 0.0      # the vertex inside
+    return True
+
+
+def first_gap_root(gap, t0, curvature_bound, t_max=math.inf, max_steps=100000,
+                   local_curvature=None):
+    """First t in [t0, t_max] where the gap G(t) reaches <= ~0, with no root skipped.
+
+    ``gap(t)`` returns (G, G', scale): the gap (m), its rate (m/s) and a length scale of the
+    operands (for the rounding tolerance).  With |G''| <= M = ``curvature_bound`` on the whole
+    interval, G(t + s) >= G + G' s - ½ M s² > 0 for 0 <= s < h = (G' + √(G'² + 2 M G)) / M:
+    each step to t + h is safe (no root inside), and converges quadratically to a transversal
+    root, geometrically to a tangent one.  ``local_curvature(t, h)``, a lower bound of G'' on
+    [t, t + h], allows longer safe steps (twice the last one, tried once while the steps are not
+    shrinking; the global step is the fallback): where G'' >= 0 nearby, e.g. just after a release,
+    where G grows like s³.
+    Returns (t, G, G') at the first point where G <= tolerance (16 eps × scale), or ``None`` past
+    ``t_max``.
+    """
+    t = t0
+    M = max(curvature_bound, 1e-300)
+    trial = 0.0
+    for _ in range(max_steps):
+        G, dG, scale = gap(t)
+        if G <= 16.0 * EPS * max(scale, 1e-9):
+            return t, G, dG
+        disc = math.sqrt(dG * dG + 2.0 * M * G)
+        h = (dG + disc) / M if dG >= 0.0 else 2.0 * G / (disc - dG)
+        if local_curvature is not None and h >= 0.5 * trial:
+            # the steps are not shrinking (no root ahead yet): try twice the last one, once
+            trial = 2.0 * max(trial, h)
+            if _quadratic_positive(G, dG, local_curvature(t, trial), trial):
+                h = trial
+        trial = h
+        t_next = t + h
+        if t_next == t:
+            return t, G, dG
+        if t_next > t_max:
+            return None
+        t = t_next
+    raise RuntimeError(f'flight search did not converge in {max_steps} steps from t = {t0!r}')
