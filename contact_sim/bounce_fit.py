@@ -40,17 +40,16 @@ from scipy.optimize import least_squares
 
 from .bounces import contact_map, impact_sequence, release_height, release_speed
 from .contact import Contact
-from .fitting import damping_for_restitution
+from .fitting import damping_for_restitution, require_fit_options
 from .flight import AirDrag, flight_to_plate
 from .laws import LAWS, get_law
 from .recordings import ImpactTimes
 from .restitution import restitution
-from .validation import require_positive, require_range
+from .validation import require_positive
 
 MICRO_BOUNCE_GROUP = 1e-2    # impacts with G = gT/v above this are left out (bounces doc)
 DOUBLED_RATIO = 0.4          # an interval below this fraction of the expected one: doubled click
 SUPPORT_DELTA_AIC = 10.0     # evidence needed to call the restitution speed dependent
-LOSSES = ('linear', 'soft_l1', 'huber', 'cauchy', 'arctan')
 
 
 @dataclass(frozen=True)
@@ -488,10 +487,7 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     gravity = require_positive('gravity', gravity)
     resolution = require_positive('timing_resolution', timing_resolution)
     height_error = require_positive('height_error', height_error)
-    confidence = require_range('confidence', confidence, 0.0, 1.0, low_open=True,
-                               high_open=True)
-    if loss not in LOSSES:
-        raise ValueError(f'loss = {loss!r} is unknown: allowed one of {", ".join(LOSSES)}')
+    confidence, loss = require_fit_options(confidence, loss)
     if fit_drag and (drag is None or drag.air_density == 0.0):
         raise ValueError('drag is missing: fitting the drag coefficient needs an AirDrag with '
                          'the air density and the sphere radius')

@@ -6,8 +6,9 @@ import sys
 
 import numpy as np
 
-from .bounce_fit import LOSSES, corrected_restitution_table, fit_bounces, restitution_curve
+from .bounce_fit import corrected_restitution_table, fit_bounces, restitution_curve
 from .contact import build_contact, build_mass
+from .fitting import LOSSES
 from .flight import AIR_DENSITY, SPHERE_DRAG_COEFFICIENT, AirDrag
 from .laws import LAWS
 from .recordings import ImpactTimes, read_impact_times

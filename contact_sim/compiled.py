@@ -145,6 +145,22 @@ def _event(which, s, x, u, par):
 
 
 @njit(**_KW)
+def _stages(K, first, last, s, x, u, h, par):
+    """Runge-Kutta stages first..last-1 of a step of size h from (σ, x, u) into K (rows: the
+    stages; columns: dx/dσ, du/dσ), from the Butcher rows A and nodes C."""
+    for i in range(first, last):
+        dx = 0.0
+        du = 0.0
+        for j in range(i):
+            dx += K[j, 0] * A[i, j]
+            du += K[j, 1] * A[i, j]
+        si = s + C[i] * h
+        ui = u + du * h
+        K[i, 0] = 2.0 * si * ui
+        K[i, 1] = 2.0 * si * _accel(si, x + dx * h, ui, par)
+
+
+@njit(**_KW)
 def _step(st, K, par):
     """One accepted DOP853 step from st[S_S] (scipy's RungeKutta._step_impl); False if the step
     size fell below ten ulps of σ."""
@@ -162,16 +178,7 @@ def _step(st, K, par):
         h = s_new - s
         h_abs = abs(h)
         K[0, 0], K[0, 1] = st[S_FX], st[S_FU]
-        for i in range(1, N_STAGES):
-            dx = 0.0
-            du = 0.0
-            for j in range(i):
-                dx += K[j, 0] * A[i, j]
-                du += K[j, 1] * A[i, j]
-            si = s + C[i] * h
-            ui = u + du * h
-            K[i, 0] = 2.0 * si * ui
-            K[i, 1] = 2.0 * si * _accel(si, x + dx * h, ui, par)
+        _stages(K, 1, N_STAGES, s, x, u, h, par)
         bx = 0.0
         bu = 0.0
         for j in range(N_STAGES):
@@ -229,16 +236,7 @@ def _build_dense(st, K, F, par):
         return
     s_old, x_old, u_old = st[S_S_OLD], st[S_X_OLD], st[S_U_OLD]
     h = st[S_S] - s_old
-    for i in range(N_STAGES + 1, K.shape[0]):
-        dx = 0.0
-        du = 0.0
-        for j in range(i):
-            dx += K[j, 0] * A[i, j]
-            du += K[j, 1] * A[i, j]
-        si = s_old + C[i] * h
-        ui = u_old + du * h
-        K[i, 0] = 2.0 * si * ui
-        K[i, 1] = 2.0 * si * _accel(si, x_old + dx * h, ui, par)
+    _stages(K, N_STAGES + 1, K.shape[0], s_old, x_old, u_old, h, par)
     dx = st[S_X] - x_old
     du = st[S_U] - u_old
     F[0, 0], F[0, 1] = dx, du

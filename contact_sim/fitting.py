@@ -112,6 +112,16 @@ def _check_data(speeds, restitutions):
 LOSSES = ('linear', 'soft_l1', 'huber', 'cauchy', 'arctan')   # scipy.optimize.least_squares
 
 
+def require_fit_options(confidence, loss):
+    """The checked (confidence, loss) of a fit: 0 < confidence < 1, a loss of ``LOSSES``."""
+    confidence = require_range('confidence', confidence, 0.0, 1.0, low_open=True,
+                               high_open=True)
+    if loss not in LOSSES:
+        raise InputError('loss', loss, '{n[loss]} = {value} is unknown: allowed one of %s'
+                         % ', '.join(LOSSES), value=repr(loss))
+    return confidence, loss
+
+
 def _robust_weights(loss, z2):
     """IRLS weight ρ'(z²) of each point for a least_squares loss (1 = full weight)."""
     if loss == 'soft_l1':
@@ -141,10 +151,7 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     law = get_law(law)
     stiffness = require_positive('stiffness', stiffness)
     mass = require_positive('mass', mass)
-    confidence = require_range('confidence', confidence, 0.0, 1.0, low_open=True,
-                               high_open=True)
-    if loss not in LOSSES:
-        raise ValueError(f'loss = {loss!r} is unknown: allowed one of {", ".join(LOSSES)}')
+    confidence, loss = require_fit_options(confidence, loss)
     v, e = _check_data(speeds, restitutions)
     if uncertainties is None:
         sigma = np.ones(v.size)

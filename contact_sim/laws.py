@@ -5,6 +5,8 @@ Units are SI throughout: penetration z in m, penetration rate ż in m/s (z > 0 i
 """
 from dataclasses import dataclass
 
+import math
+
 import numpy as np
 
 from .validation import InputError, require_positive, require_range
@@ -42,7 +44,14 @@ class ContactLaw:
         return k * zp ** (self.n - self.p) + damping * np.sign(zdot) * np.abs(zdot) ** self.q
 
     def force(self, z, zdot, k, damping):
-        """Clamped normal force in N for arrays of z (m) and ż (m/s) of any broadcastable shape."""
+        """Clamped normal force in N for arrays of z (m) and ż (m/s) of any broadcastable shape
+        (eq. 11); for two floats, a float (one state: no array overhead, the same numbers)."""
+        if isinstance(z, float) and isinstance(zdot, float):
+            if not z > 0.0:
+                return 0.0
+            rate = math.copysign(abs(zdot) ** self.q, zdot) if zdot != 0.0 else 0.0
+            unclamped = k * z ** self.n + damping * z ** self.p * rate
+            return 0.0 if unclamped < 0.0 else unclamped     # NaN stays NaN, as np.maximum
         z = np.asarray(z, dtype=float)
         zdot = np.asarray(zdot, dtype=float)
         zp = np.maximum(z, 0.0)
