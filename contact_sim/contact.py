@@ -27,6 +27,10 @@ class Contact:
         """Clamped normal force (N) at penetration z (m) and penetration rate ż (m/s)."""
         return self.law.force(z, zdot, self.stiffness, self.damping)
 
+    def force_at(self, z, zdot):
+        """``force`` at one state, as a float (N)."""
+        return self.law.force_at(float(z), float(zdot), self.stiffness, self.damping)
+
     def static_penetration(self, load):
         """Equilibrium depth z0 = (W / k)^(1/n) in m under a steady load W (N)."""
         return (require_nonnegative('load', load) / self.stiffness) ** (1.0 / self.law.n)

@@ -426,7 +426,7 @@ class DropSimulation:
         z, zdot = self._state_at(self.time)
         p, pv = self.plate.state(self.time)[:2] if self.plate is not None else (0.0, 0.0)
         return DropState(float(self.time), float(z), float(zdot),
-                         float(self.contact.force(z, zdot)), float(p), float(pv))
+                         self.contact.force_at(z, zdot), float(p), float(pv))
 
     @property
     def in_contact(self):
@@ -645,7 +645,7 @@ class DropSimulation:
             self._enter_plate_flight(t, z, zdot, after_lift_off)
             return
         contact, g = self.contact, self.gravity
-        if not after_lift_off and z > 0.0 and float(contact.force(z, zdot)) > 0.0:
+        if not after_lift_off and z > 0.0 and contact.force_at(z, zdot) > 0.0:
             self._begin_contact(t, z, zdot, resumed=resumed)
             return
         dt = self._time_to_contact(z, zdot)
@@ -735,7 +735,7 @@ class DropSimulation:
         """Free motion over the moving plate from (t, z, ż): a contact at once if the force is on,
         else the flight to the next touch (``_plate_touch``)."""
         contact, g = self.contact, self.gravity
-        if not after_lift_off and z > 0.0 and float(contact.force(z, zdot)) > 0.0:
+        if not after_lift_off and z > 0.0 and contact.force_at(z, zdot) > 0.0:
             self._begin_contact(t, z, zdot)
             return
         p, pv, _ = self.plate.state(t)

@@ -43,15 +43,17 @@ class ContactLaw:
         zp = np.maximum(z, 0.0)
         return k * zp ** (self.n - self.p) + damping * np.sign(zdot) * np.abs(zdot) ** self.q
 
+    def force_at(self, z, zdot, k, damping):
+        """``force`` at one state (floats in, a float out): the same numbers without the array
+        overhead, for the engine's once-a-tick state (eq. 11)."""
+        if not z > 0.0:
+            return 0.0
+        rate = math.copysign(abs(zdot) ** self.q, zdot) if zdot != 0.0 else 0.0
+        unclamped = k * z ** self.n + damping * z ** self.p * rate
+        return 0.0 if unclamped < 0.0 else unclamped     # NaN stays NaN, as np.maximum
+
     def force(self, z, zdot, k, damping):
-        """Clamped normal force in N for arrays of z (m) and ż (m/s) of any broadcastable shape
-        (eq. 11); for two floats, a float (one state: no array overhead, the same numbers)."""
-        if isinstance(z, float) and isinstance(zdot, float):
-            if not z > 0.0:
-                return 0.0
-            rate = math.copysign(abs(zdot) ** self.q, zdot) if zdot != 0.0 else 0.0
-            unclamped = k * z ** self.n + damping * z ** self.p * rate
-            return 0.0 if unclamped < 0.0 else unclamped     # NaN stays NaN, as np.maximum
+        """Clamped normal force in N for arrays of z (m) and ż (m/s) of any broadcastable shape."""
         z = np.asarray(z, dtype=float)
         zdot = np.asarray(zdot, dtype=float)
         zp = np.maximum(z, 0.0)

@@ -190,8 +190,8 @@ def test_input_error_renders_every_field_it_mentions():
 
 @pytest.mark.parametrize('law', list(cs.LAWS.values()), ids=lambda law: law.name)
 def test_the_scalar_force_equals_the_array_force(law):
-    """force() of two floats takes a plain-float path (the node calls it once a tick): the same
-    numbers as the array path, at the clamp, at touch, for NaN and infinities, and at random."""
+    """force_at (one state, plain floats: the engine's state once a tick) gives the same numbers
+    as the array path force(), at the clamp, at touch, for NaN and infinities, and at random."""
     import itertools
     import warnings
     edges = itertools.product([-1e-6, 0.0, 1e-9, 3e-6, math.nan, math.inf, -math.inf],
@@ -199,7 +199,7 @@ def test_the_scalar_force_equals_the_array_force(law):
     rng = np.random.default_rng(3)
     states = list(edges) + list(zip(rng.uniform(-1e-6, 1e-5, 500), rng.normal(0.0, 1.0, 500)))
     for z, zdot in states:
-        scalar = law.force(float(z), float(zdot), 1e10, 1e5)
+        scalar = law.force_at(float(z), float(zdot), 1e10, 1e5)
         with warnings.catch_warnings():
             warnings.simplefilter('ignore', RuntimeWarning)    # inf - inf in the array path
             array = float(law.force(np.array(z), np.array(zdot), 1e10, 1e5))
