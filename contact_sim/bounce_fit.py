@@ -45,7 +45,7 @@ from .flight import AirDrag, flight_to_plate
 from .laws import LAWS, get_law
 from .recordings import ImpactTimes
 from .restitution import restitution
-from .validation import require_positive
+from .validation import InputError, require_positive
 
 MICRO_BOUNCE_GROUP = 1e-2    # impacts with G = gT/v above this are left out (bounces doc)
 DOUBLED_RATIO = 0.4          # an interval below this fraction of the expected one: doubled click
@@ -525,12 +525,12 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         if k is None and law.name == 'linear':
             hertz = next((name for name in ks if get_law(name).n == 1.5), None)
             if hertz is None:
-                raise ValueError('stiffness is missing for law linear: give its k (N/m) or a '
-                                 'Hertz k to derive it from')
+                raise InputError('stiffness', None, '{n[stiffness]} is missing for law linear: '
+                                 'give its k (N/m), or fit a Hertz law beside it to derive it from')
             k = _linear_stiffness(get_law(hertz), ks[hertz], mass, v_med)
         if k is None:
-            raise ValueError(f'stiffness is missing for law {law.name}: allowed a k for every '
-                             'law fitted')
+            raise InputError('stiffness', None, '{n[stiffness]} is missing for law %s: allowed '
+                             'a k for every law fitted' % law.name)
         problem = _Problem(law, require_positive('stiffness', k), mass, gravity, drag,
                            fit_drag, prepared, resolution, height_error)
         x0, _ = _initial_guess(problem, drag.drag_coefficient if drag is not None else None)

@@ -90,9 +90,9 @@ def build_contact(law, *, stiffness=None, damping=None, damping_factor=None, sph
                              '(N/m^n), or {n[sphere]}, {n[plate]} and {n[radius]} for the Hertz '
                              'stiffness')
         if law.n != 1.5:
-            raise InputError('stiffness', None, '{n[stiffness]} is missing: law = %r has n = %g '
-                             'and the Hertz stiffness needs n = 1.5; give {n[stiffness]} (N/m^n)'
-                             % (law.name, law.n))
+            raise InputError('stiffness', None, '{n[stiffness]} is missing: {n[law]} = %r has '
+                             'n = %g and the Hertz stiffness needs n = 1.5; give {n[stiffness]} '
+                             '(N/m^n)' % (law.name, law.n))
         k = hertz_stiffness(effective_modulus(_material('sphere', sphere),
                                               _material('plate', plate)), r)
     else:

@@ -44,6 +44,14 @@ CONTACT_LENGTH_MAX = 1e3             # m: the contact's length scale Z (the dept
 DAMPING_GROUP_MAX = 1e8              # ζ: beyond it a contact is a creep that never ends in time
 
 
+def _require_gravity_for(what, gravity):
+    """Drag flights and a moving plate's flights are solved under gravity: g > 0."""
+    if not gravity > 0.0:
+        raise InputError('gravity', gravity, '{n[gravity]} = {value} is out of range with %s: '
+                         'allowed 0 < {n[gravity]} (its flights are solved under gravity), or '
+                         'no %s' % (what, what))
+
+
 def _first_impact_speed(gravity, height, velocity):
     """Speed (m/s) at the first touch, √(v0² + 2 g h); 0 if the sphere never lands."""
     if gravity == 0.0:
@@ -366,11 +374,11 @@ class DropSimulation:
         self.radius = None if radius is None else require_positive('radius', radius)
         self.drag = drag if drag is not None and drag.active else None
         if self.drag is not None:
-            require_positive('gravity', self.gravity)   # drag flights are under gravity
+            _require_gravity_for('air drag', self.gravity)
             self._drag_rates = self.drag.rates(self.mass, self.gravity)
         self.plate = plate_motion.plate_or_none(plate)
         if self.plate is not None:
-            require_positive('gravity', self.gravity)   # a moving plate needs gravity > 0
+            _require_gravity_for('a moving plate', self.gravity)
         self._initial_contact = require_contact(contact)
         self.reset()
 
@@ -642,7 +650,7 @@ class DropSimulation:
     def _enter_free_motion(self, t, z, zdot, after_lift_off=False, resumed=False):
         """Start a flight at (t, z, ż), or a contact at once if the force is already on."""
         if self.plate is not None:
-            self._enter_plate_flight(t, z, zdot, after_lift_off)
+            self._enter_plate_flight(t, z, zdot, after_lift_off, resumed)
             return
         contact, g = self.contact, self.gravity
         if not after_lift_off and z > 0.0 and contact.force_at(z, zdot) > 0.0:
@@ -731,12 +739,13 @@ class DropSimulation:
         self._mode = carried
         return True
 
-    def _enter_plate_flight(self, t, z, zdot, after_lift_off):
-        """Free motion over the moving plate from (t, z, ż): a contact at once if the force is on,
-        else the flight to the next touch (``_plate_touch``)."""
+    def _enter_plate_flight(self, t, z, zdot, after_lift_off, resumed=False):
+        """Free motion over the moving plate from (t, z, ż): a contact at once if the force is on
+        (``resumed``: started by set_contact, no impact), else the flight to the next touch
+        (``_plate_touch``)."""
         contact, g = self.contact, self.gravity
         if not after_lift_off and z > 0.0 and contact.force_at(z, zdot) > 0.0:
-            self._begin_contact(t, z, zdot)
+            self._begin_contact(t, z, zdot, resumed=resumed)
             return
         p, pv, _ = self.plate.state(t)
         y0, v0 = p - z, pv - zdot

@@ -110,6 +110,7 @@ def _check_data(speeds, restitutions):
 
 
 LOSSES = ('linear', 'soft_l1', 'huber', 'cauchy', 'arctan')   # scipy.optimize.least_squares
+LOWER_BOUND_WIDENINGS = 12   # x 3 in ln λ (e^-36): how far points at e >= 1 may pull λ down
 
 
 def require_fit_options(confidence, loss):
@@ -168,10 +169,9 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     flagged = tuple(int(i) for i in np.flatnonzero(e >= 1.0))
     pointwise = np.full(v.size, math.nan)      # nan where e > 1: no damping gives it
     for i, (vi, ei) in enumerate(zip(v, e)):
-        if ei > 1.0:
-            continue
-        try:
-            pointwise[i] = damping_for_restitution(law, stiffness, mass, ei, vi)
+        try:     # (e > 1: the speed is checked all the same, and the point has no λ)
+            lam_i = damping_for_restitution(law, stiffness, mass, min(ei, 1.0), vi)
+            pointwise[i] = lam_i if ei <= 1.0 else math.nan
         except InputError as error:    # name the data point it came from
             which = {'speed': 'speeds', 'restitution': 'restitutions'}[error.field]
             template = error.template.replace('{n[%s]}' % error.field,
@@ -190,13 +190,18 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
         lam = 0.0          # every point at e >= 1: the elastic contact fits best
     else:
         lo, hi = math.log(usable.min()), math.log(usable.max())
-        if flagged:        # points at e >= 1 pull λ below every pointwise value
-            lo -= 3.0
-        if hi - lo < 1e-12:
+        if hi - lo < 1e-12 and not flagged:
             lam = float(usable[0])
         else:
-            best = minimize_scalar(sse, bounds=(lo, hi), method='bounded',
-                                   options={'xatol': 1e-10})
+            # points at e >= 1 pull λ below every pointwise value: widen the search downwards
+            # for as long as its optimum sits on the lower bound (e is monotone in λ)
+            for _ in range(LOWER_BOUND_WIDENINGS if flagged else 1):
+                if flagged:
+                    lo -= 3.0
+                best = minimize_scalar(sse, bounds=(lo, hi), method='bounded',
+                                       options={'xatol': 1e-10})
+                if best.x > lo + 1e-3:
+                    break
             lam = math.exp(best.x)
         if loss != 'linear':
             from scipy.optimize import least_squares
@@ -217,7 +222,7 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     dof = v.size - 1
     if dof == 0:        # one point: no residual variance to estimate a spread from
         return DampingFit(law, stiffness, lam, rms, residuals, pointwise, (math.nan, math.nan),
-                          confidence)
+                          confidence, flagged, loss, weights)
     if np.any(jac != 0.0):
         from scipy.stats import t as student_t  # slow to import: only when needed
         w = weights / sigma ** 2

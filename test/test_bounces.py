@@ -362,3 +362,12 @@ def test_final_micro_bounces_are_left_out_and_named():
     assert 10 < kept < touches.size
     assert fit.best.law.name == 'azad_featherstone'
     assert fit.best.damping_interval[0] <= 1e5 <= fit.best.damping_interval[1]
+
+
+def test_cli_bounces_without_any_stiffness_names_the_option(golf_csv, capsys):
+    # found in review: the refusal said `stiffness`, not `--stiffness`
+    code = cli.main(['bounces', str(golf_csv), '--sphere', 'steel', '--plate', 'steel',
+                     '--radius', '0.02', '--law', 'linear'])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith('contact-sim: error: --stiffness is missing for law '
+                                        'linear') and err.count('\n') == 1, err

@@ -194,3 +194,29 @@ def test_a_fit_to_a_point_out_of_range_names_that_point(speed):
     with pytest.raises(ValueError, match=r'speeds\[1\] = .* is out of range') as info:
         cs.fit_damping(cs.AZAD_FEATHERSTONE, K, M, [1.0, speed], [0.6, 0.5])
     assert info.value.field == 'speeds'
+
+
+def test_points_above_one_still_have_their_speed_checked_and_named():
+    # found in review: with e > 1 at that point the bad speed surfaced later as `speed = ...`
+    with pytest.raises(ValueError, match=r'^speeds\[0\] = 1e\+300 is out of range'):
+        cs.fit_damping(cs.AZAD_FEATHERSTONE, 1e9, 0.05, [1e300, 1.0], [1.05, 0.8])
+
+
+def test_a_one_point_fit_keeps_its_flags_loss_and_weights():
+    fit = cs.fit_damping(cs.AZAD_FEATHERSTONE, K, M, [1.0], [1.2])
+    assert fit.flagged == (0,) and fit.damping == 0.0
+    fit = cs.fit_damping(cs.AZAD_FEATHERSTONE, K, M, [1.0], [0.8], loss='huber')
+    assert fit.loss == 'huber' and list(fit.weights) == [1.0]
+
+
+def test_points_above_one_may_pull_the_fit_far_below_every_pointwise_damping():
+    # found in review: the search stopped at its lower bound, 2e5 e^-3 = 9957, not the optimum
+    v = np.linspace(0.5, 5.0, 6)
+    e = cs.restitution(cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 2e5), 0.066, v)
+    e[1:] = 1.02
+    fit = cs.fit_damping(cs.AZAD_FEATHERSTONE, 1e10, 0.066, v, e)
+    grid = np.geomspace(1.0, 2e5, 3001)
+    sse = [np.sum((cs.restitution(cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, lam), 0.066, v) - e) ** 2)
+           for lam in grid]
+    assert fit.damping == pytest.approx(grid[int(np.argmin(sse))], rel=2e-3)
+    assert fit.damping < 0.9 * 2e5 * math.exp(-3.0)

@@ -1056,3 +1056,19 @@ def test_a_recorder_killed_with_sigkill_loses_at_most_a_second_and_recovers(own_
     again = subprocess.run([executable('contact_sim_record'), '--recover', str(bag)], env=env,
                            capture_output=True, text=True, timeout=TIMEOUT)
     assert again.returncode == 2 and 'metadata.yaml already' in again.stderr
+
+
+@pytest.mark.parametrize('change, reason', [
+    # found in review: each refusal named a core field, or a parameter the user had not set
+    (dict(drag_coefficient=0.47, gravity=0.0),
+     'gravity = 0.0 is out of range with air drag: .*drag_coefficient = 0 turns the air drag off'),
+    (dict(sphere_radius=1e-12),
+     r'sphere_mass = .* is out of range: .*\(sphere_mass = 0: the mass is \(4/3\) pi R1\^3 rho'),
+    (dict(damping_factor=1e30),
+     r'damping = .* is too large .*\(damping = 0: lambda = damping_factor sqrt\(R\)'),
+    (dict(contact_law='linear'), "stiffness is missing: contact_law = 'linear' has n = 1"),
+    (dict(plate_radius=-1.0), 'allowed 0 < plate_radius, or plate_radius = 0 for a flat plate'),
+])
+def test_refusals_name_the_parameter_the_user_set(change, reason):
+    with pytest.raises(ValueError, match=reason):
+        cs_params.build_model({**cs_params.DEFAULTS, **change})

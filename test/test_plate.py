@@ -248,3 +248,19 @@ def test_chunked_advance_and_step_budget_on_a_vibrating_table():
         limited.advance(0.5, max_steps=5)
         assert limited.total_steps - before <= 5 + DropSimulation.PLATE_CHUNK
     assert limited.impacts == one.impacts
+
+
+@pytest.mark.parametrize('moving', [False, True], ids=['fixed', 'vibrating'])
+def test_a_contact_change_inside_the_surface_after_lift_off_is_no_impact(moving):
+    """After a lift-off at z > 0 (the damped linear law's force vanishes inside the surface) a
+    new contact that pushes at once is a resumed contact, not an impact, on a moving plate too
+    (found in review: the vibrating plate logged impact_speed = 0, restitution = 0)."""
+    plate = SinusoidalPlate(1e-4, 5.0) if moving else None
+    sim = DropSimulation(Contact('linear', 1e5, 50.0), 0.05, 0.05, plate=plate)
+    while not sim.impacts:
+        sim.advance(sim.time + 1e-3)
+    assert sim.state.penetration > 0.0 and sim.state.force == 0.0   # inside, force off
+    count = len(sim.impacts)
+    sim.set_contact(Contact('linear', 1e5, 0.0))      # undamped: pushes at once
+    sim.advance(sim.time + 0.01)
+    assert len(sim.impacts) == count, sim.impacts[count:]

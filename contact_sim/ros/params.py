@@ -185,11 +185,21 @@ _MATERIAL_FIELDS = ('youngs_modulus', 'poisson_ratio', 'density')
 def refusal(error, values):
     """The core's refusal in this node's words: the parameter names, and what a 0 means here."""
     text = error.render(PARAMETER_KEYS)
-    if error.field == 'mass' and values.get('sphere_mass') != 0.0:
-        text += ', or sphere_mass = 0 for the mass from sphere density and radius'
-    if error.field == 'stiffness' and values.get('stiffness') == 0.0:
+    field = error.field
+    if field == 'mass':
+        text += (', or sphere_mass = 0 for the mass from sphere density and radius'
+                 if values.get('sphere_mass') != 0.0 else
+                 ' (sphere_mass = 0: the mass is (4/3) pi R1^3 rho from sphere_radius and the '
+                 'sphere density)')
+    elif field == 'stiffness' and values.get('stiffness') == 0.0:
         text += (" (stiffness = 0: k is the Hertz stiffness from the materials' moduli and "
                  'Poisson ratios and the radii)')
+    elif field == 'damping' and values.get('damping') == 0.0:
+        text += ' (damping = 0: lambda = damping_factor sqrt(R), eq. 9)'
+    elif field == 'plate_radius':
+        text += ', or plate_radius = 0 for a flat plate'
+    elif field == 'gravity' and values.get('drag_coefficient', 0.0) > 0.0:
+        text += '; drag_coefficient = 0 turns the air drag off'
     return text
 
 
