@@ -276,6 +276,12 @@ class Topic:
         """Published at every tick (so a recording of it reaches every tick's time)."""
         return self.kind in ('sample', 'state')
 
+    @property
+    def paced(self):
+        """Covered by a recorder's acknowledgement: the node's own per-tick topics and /clock
+        (a keep-last writer: unacknowledged, its oldest samples would be overwritten)."""
+        return self.continuous or self.kind == 'clock'
+
     def resolve(self, node_name):
         """The full name for a node ``/ns/name`` (``~/x`` -> ``/ns/name/x``)."""
         if self.name.startswith('~/'):

@@ -98,9 +98,10 @@ class Recorder(Node):
                                f'({storage})')
 
     def recorded_ns(self):
-        """The simulated time (ns) up to which every continuous topic that delivered anything is
-        recorded; None before the first message."""
-        reached = [ns for topic, ns in self.covered_ns.items() if self._topics[topic].continuous]
+        """The simulated time (ns) up to which every per-tick topic that delivered anything is
+        recorded (``Topic.paced``: /clock too, its latest stamp from any publisher, so a foreign
+        /clock never holds the node back); None before the first message."""
+        reached = [ns for topic, ns in self.covered_ns.items() if self._topics[topic].paced]
         return min(reached) if reached else None
 
     def report(self):
