@@ -40,7 +40,7 @@ from scipy.optimize import least_squares
 
 from .bounces import contact_map, impact_sequence, release_height, release_speed
 from .contact import Contact
-from .fitting import damping_for_restitution, require_fit_options
+from .fitting import _robust_weights, damping_for_restitution, require_fit_options
 from .flight import AirDrag, flight_to_plate
 from .laws import LAWS, get_law
 from .recordings import ImpactTimes
@@ -173,8 +173,9 @@ def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, stiffness=None, mass=
 
         first = dt[0] if index[1] == 1 else dt[0] / sum(e_bar ** j for j in range(index[1]))
         options = []
+        released = float(release_speed(seq.height, gravity, kappa))
         for late in range(3):
-            v = float(release_speed(seq.height, gravity, kappa))
+            v = released
             for j in range(-late, 0):
                 v = float(flight_to_plate(e_at(j) * v, gravity, kappa)[1])
             options.append(float(flight_to_plate(e_at(0) * v, gravity, kappa)[0]))
@@ -366,7 +367,7 @@ def _initial_guess(problem, drag_coefficient):
     for s in problem.seqs:
         dt = np.diff(s.times) / np.diff(s.index)        # rough single flights
         e = s.restitution_guess
-        first_flight = dt[0] * e ** 0 if s.index[0] == 0 else dt[0]
+        first_flight = dt[0]
         if s.height is not None:
             v = float(release_speed(s.height, g, kappa, beta))
             v_first = v * e ** s.index[0]
@@ -424,17 +425,7 @@ def _fit_law(law, k, problem, x0, loss, confidence):
     x = result.x
     n_obs, n_par = result.fun.size, x.size
     dof = max(n_obs - n_par, 1)
-    z2 = (result.fun / scale) ** 2
-    if loss == 'soft_l1':
-        weights = 1.0 / np.sqrt(1.0 + z2)
-    elif loss == 'huber':
-        weights = np.where(z2 <= 1.0, 1.0, 1.0 / np.sqrt(np.maximum(z2, 1e-300)))
-    elif loss == 'cauchy':
-        weights = 1.0 / (1.0 + z2)
-    elif loss == 'arctan':
-        weights = 1.0 / (1.0 + z2 * z2)
-    else:
-        weights = np.ones_like(z2)
+    weights = _robust_weights(loss, (result.fun / scale) ** 2)
     weighted_sse = float(np.sum(weights * result.fun ** 2)) * res_unit ** 2
     s2 = float(np.sum(weights * result.fun ** 2)) / dof
     jac = result.jac.toarray() if hasattr(result.jac, 'toarray') else np.asarray(result.jac)

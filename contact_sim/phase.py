@@ -307,8 +307,8 @@ class CompiledPhase:
         law = contact.law
         k, mass_g = contact.stiffness, mass * sc.gravity * sc.length / sc.time ** 2
         g = mass_g / mass                           # as PhaseIntegrator.energy_above_rest
-        z0 = (mass_g / k) ** (1.0 / law.n)           # the static depth
-        rest_potential = k * z0 ** (law.n + 1.0) / (law.n + 1.0) - mass_g * z0
+        z0 = contact.static_penetration(mass_g)
+        rest_potential = float(_potential(contact, mass, g, z0))
         # the layout of compiled.P_*; the forcing: gravity, and the terms of ``forcing``
         extra = (0.0,) * 5 if forcing is None else forcing.dimensionless(mass, sc, start_time)
         par = np.array([law.n, law.p, law.q, sc.damping,
@@ -389,9 +389,6 @@ class CompiledPhase:
         s = math.sqrt(max(t - self.start_time, 0.0) / self.scales.time)
         x, u = compiled.state_in_last_step(self._st, self._k, self._f, self._par, s)
         return self._dimensional(s, x, u)[1:]
-
-    def force_of(self, z, zdot):
-        return float(self.contact.force(z, zdot))
 
     def energy_above_rest(self):
         """Mechanical energy (J) above static equilibrium at the integrator's current state

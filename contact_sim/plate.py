@@ -257,8 +257,6 @@ def plate_or_none(plate):
                          'CommandedPlate or another plate.PlateMotion')
     if not plate.moving:
         return None
-    if isinstance(plate, SinusoidalPlate) and plate.frequency == 0.0:
-        return None if plate.amplitude * math.sin(plate.phase) == 0.0 else plate
     return plate
 
 

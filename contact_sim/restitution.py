@@ -64,13 +64,19 @@ def require_speeds(speed, name='speed'):
     return v
 
 
+def _group(law, length, speed, damping, mass):
+    """ζ = λ Z^(p+1) v^(q-2) / m at the impact length scale Z (m) and speed v (m/s): arrays or
+    floats."""
+    return damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
+
+
 def checked_scales(law, stiffness, mass, speed, damping=0.0, name='speed'):
     """(Z, T, ζ) of impacts at ``speed`` (arrays), refused with ``InputError`` on ``name`` when
     Z or T is not a finite positive number or ζ exceeds ``ZETA_MAX``."""
     v = require_speeds(speed, name)
     with np.errstate(all='ignore'):
         length, time = impact_scales(law, stiffness, mass, v)
-        zeta = damping * length ** (law.p + 1.0) * v ** (law.q - 2.0) / mass
+        zeta = _group(law, length, v, damping, mass)
     ok = (length > 0.0) & np.isfinite(length) & (time > 0.0) & np.isfinite(time) \
         & (zeta <= ZETA_MAX)
     if not np.all(ok):
@@ -83,10 +89,9 @@ def checked_scales(law, stiffness, mass, speed, damping=0.0, name='speed'):
 
 def damping_group(law, stiffness, mass, speed, damping):
     """ζ = λ Z^(p+1) v^(q-2) / m, the one group the restitution depends on (see module doc)."""
-    require_speeds(speed)
-    length, _ = impact_scales(law, stiffness, mass, speed)
-    return damping * length ** (law.p + 1.0) * np.asarray(speed, dtype=float) ** (law.q - 2.0) \
-        / mass
+    v = require_speeds(speed)
+    length, _ = impact_scales(law, stiffness, mass, v)
+    return _group(law, length, v, damping, mass)
 
 
 def damping_from_group(law, stiffness, mass, speed, zeta):
@@ -317,10 +322,6 @@ class MasterCurve:
         return cache[quantity]
 
 
-def _law_key(law):
-    return (float(law.n), float(law.p), float(law.q))
-
-
 # -- asymptotics of e beyond the table (q = 1) ---------------------------------------------
 def elastic_dissipation_integral(law):
     """I with e = 1 - I ζ + O(ζ²) as ζ -> 0 (any law).
@@ -509,7 +510,7 @@ def _scalar_restitution(contact, mass, speed):
     contact = require_contact(contact)
     law = contact.law
     length = (mass * speed * speed / contact.stiffness) ** (1.0 / (law.n + 1.0))
-    zeta = contact.damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
+    zeta = _group(law, length, speed, contact.damping, mass)
     if not (zeta <= ZETA_MAX and 0.0 < length < math.inf):
         return _dimensional('restitution', contact, mass, speed)   # raises, naming the speed
     closed = CLOSED_FORMS.get(law)

@@ -99,7 +99,6 @@ class ContactSimNode(Node):
             self._pub[topic.key] = self.create_publisher(topic.msg_type, topic.name, topic.qos)
             if topic.fields or topic.kind == 'clock':
                 self._encode[topic.key] = topic.template(frame).encode
-        self._state_keys = [t.key for t in TOPICS if t.kind == 'state' and t.key in self._pub]
         self.create_service(GetParameters, '~/query_restitution', self._on_query)
         self.create_service(Trigger, '~/reset', self._on_reset)
         self.add_on_set_parameters_callback(self._on_set_parameters)
