@@ -44,7 +44,7 @@ from .fitting import _robust_weights, damping_for_restitution, require_fit_optio
 from .flight import AirDrag, flight_to_plate
 from .laws import LAWS, get_law
 from .recordings import ImpactTimes
-from .restitution import restitution
+from .restitution import elastic_limits, restitution
 from .validation import InputError, require_positive
 
 MICRO_BOUNCE_GROUP = 1e-2    # impacts with G = gT/v above this are left out (bounces doc)
@@ -249,8 +249,7 @@ class BounceFit:
 
 def _linear_stiffness(hertz_law, hertz_k, mass, speed):
     """k of a linear spring whose undamped contact π √(m/k) lasts as long as the Hertz one."""
-    from .bounces import _contact_values
-    tau_unit = float(_contact_values(hertz_law, np.array([1e-300]))[1][0])   # ζ -> 0
+    tau_unit = elastic_limits(hertz_law)['duration']   # dimensionless τc at ζ -> 0
     length = (mass * speed * speed / hertz_k) ** (1.0 / (hertz_law.n + 1.0))
     return mass * (math.pi * speed / (tau_unit * length)) ** 2
 
@@ -339,10 +338,11 @@ class _Problem:
             h0 = float(release_height(v1[j], self.g, kappa, beta))
             h1 = float(release_height(v1[j] * math.exp(step), self.g, kappa, beta))
             jac[pos + i, self.offset + n + j] = (h1 - h0) / step / self.height_error
-        if self.fit_drag:
+        if self.fit_drag:   # the base residuals from the batch's first block: one call more
+            base = self._pack([t1[j] + times[j, idx] for j, idx in self.rows], v1, kappa, beta)
             xs = np.array(x, dtype=float)
             xs[1] += step
-            jac[:, 1] = (self.residuals(xs) - self.residuals(x)) / step
+            jac[:, 1] = (self.residuals(xs) - base) / step
         return np.where(np.isfinite(jac), jac, 0.0)
 
 

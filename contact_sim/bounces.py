@@ -43,13 +43,14 @@ from .flight import AirDrag, fall_time, flight_to_plate
 from .laws import get_law
 from .phase import PhaseIntegrator
 from .restitution import dimensionless
-from .validation import require_positive, require_real
+from .validation import require_int, require_positive, require_real
 
 TABLE_FILE = 'bounce_tables.npz'
 TABLE_POINTS = 97           # table grid, uniform in ln ζ from 1e-5 to the ζ of e = 0.02
 LOWEST_RESTITUTION = 0.02    # below it (ζ beyond the table) the end values are held
 _G_STEP = 1e-4                                            # dimensionless gravity for a, b
 VALID_GRAVITY_GROUP = 2e-3    # above this G the first-order gravity correction is not trusted
+MAX_BOUNCES = 1_000_000       # impacts one predict_bounces call computes at most
 
 
 def _unit_contact(law, zeta, gravity):
@@ -358,7 +359,7 @@ def predict_bounces(contact, mass, height=None, first_flight=None, count=10, gra
     ``AirDrag`` (``None``: vacuum)."""
     mass = require_positive('mass', mass)
     gravity = require_positive('gravity', gravity)
-    count = int(require_positive('count', count))
+    count = require_int('count', count, 1, MAX_BOUNCES)
     start = require_real('start_time', start_time)
     kappa, beta = drag.rates(mass, gravity) if drag is not None else (0.0, 0.0)
     law, k, lam = contact.law, contact.stiffness, contact.damping

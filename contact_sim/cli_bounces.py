@@ -12,7 +12,7 @@ from .fitting import LOSSES
 from .flight import AIR_DENSITY, SPHERE_DRAG_COEFFICIENT, AirDrag
 from .laws import LAWS
 from .recordings import ImpactTimes, read_impact_times
-from .validation import require_positive, require_range
+from .validation import require_positive
 
 NOTES = """
 
@@ -139,26 +139,24 @@ def _drag(args):
 
 def run(args):
     laws = list(dict.fromkeys(args.law or LAWS))
-    confidence = require_range('confidence', args.confidence, 0.0, 1.0, low_open=True,
-                               high_open=True)
-    require_positive('gravity', args.gravity)
     mass = _mass(args)
     drag = _drag(args)
     ks, k_source = _stiffness(args, laws, mass)
     sequences = _sequences(args)
     fit = fit_bounces(sequences, mass, ks, laws=laws, gravity=args.gravity, drag=drag,
                       fit_drag=args.fit_drag, timing_resolution=args.timing_resolution,
-                      height_error=args.height_error, loss=args.loss, confidence=confidence)
-    print_report(fit, sequences, args, k_source)
+                      height_error=args.height_error, loss=args.loss, confidence=args.confidence)
+    table = corrected_restitution_table(fit)
+    print_report(fit, sequences, args, k_source, table)
     if args.plot:
-        _plot(args, fit)
+        _plot(args, fit, table)
     if args.save_params:
         write_params(args.save_params, fit, args)
         print(f'# node parameters written to {args.save_params}')
     return 0
 
 
-def print_report(fit, sequences, args, k_source):
+def print_report(fit, sequences, args, k_source, table):
     level = f'{100 * fit.confidence:g}%'
     clicks = sum(s.times.size for s in sequences)
     print(f'# bounce fit: {len(sequences)} sequence(s), {clicks} clicks; m = {fit.mass:.6g} kg, '
@@ -203,7 +201,7 @@ def print_report(fit, sequences, args, k_source):
         print(f'  sequence {j + 1}: t = {t:.6f} s, residual {r * 1e3:+.3f} ms, weight {w:.2f}')
     print(f'# drag- and duration-corrected restitution ({best.law.name}); e from each flight')
     print(f'# {"seq":>3} {"speed (m/s)":>12} {"e":>9} {"sigma_e":>9} {"e model":>9}')
-    for j, v, e, se in corrected_restitution_table(fit):
+    for j, v, e, se in table:
         model = float(restitution_curve(best, fit.mass, v))
         print(f'  {j + 1:3d} {v:12.5f} {e:9.5f} {se:9.5f} {model:9.5f}')
     print(f'# predicted vs measured click times ({best.law.name})')
@@ -250,11 +248,10 @@ def write_params(path, fit, args):
         raise ValueError(f'save_params = {path!r} cannot be written: {error.strerror}') from None
 
 
-def _plot(args, fit):
+def _plot(args, fit, table):
     from . import plotting
     pyplot = plotting.load_pyplot()
     fig, (ax_e, ax_r) = pyplot.subplots(2, 1, figsize=(8.0, 7.0), layout='constrained')
-    table = corrected_restitution_table(fit)
     if table:
         _, v, e, se = (np.array(c) for c in zip(*table))
         ax_e.errorbar(v, e, yerr=se, fmt='o', color='k', ms=4, label='measured (corrected)')

@@ -78,17 +78,21 @@ class AirDrag:
         """
         mass = require_positive('mass', mass)
         kappa, beta = self.quadratic_coefficient / mass, self.linear_coefficient / mass
-        if beta > 0.0 and beta * beta >= 4.0 * kappa * gravity:
-            if kappa > 0.0:
-                limit = 2.0 * math.sqrt(self.quadratic_coefficient * mass * gravity)
-                raise ValueError(f'linear_coefficient = {self.linear_coefficient!r} is out of '
-                                 f'range: allowed 0 <= linear_coefficient < 2 sqrt(c m g) = '
-                                 f'{limit:.6g} N s/m together with quadratic drag')
+        if _linear_term_too_large(kappa, beta, gravity):
+            limit = 2.0 * math.sqrt(self.quadratic_coefficient * mass * gravity)
+            raise ValueError(f'linear_coefficient = {self.linear_coefficient!r} is out of '
+                             f'range: allowed 0 <= linear_coefficient < 2 sqrt(c m g) = '
+                             f'{limit:.6g} N s/m together with quadratic drag')
         return kappa, beta
 
     @property
     def active(self):
         return self.quadratic_coefficient > 0.0 or self.linear_coefficient > 0.0
+
+
+def _linear_term_too_large(kappa, beta, gravity):
+    """With quadratic drag, the closed forms need β² < 4 κ g (module doc)."""
+    return kappa > 0.0 and beta > 0.0 and beta * beta >= 4.0 * kappa * gravity
 
 
 # -- the two legs, vectorised over numpy arrays (scalars work too) --------------------------
@@ -201,8 +205,7 @@ class FlightPath:
         require_positive('gravity', self.gravity)
         require_nonnegative('kappa', self.kappa)
         require_nonnegative('beta', self.beta)
-        if self.beta > 0.0 and self.beta ** 2 >= 4.0 * self.kappa * self.gravity \
-                and self.kappa > 0.0:
+        if _linear_term_too_large(self.kappa, self.beta, self.gravity):
             raise ValueError(f'beta = {self.beta!r} is out of range: allowed beta < '
                              f'2 sqrt(kappa g) = {2.0 * math.sqrt(self.kappa * self.gravity):g}')
 

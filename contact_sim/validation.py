@@ -8,6 +8,7 @@ the fields with their core names; a front end renders the same message in its ow
 ``{'mass': 'sphere_mass'}`` in the ROS node, so its users read the names they typed.
 """
 import math
+import numbers
 
 
 class _Names(dict):
@@ -113,7 +114,7 @@ def require_nonnegative(name, value):
 
 def require_int(name, value, low, high):
     """Return ``value`` as an int with low <= value <= high, else raise ``InputError``."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) \
+    if isinstance(value, bool) or not isinstance(value, (numbers.Integral, float)) \
             or isinstance(value, float) and not value.is_integer():
         raise InputError(name, value, '{n[%s]} = {value} is not an integer: allowed %s'
                          % (name, range_text(name, low, high)), value=_describe(value))

@@ -89,6 +89,11 @@ def test_predict_bounces_errors_name_the_field():
         bounces.predict_bounces(contact, 0.0027, height=-1.0)
     with pytest.raises(ValueError, match='mass = 0.0 is out of range'):
         bounces.predict_bounces(contact, 0.0, height=1.0)
+    for count in (2.5, 0, True, '3', bounces.MAX_BOUNCES + 1):
+        with pytest.raises(ValueError, match=r'count = .* allowed 1 <= count'):
+            bounces.predict_bounces(contact, 0.0027, height=1.0, count=count)
+    # an integer count from numpy is an integer
+    assert bounces.predict_bounces(contact, 0.0027, height=1.0, count=np.int64(3)).times.size == 3
 
 
 def test_vectorised_over_sequences():
