@@ -44,7 +44,7 @@ from .fitting import _robust_weights, damping_for_restitution, require_fit_optio
 from .flight import AirDrag, flight_to_plate
 from .laws import LAWS, get_law
 from .recordings import ImpactTimes
-from .restitution import elastic_limits, restitution
+from .restitution import elastic_limits, impact_scales, restitution
 from .validation import InputError, require_positive
 
 MICRO_BOUNCE_GROUP = 1e-2    # impacts with G = gT/v above this are left out (bounces doc)
@@ -250,7 +250,7 @@ class BounceFit:
 def _linear_stiffness(hertz_law, hertz_k, mass, speed):
     """k of a linear spring whose undamped contact π √(m/k) lasts as long as the Hertz one."""
     tau_unit = elastic_limits(hertz_law)['duration']   # dimensionless τc at ζ -> 0
-    length = (mass * speed * speed / hertz_k) ** (1.0 / (hertz_law.n + 1.0))
+    length, _ = impact_scales(hertz_law, hertz_k, mass, speed)
     return mass * (math.pi * speed / (tau_unit * length)) ** 2
 
 

@@ -42,7 +42,7 @@ from .contact import Contact
 from .flight import AirDrag, fall_time, flight_to_plate
 from .laws import get_law
 from .phase import PhaseIntegrator
-from .restitution import dimensionless
+from .restitution import _group, dimensionless, impact_scales
 from .validation import require_int, require_positive, require_real
 
 TABLE_FILE = 'bounce_tables.npz'
@@ -181,10 +181,8 @@ def contact_map(law, stiffness, damping, mass, gravity, speed, kappa=0.0, beta=0
     order: u is lowered by (κ u + β) z_l."""
     law = get_law(law)
     v = np.atleast_1d(np.asarray(speed, dtype=float))
-    length = (mass * v * v / stiffness) ** (1.0 / (law.n + 1.0))   # Z, T as in ``restitution``
-    time = length / v
-    zeta = np.broadcast_to(damping * length ** (law.p + 1.0) * v ** (law.q - 2.0) / mass,
-                           v.shape)
+    length, time = impact_scales(law, stiffness, mass, v)
+    zeta = np.broadcast_to(_group(law, length, v, damping, mass), v.shape)
     e0, tau0, xl, aa, bb = _contact_values(law, np.ascontiguousarray(zeta))
     g_group = gravity * time / v
     u = v * (e0 - g_group * aa)
