@@ -481,10 +481,7 @@ def lift_off_energy(contact, mass, gravity, margin=0.5):
     that curve is taken on a fine logarithmic grid and multiplied by ``margin`` for safety.
     (Remembered per argument set: a drop asks it once per contact phase.)
     """
-    try:
-        return _lift_off_energy_cached(contact, mass, gravity, margin)
-    except TypeError:          # an unhashable argument
-        return _lift_off_energy(contact, mass, gravity, margin)
+    return _lift_off_energy_cached(contact, float(mass), float(gravity), float(margin))
 
 
 def _lift_off_energy(contact, mass, gravity, margin):
