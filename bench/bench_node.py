@@ -8,9 +8,10 @@ own ROS_DOMAIN_ID):
   rest-100Hz     real time, 100 Hz, the ball at rest, no subscriber: CPU % of one core
   rest-1kHz      real time, 1 kHz, the ball at rest, a reliable subscriber on every topic
                  counting the messages: CPU %, ticks/s on each topic
-  floor          µs per tick to encode and publish one tick on every topic (wrench, contact,
-                 pose, twist, /clock), no simulation: the node's CDR encoders, and rclpy message
-                 objects for comparison (measured in this process, no subscriber)
+  floor          µs per tick to encode and publish one tick on every per-tick topic of
+                 messages.TOPICS (kinds sample, state, clock: wrench, contact, pose, twist, /clock,
+                 ...), no simulation: the node's CDR encoders, and rclpy message objects for
+                 comparison (measured in this process, no subscriber)
   flat-out       real_time_factor 0, 100 Hz, no subscriber: simulated s per wall s (from
                  ~/reset replies) and the node's CPU µs per tick, against the floor
   settle         real time, 100 Hz: the longest executor turn (CPU time of one timer callback)
@@ -135,33 +136,53 @@ def scenario_rest(rate, window, workdir, subscribe):
 
 
 def floor(ticks=20000):
-    """µs per tick to encode and publish wrench, contact, pose, twist and /clock (no subscriber)."""
+    """µs per tick to encode and publish one message on every per-tick topic of messages.TOPICS
+    (kinds sample, state and clock; no subscriber), in CPU time of this process: with the node's
+    CDR encoders, and with rclpy message objects for comparison. Returns (CDR µs, objects µs,
+    topic keys)."""
     from contact_sim.ros import messages as m
     node = rclpy.create_node('bench_floor')
-    topics = [t for t in m.TOPICS if t.kind != 'impact']
-    pubs = {t.key: node.create_publisher(t.msg_type, f'/bench_floor/{t.key}', t.qos)
-            for t in topics}
-    enc = {t.key: t.template('plate').encode for t in topics}
-    t0 = time.perf_counter()
+    topics = [t for t in m.TOPICS if t.kind in ('sample', 'state', 'clock')]
+    pubs = [node.create_publisher(t.msg_type, f'/bench_floor/{t.key}', t.qos) for t in topics]
+    enc = [t.template('plate').encode for t in topics]
+    values = [tuple(0.5 + i for i in range(len(t.fields))) for t in topics]
+    rows = list(zip(pubs, enc, values))
+    # CPU time of this process (all its threads, as the node's from /proc): not the machine's load
+    t0 = time.process_time()
     for i in range(ticks):
         ns = 1_000_000_000 + i * 10_000_000
-        pubs['wrench'].publish(enc['wrench'](ns, 0.66))
-        pubs['contact'].publish(enc['contact'](ns, 1e-7, 0.0, 1.0))
-        pubs['pose'].publish(enc['pose'](ns, 0.0127))
-        pubs['twist'].publish(enc['twist'](ns, 0.0))
-        pubs['clock'].publish(enc['clock'](ns))
-    cdr = (time.perf_counter() - t0) / ticks * 1e6
-    t0 = time.perf_counter()
+        for pub, encode, vals in rows:
+            pub.publish(encode(ns, *vals))
+    cdr = (time.process_time() - t0) / ticks * 1e6
+    build = [_object_builder(t, 'plate') for t in topics]
+    rows = list(zip(pubs, build, values))
+    t0 = time.process_time()
     for i in range(ticks // 4):
         ns = 1_000_000_000 + i * 10_000_000
-        pubs['wrench'].publish(m.wrench_msg(ns, 0.66, 'plate'))
-        pubs['contact'].publish(m.contact_msg(ns, 1e-7, 0.0, 1.0, 'plate'))
-        pubs['pose'].publish(m.pose_msg(ns, 0.0127, 0.0, 'plate'))
-        pubs['twist'].publish(m.twist_msg(ns, 0.0, 'plate'))
-        pubs['clock'].publish(m.clock_msg(ns))
-    objects = (time.perf_counter() - t0) / (ticks // 4) * 1e6
+        for pub, make, vals in rows:
+            pub.publish(make(ns, *vals))
+    objects = (time.process_time() - t0) / (ticks // 4) * 1e6
     node.destroy_node()
-    return cdr, objects
+    return cdr, objects, [t.key for t in topics]
+
+
+def _object_builder(topic, frame_id):
+    """An rclpy message object of ``topic`` stamped ns with its fields set to values."""
+    from contact_sim.ros import messages as m
+
+    def build(ns, *values):
+        msg = topic.msg_type()
+        for path, value in topic.constants:
+            m._set(msg, path, value)
+        if topic.kind == 'clock':
+            msg.clock = m.time_msg(ns)
+        else:
+            msg.header.stamp = m.time_msg(ns)
+            msg.header.frame_id = frame_id
+        for path, value in zip(topic.fields, values):
+            m._set(msg, path, float(value))
+        return msg
+    return build
 
 
 def scenario_flat_out(window, workdir):
@@ -277,9 +298,10 @@ def main():
             print(f'settle      real time, 100 Hz, first 5 s (bouncing and settling): longest '
                   f'executor turn {longest * 1e3:.1f} ms of CPU (ending at t = {at:.3f} s), mean '
                   f'{mean * 1e3:.2f} ms over {turns} turns')
-            cdr, objects = floor()
-            print(f'floor       encode + publish one tick on 5 topics, no subscriber: '
-                  f'{cdr:.1f} us (CDR templates), {objects:.1f} us (rclpy message objects)')
+            cdr, objects, keys = floor()
+            print(f'floor       encode + publish one tick on {len(keys)} topics ({", ".join(keys)}),'
+                  f' no subscriber: {cdr:.1f} us (CDR templates), {objects:.1f} us (rclpy message '
+                  f'objects)')
             speed, per_cpu, per_tick, cpu, log = scenario_flat_out(window, workdir)
             print(f'flat-out    real_time_factor 0, 100 Hz, no subscriber: {speed:.0f} x real '
                   f'time in wall time ({cpu:.0f} % of a core: the rest of the time the node '

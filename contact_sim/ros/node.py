@@ -42,6 +42,7 @@ away). The recorder's subscriptions are keep-all, so nothing is dropped on its s
 import math
 import time
 
+import numpy as np
 import rclpy
 import rclpy.logging
 from rcl_interfaces.msg import ParameterType, ParameterValue, SetParametersResult
@@ -55,12 +56,13 @@ from rclpy.node import Node
 from rclpy.serialization import serialize_message
 from std_srvs.srv import Trigger
 
-from .messages import PROGRESS, TOPICS, contact_samples, impact_msg, impact_ok, to_ns
+from .messages import PROGRESS, TOPICS, impact_msg, impact_ok, sample_columns, to_ns_array
 from .params import DEFAULTS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, build_model, \
     check_running, descriptor, make_simulation
 from .query import answer_queries
 
 TURN_STEP_BUDGET = 20    # integrator steps per engine call (~10 ms); then the wall budget is checked
+BATCH_TICKS = 256        # ticks per batched engine call (advance_ticks), then the budgets are checked
 FAST_TURN = 0.02         # s of wall time per executor turn when running as fast as possible
 REAL_TURN = 0.75         # of the timer period: wall time per turn at most in real time
 WAKE_PERIOD = 0.02       # s: in real time the node wakes at most every 20 ms (50 Hz)
@@ -213,7 +215,7 @@ class ContactSimNode(Node):
         elif due - self._tick > MAX_LAG * self._model.publish_rate:
             self._skip_ahead(due, start)
         while self._tick < due:
-            if not self._run_tick(deadline):
+            if not self._run_ticks(min(due, self._tick + BATCH_TICKS), deadline):
                 return    # out of wall time inside the tick: the next turn goes on with it
             if self._pending or time.monotonic() > deadline:
                 return
@@ -277,63 +279,105 @@ class ContactSimNode(Node):
                 f' skipping ahead (the states of skipped ticks are not published; logged once)')
         self._tick = due - 1
 
-    def _run_tick(self, deadline):
-        """Advance to the end of the next tick and publish it; False if the wall budget ran out
-        first (what was integrated so far is published; the tick goes on at the next turn)."""
-        target = self._anchor_sim + (self._tick + 1) * self._dt
+    def _run_ticks(self, upto, deadline):
+        """Advance through ticks up to ``upto`` (since the anchor) in batched engine calls
+        (``DropSimulation.advance_ticks``, ``TURN_STEP_BUDGET`` integrator steps each) and
+        publish them; False if the wall budget ran out first (what was integrated so far is
+        published; the rest goes on at the next turn)."""
         sim = self._sim
-        while True:
+        times = self._anchor_sim + np.arange(self._tick + 1, upto + 1) * self._dt
+        done = 0
+        while done < times.size:
             try:
-                advance = sim.advance(target, max_steps=TURN_STEP_BUDGET)
+                batch = sim.advance_ticks(times[done:], max_steps=TURN_STEP_BUDGET)
             except Exception as error:  # keep the node alive and the last good state
+                target = float(times[done])
                 self.get_logger().error(f'simulation step to t = {target:.9f} s failed: {error}',
                                         throttle_duration_sec=5.0)
                 self._tick += 1
                 return True
-            end = self._publish_samples(advance)
-            if sim.time >= target:
-                break
-            if time.monotonic() > deadline:
+            self._publish_batch(batch)
+            done += batch.ticks
+            self._tick += batch.ticks
+            if done < times.size and time.monotonic() > deadline:
                 return False
-        self._tick += 1
-        if end is not None:
-            self._publish_state(*end)
         return True
 
-    def _publish_samples(self, advance):
-        """Publish the contact points and impacts of one engine call; return the last point as
-        (ns, z, zdot) (None if not finite)."""
-        send, encode, offset = self._send, self._encode, self._offset
-        encode_wrench, encode_contact = encode['wrench'], encode['contact']
-        points, skipped = contact_samples(advance.samples, offset, self._last_sample_ns)
-        for ns, z, zdot, force in points:
-            send('wrench', encode_wrench(ns, force))
-            send('contact', encode_contact(ns, z, zdot, 1.0 if force > 0.0 else 0.0))
-        if points:
-            self._last_sample_ns = points[-1][0]
-        t, z, zdot = (float(advance.samples.time[-1]), float(advance.samples.penetration[-1]),
-                      float(advance.samples.penetration_rate[-1]))
-        end = (to_ns(offset + t), z, zdot) if math.isfinite(t + z + zdot) else None
-        for record in advance.impacts:
+    def _publish_batch(self, batch):
+        """Publish one engine call: on the sample topics every contact point passed and each
+        tick's end, in time order; each completed impact; each tick's end on the state topics
+        and /clock. Stamps strictly increase per topic; nothing non-finite is published."""
+        offset = self._offset
+        n, points = batch.ticks, batch.points
+        if points.time.size:
+            key = np.concatenate([2 * batch.point_tick, 2 * np.arange(n) + 1])
+            order = np.argsort(key, kind='stable')
+            columns = [np.concatenate([getattr(points, f), getattr(batch, f)[:n]])[order]
+                       for f in ('time', 'penetration', 'penetration_rate', 'force')]
+        else:
+            columns = [batch.time, batch.penetration, batch.penetration_rate, batch.force]
+        ns, z, zdot, force, skipped = sample_columns(*columns, offset, self._last_sample_ns)
+        if ns:
+            self._last_sample_ns = ns[-1]
+            self._publish_many('wrench', ns, force)
+            flags = [1.0 if f > 0.0 else 0.0 for f in force]
+            self._publish_many('contact', ns, z, zdot, flags)
+        for record in batch.impacts:
             message = impact_msg(record, offset)
             if impact_ok(message):
-                send('impact', serialize_message(message))
+                self._send('impact', serialize_message(message))
             else:
                 skipped += 1
+        if n:
+            end_ns = to_ns_array(offset + batch.time)
+            finite = np.isfinite(batch.time) & np.isfinite(batch.penetration) & np.isfinite(
+                batch.penetration_rate)
+            keep = finite & (end_ns > self._last_state_ns)
+            if not keep.all() or np.any(end_ns[1:] <= end_ns[:-1]):
+                keep = self._increasing(end_ns, keep)
+            if keep.any():
+                end_ns = end_ns[keep]
+                self._last_state_ns = int(end_ns[-1])
+                stamps = end_ns.tolist()
+                self._publish_many('pose', stamps,
+                                   (self._model.radius - batch.penetration[keep]).tolist())
+                self._publish_many('twist', stamps, (-batch.penetration_rate[keep]).tolist())
+                if 'clock' in self._encode:
+                    self._publish_many('clock', stamps)
         if skipped:
             self.get_logger().warning(f'skipped {skipped} non-finite values',
                                       throttle_duration_sec=5.0)
-        return end
 
-    def _publish_state(self, ns, z, zdot):
-        if ns <= self._last_state_ns:
+    def _increasing(self, stamps, keep):
+        """``keep`` narrowed to stamps strictly increasing past the last state published."""
+        last = self._last_state_ns
+        out = np.zeros_like(keep)
+        for i, (ns, ok) in enumerate(zip(stamps.tolist(), keep.tolist())):
+            if ok and ns > last:
+                out[i], last = True, ns
+        return out
+
+    def _publish_many(self, key, *columns):
+        """Encode and publish one message per row of ``columns`` (stamp ns, values) on ``key``;
+        from the first refusal by a reliable reader on, keep the rest for the next turn (in
+        order, after what already waits: see ``_send``)."""
+        encode = self._encode[key]
+        rows = zip(*columns)
+        pending = self._pending
+        if pending:
+            pending.extend((key, encode(*row)) for row in rows)
             return
-        self._last_state_ns = ns
-        send, encode = self._send, self._encode
-        send('pose', encode['pose'](ns, self._model.radius - z))
-        send('twist', encode['twist'](ns, -zdot))
-        if 'clock' in encode:
-            send('clock', encode['clock'](ns))
+        publish = self._pub[key].publish
+        for row in rows:
+            data = encode(*row)
+            try:
+                publish(data)
+            except _rclpy.RCLError:
+                if not rclpy.ok(context=self.context):
+                    raise
+                pending.append((key, data))
+                pending.extend((key, encode(*rest)) for rest in rows)
+                return
 
     # ---- services --------------------------------------------------------------------------
 
