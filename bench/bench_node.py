@@ -20,6 +20,7 @@ The executor comparison (--executors) runs a bare 100 Hz / 1 kHz timer publishin
 under each executor.
 """
 import argparse
+import math
 import os
 import re
 import subprocess
@@ -144,7 +145,7 @@ def floor(ticks=20000):
     node = rclpy.create_node('bench_floor')
     topics = [t for t in m.TOPICS if t.kind in ('sample', 'state', 'clock')]
     pubs = [node.create_publisher(t.msg_type, f'/bench_floor/{t.key}', t.qos) for t in topics]
-    enc = [t.template('plate').encode for t in topics]
+    enc = [t.template('plate').packer() for t in topics]   # as the node's
     values = [tuple(0.5 + i for i in range(len(t.fields))) for t in topics]
     rows = list(zip(pubs, enc, values))
     # CPU time of this process (all its threads, as the node's from /proc): not the machine's load
@@ -204,8 +205,10 @@ def scenario_flat_out(window, workdir):
 
 
 def settle(seconds=5.0):
-    """Longest timer callback (s) of a node run in this process for ``seconds`` of wall time,
-    and the simulated time it ended at."""
+    """CPU time (s) of each timer callback of a node run in this process for ``seconds`` of wall
+    time, with the simulated time it ended at and how far (s of wall time) the published ticks
+    were behind real time then; and the default drop's permanent-contact and
+    settle (closed-form rest) times."""
     from rclpy.experimental.events_executor import EventsExecutor
     from contact_sim.ros.node import ContactSimNode
     node = ContactSimNode()
@@ -215,18 +218,37 @@ def settle(seconds=5.0):
     def timed():   # CPU time of this thread: the turn's own cost, not the machine's load
         t0 = time.thread_time()
         inner()
-        turns.append((time.thread_time() - t0, node._sim.time))
+        cpu = time.thread_time() - t0
+        behind = (time.monotonic() - node._anchor_wall) / node._model.publish_rate ** -1 \
+            - node._tick   # ticks due but not yet published
+        turns.append((cpu, node._sim.time, behind / node._model.publish_rate))
     node._turn = timed
     executor = EventsExecutor()
     executor.add_node(node)
     deadline = time.monotonic() + seconds
     while time.monotonic() < deadline:
         executor.spin_once(timeout_sec=0.1)
-    longest = max(turns)
-    mean = sum(t for t, _ in turns) / len(turns)
+    landed, settled = node._sim.permanent_contact_time, node._sim.settle_time
     executor.remove_node(node)
     node.destroy_node()
-    return longest, mean, len(turns)
+    return turns, landed, settled
+
+
+def settle_summary(turns, landed, settled):
+    """The longest turn overall, while bouncing (ending before the permanent contact) and in
+    the settling (ending between the permanent contact and 0.1 s after the closed-form rest)."""
+    longest = max(turns)
+    mean = sum(t for t, _, _ in turns) / len(turns)
+    bouncing = max((t for t, at, _ in turns if at < landed), default=math.nan)
+    settling = [t for t, at, _ in turns if landed <= at <= settled + 0.1]
+    behind = max(lag for _, _, lag in turns[1:])
+    return (f'longest executor turn {longest[0] * 1e3:.1f} ms of CPU (ending at t = '
+            f'{longest[1]:.3f} s), mean {mean * 1e3:.2f} ms over {len(turns)} turns; longest while '
+            f'bouncing (t < {landed:.3f} s) {bouncing * 1e3:.1f} ms; settling (permanent contact '
+            f'to the closed-form rest at t = {settled:.3f} s) over {len(settling)} turns, the '
+            f'longest {max(settling, default=math.nan) * 1e3:.1f} ms, '
+            f'{sum(settling) * 1e3:.1f} ms in all; the ticks published were at most '
+            f'{behind * 1e3:.0f} ms behind real time')
 
 
 def executors(window=5.0):
@@ -294,10 +316,8 @@ def main():
             if 'cannot be held' in log:
                 print('            node log: ' + next(line for line in log.splitlines()
                                                      if 'cannot be held' in line))
-            (longest, at), mean, turns = settle()
-            print(f'settle      real time, 100 Hz, first 5 s (bouncing and settling): longest '
-                  f'executor turn {longest * 1e3:.1f} ms of CPU (ending at t = {at:.3f} s), mean '
-                  f'{mean * 1e3:.2f} ms over {turns} turns')
+            print('settle      real time, 100 Hz, first 5 s (bouncing and settling): '
+                  + settle_summary(*settle()))
             cdr, objects, keys = floor()
             print(f'floor       encode + publish one tick on {len(keys)} topics ({", ".join(keys)}),'
                   f' no subscriber: {cdr:.1f} us (CDR templates), {objects:.1f} us (rclpy message '

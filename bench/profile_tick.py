@@ -65,7 +65,7 @@ def floor_costs(ticks=20000):
     from contact_sim.ros import messages as m
     topics = [t for t in m.TOPICS if t.kind in ('sample', 'state', 'clock')]
     values = {t.key: (0.5,) * len(t.fields) for t in topics}
-    enc = {t.key: t.template('plate').encode for t in topics}
+    enc = {t.key: t.template('plate').packer() for t in topics}   # as the node's
     rclpy.init()
     node = rclpy.create_node('profile_floor')
     pubs = {t.key: node.create_publisher(t.msg_type, f'/profile_floor/{t.key}', t.qos)

@@ -20,10 +20,16 @@ tick: it publishes the missed ones at once; at 100 Hz each wake publishes two ti
 wake of the executor costs about 0.2 ms of CPU); as fast as possible, as many as fit in
 ``FAST_TURN`` s of wall time. Each tick publishes, on ~/wrench and ~/contact, every contact point
 the engine passed and the tick's end; each completed impact; and the tick's end on ~/pose,
-~/twist and /clock. The engine is called ``TURN_STEP_BUDGET`` integrator steps at a time and a
-turn ends when its wall budget is spent (the tick goes on at the next turn), so a long settling
-(about 1000 integrator steps between permanent contact and the closed-form rest, 0.5 s of CPU for
-the default drop) is spread over many turns and services stay live. Real time that cannot be held
+~/twist and /clock. The ticks of a turn are advanced together, up to ``BATCH_TICKS`` per engine
+call (``DropSimulation.advance_ticks``: flight and rest evaluated over arrays), and each call's
+messages are encoded and published topic by topic from its arrays. An engine call takes at most
+``TURN_STEP_BUDGET`` integrator steps, and a turn ends when its wall budget is spent (the tick
+goes on at the next turn): ``FAST_TURN`` as fast as possible; in real time ``TURN_BASE`` +
+``TURN_PER_TICK`` per tick due (at most ``REAL_TURN`` of the period), so that a tick with much
+work, such as the settling (about 800 integrator steps and 900 contact points between permanent
+contact and the closed-form rest for the default drop), is spread over several turns of the
+size of a bouncing one while the node stays within about 0.1 s of real time, and services stay
+live. Real time that cannot be held
 (more than ``MAX_LAG`` s behind) is logged once, with the tick rate achieved, and the node skips
 ahead (the states of the skipped ticks are not published; the contact points are).
 
@@ -65,6 +71,11 @@ TURN_STEP_BUDGET = 20    # integrator steps per engine call (~10 ms); then the w
 BATCH_TICKS = 256        # ticks per batched engine call (advance_ticks), then the budgets are checked
 FAST_TURN = 0.02         # s of wall time per executor turn when running as fast as possible
 REAL_TURN = 0.75         # of the timer period: wall time per turn at most in real time
+# In real time a turn's wall budget is TURN_BASE + TURN_PER_TICK per tick due (at most REAL_TURN
+# of the period): a tick with much work (the settling's ~1000 contact points) is spread over
+# turns, and a node behind real time gets a larger budget to catch up.
+TURN_BASE = 0.002        # s
+TURN_PER_TICK = 0.0005   # s
 WAKE_PERIOD = 0.02       # s: in real time the node wakes at most every 20 ms (50 Hz)
 MAX_LAG = 2.0            # s behind real time before the node skips ahead (and says so, once)
 LEAD_TICKS = 300         # ticks ahead of a recorder's acknowledgement (< state history 1000)
@@ -100,7 +111,7 @@ class ContactSimNode(Node):
                 continue
             self._pub[topic.key] = self.create_publisher(topic.msg_type, topic.name, topic.qos)
             if topic.fields or topic.kind == 'clock':
-                self._encode[topic.key] = topic.template(frame).encode
+                self._encode[topic.key] = topic.template(frame).packer()
         self.create_service(GetParameters, '~/query_restitution', self._on_query)
         self.create_service(Trigger, '~/reset', self._on_reset)
         self.add_on_set_parameters_callback(self._on_set_parameters)
@@ -204,8 +215,9 @@ class ContactSimNode(Node):
             return   # a reliable reader still has no room: the next turn tries again
         start = time.monotonic()
         fast = self._model.fast
-        deadline = start + (FAST_TURN if fast else REAL_TURN * self._period)
         due = self._ticks_due(start)
+        deadline = start + (FAST_TURN if fast else min(
+            REAL_TURN * self._period, TURN_BASE + TURN_PER_TICK * max(due - self._tick, 0)))
         if fast:
             due = min(due, self._ticks_allowed())
             if due <= self._tick:   # a recorder is behind: wait for it (see _on_recorded)
