@@ -62,13 +62,15 @@ from rclpy.node import Node
 from rclpy.serialization import serialize_message
 from std_srvs.srv import Trigger
 
-from .messages import PROGRESS, TOPICS, impact_msg, impact_ok, sample_columns, to_ns_array
+from .messages import PROGRESS, TOPICS, contact_samples, impact_msg, impact_ok, sample_columns, \
+    to_ns, to_ns_array
 from .params import DEFAULTS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, build_model, \
     check_running, descriptor, make_simulation
 from .query import answer_queries
 
 TURN_STEP_BUDGET = 20    # integrator steps per engine call (~10 ms); then the wall budget is checked
 BATCH_TICKS = 256        # ticks per batched engine call (advance_ticks), then the budgets are checked
+SMALL_BATCH = 8          # up to this many ticks without contact points are published one by one
 FAST_TURN = 0.02         # s of wall time per executor turn when running as fast as possible
 REAL_TURN = 0.75         # of the timer period: wall time per turn at most in real time
 # In real time a turn's wall budget is TURN_BASE + TURN_PER_TICK per tick due (at most REAL_TURN
@@ -321,6 +323,9 @@ class ContactSimNode(Node):
         and /clock. Stamps strictly increase per topic; nothing non-finite is published."""
         offset = self._offset
         n, points = batch.ticks, batch.points
+        if not points.time.size and not batch.impacts and n <= SMALL_BATCH:
+            self._publish_few(batch)
+            return
         if points.time.size:
             key = np.concatenate([2 * batch.point_tick, 2 * np.arange(n) + 1])
             order = np.argsort(key, kind='stable')
@@ -356,6 +361,35 @@ class ContactSimNode(Node):
                 self._publish_many('twist', stamps, (-batch.penetration_rate[keep]).tolist())
                 if 'clock' in self._encode:
                     self._publish_many('clock', stamps)
+        if skipped:
+            self.get_logger().warning(f'skipped {skipped} non-finite values',
+                                      throttle_duration_sec=5.0)
+
+    def _publish_few(self, batch):
+        """``_publish_batch`` of a few ticks without contact points (flight, rest), element by
+        element: numpy's per-call cost exceeds the work there."""
+        offset = self._offset
+        samples, skipped = contact_samples(batch, offset, self._last_sample_ns)
+        if samples:
+            self._last_sample_ns = samples[-1][0]
+            ns, z, zdot, force = zip(*samples)
+            self._publish_many('wrench', ns, force)
+            self._publish_many('contact', ns, z, zdot, [1.0 if f > 0.0 else 0.0 for f in force])
+        states, last, radius = [], self._last_state_ns, self._model.radius
+        for t, z, zdot in zip(batch.time.tolist(), batch.penetration.tolist(),
+                              batch.penetration_rate.tolist()):
+            if math.isfinite(t + z + zdot):
+                ns = to_ns(offset + t)
+                if ns > last:
+                    states.append((ns, radius - z, -zdot))
+                    last = ns
+        if states:
+            self._last_state_ns = last
+            ns, height, rate = zip(*states)
+            self._publish_many('pose', ns, height)
+            self._publish_many('twist', ns, rate)
+            if 'clock' in self._encode:
+                self._publish_many('clock', ns)
         if skipped:
             self.get_logger().warning(f'skipped {skipped} non-finite values',
                                       throttle_duration_sec=5.0)
