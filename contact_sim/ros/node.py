@@ -449,7 +449,12 @@ class ContactSimNode(Node):
             response.success = False
             response.message = f'reset failed: {error}'
             return response
-        self._offset += self._sim.time
+        reached = self._sim.time
+        if reached > self._anchor_sim + self._tick * self._dt:
+            # a tick half done (its turn ran out of wall time inside it): the new drop starts
+            # at that tick's end, so its ticks stay on the grid
+            reached = max(reached, self._anchor_sim + (self._tick + 1) * self._dt)
+        self._offset += reached
         self._sim = sim
         self._start_loop()
         response.success = True
