@@ -8,9 +8,10 @@ own ROS_DOMAIN_ID):
   rest-100Hz     real time, 100 Hz, the ball at rest, no subscriber: CPU % of one core
   rest-1kHz      real time, 1 kHz, the ball at rest, a reliable subscriber on every topic
                  counting the messages: CPU %, ticks/s on each topic
-  floor          µs per tick to encode and publish one tick on every topic (wrench, contact,
-                 pose, twist, /clock), no simulation: the node's CDR encoders, and rclpy message
-                 objects for comparison (measured in this process, no subscriber)
+  floor          µs per tick to encode and publish one tick on every per-tick topic of
+                 messages.TOPICS (kinds sample, state, clock: wrench, contact, pose, twist, /clock,
+                 ...), no simulation: the node's CDR encoders, and rclpy message objects for
+                 comparison (measured in this process, no subscriber)
   flat-out       real_time_factor 0, 100 Hz, no subscriber: simulated s per wall s (from
                  ~/reset replies) and the node's CPU µs per tick, against the floor
   settle         real time, 100 Hz: the longest executor turn (CPU time of one timer callback)
@@ -19,6 +20,7 @@ The executor comparison (--executors) runs a bare 100 Hz / 1 kHz timer publishin
 under each executor.
 """
 import argparse
+import math
 import os
 import re
 import subprocess
@@ -135,33 +137,53 @@ def scenario_rest(rate, window, workdir, subscribe):
 
 
 def floor(ticks=20000):
-    """µs per tick to encode and publish wrench, contact, pose, twist and /clock (no subscriber)."""
+    """µs per tick to encode and publish one message on every per-tick topic of messages.TOPICS
+    (kinds sample, state and clock; no subscriber), in CPU time of this process: with the node's
+    CDR encoders, and with rclpy message objects for comparison. Returns (CDR µs, objects µs,
+    topic keys)."""
     from contact_sim.ros import messages as m
     node = rclpy.create_node('bench_floor')
-    topics = [t for t in m.TOPICS if t.kind != 'impact']
-    pubs = {t.key: node.create_publisher(t.msg_type, f'/bench_floor/{t.key}', t.qos)
-            for t in topics}
-    enc = {t.key: t.template('plate').encode for t in topics}
-    t0 = time.perf_counter()
+    topics = [t for t in m.TOPICS if t.kind in ('sample', 'state', 'clock')]
+    pubs = [node.create_publisher(t.msg_type, f'/bench_floor/{t.key}', t.qos) for t in topics]
+    enc = [t.template('plate').packer() for t in topics]   # as the node's
+    values = [tuple(0.5 + i for i in range(len(t.fields))) for t in topics]
+    rows = list(zip(pubs, enc, values))
+    # CPU time of this process (all its threads, as the node's from /proc): not the machine's load
+    t0 = time.process_time()
     for i in range(ticks):
         ns = 1_000_000_000 + i * 10_000_000
-        pubs['wrench'].publish(enc['wrench'](ns, 0.66))
-        pubs['contact'].publish(enc['contact'](ns, 1e-7, 0.0, 1.0))
-        pubs['pose'].publish(enc['pose'](ns, 0.0127))
-        pubs['twist'].publish(enc['twist'](ns, 0.0))
-        pubs['clock'].publish(enc['clock'](ns))
-    cdr = (time.perf_counter() - t0) / ticks * 1e6
-    t0 = time.perf_counter()
+        for pub, encode, vals in rows:
+            pub.publish(encode(ns, *vals))
+    cdr = (time.process_time() - t0) / ticks * 1e6
+    build = [_object_builder(t, 'plate') for t in topics]
+    rows = list(zip(pubs, build, values))
+    t0 = time.process_time()
     for i in range(ticks // 4):
         ns = 1_000_000_000 + i * 10_000_000
-        pubs['wrench'].publish(m.wrench_msg(ns, 0.66, 'plate'))
-        pubs['contact'].publish(m.contact_msg(ns, 1e-7, 0.0, 1.0, 'plate'))
-        pubs['pose'].publish(m.pose_msg(ns, 0.0127, 0.0, 'plate'))
-        pubs['twist'].publish(m.twist_msg(ns, 0.0, 'plate'))
-        pubs['clock'].publish(m.clock_msg(ns))
-    objects = (time.perf_counter() - t0) / (ticks // 4) * 1e6
+        for pub, make, vals in rows:
+            pub.publish(make(ns, *vals))
+    objects = (time.process_time() - t0) / (ticks // 4) * 1e6
     node.destroy_node()
-    return cdr, objects
+    return cdr, objects, [t.key for t in topics]
+
+
+def _object_builder(topic, frame_id):
+    """An rclpy message object of ``topic`` stamped ns with its fields set to values."""
+    from contact_sim.ros import messages as m
+
+    def build(ns, *values):
+        msg = topic.msg_type()
+        for path, value in topic.constants:
+            m._set(msg, path, value)
+        if topic.kind == 'clock':
+            msg.clock = m.time_msg(ns)
+        else:
+            msg.header.stamp = m.time_msg(ns)
+            msg.header.frame_id = frame_id
+        for path, value in zip(topic.fields, values):
+            m._set(msg, path, float(value))
+        return msg
+    return build
 
 
 def scenario_flat_out(window, workdir):
@@ -183,8 +205,10 @@ def scenario_flat_out(window, workdir):
 
 
 def settle(seconds=5.0):
-    """Longest timer callback (s) of a node run in this process for ``seconds`` of wall time,
-    and the simulated time it ended at."""
+    """CPU time (s) of each timer callback of a node run in this process for ``seconds`` of wall
+    time, with the simulated time it ended at and how far (s of wall time) the published ticks
+    were behind real time then; and the default drop's permanent-contact and
+    settle (closed-form rest) times."""
     from rclpy.experimental.events_executor import EventsExecutor
     from contact_sim.ros.node import ContactSimNode
     node = ContactSimNode()
@@ -194,18 +218,37 @@ def settle(seconds=5.0):
     def timed():   # CPU time of this thread: the turn's own cost, not the machine's load
         t0 = time.thread_time()
         inner()
-        turns.append((time.thread_time() - t0, node._sim.time))
+        cpu = time.thread_time() - t0
+        behind = (time.monotonic() - node._anchor_wall) / node._model.publish_rate ** -1 \
+            - node._tick   # ticks due but not yet published
+        turns.append((cpu, node._sim.time, behind / node._model.publish_rate))
     node._turn = timed
     executor = EventsExecutor()
     executor.add_node(node)
     deadline = time.monotonic() + seconds
     while time.monotonic() < deadline:
         executor.spin_once(timeout_sec=0.1)
-    longest = max(turns)
-    mean = sum(t for t, _ in turns) / len(turns)
+    landed, settled = node._sim.permanent_contact_time, node._sim.settle_time
     executor.remove_node(node)
     node.destroy_node()
-    return longest, mean, len(turns)
+    return turns, landed, settled
+
+
+def settle_summary(turns, landed, settled):
+    """The longest turn overall, while bouncing (ending before the permanent contact) and in
+    the settling (ending between the permanent contact and 0.1 s after the closed-form rest)."""
+    longest = max(turns)
+    mean = sum(t for t, _, _ in turns) / len(turns)
+    bouncing = max((t for t, at, _ in turns if at < landed), default=math.nan)
+    settling = [t for t, at, _ in turns if landed <= at <= settled + 0.1]
+    behind = max(lag for _, _, lag in turns[1:])
+    return (f'longest executor turn {longest[0] * 1e3:.1f} ms of CPU (ending at t = '
+            f'{longest[1]:.3f} s), mean {mean * 1e3:.2f} ms over {len(turns)} turns; longest while '
+            f'bouncing (t < {landed:.3f} s) {bouncing * 1e3:.1f} ms; settling (permanent contact '
+            f'to the closed-form rest at t = {settled:.3f} s) over {len(settling)} turns, the '
+            f'longest {max(settling, default=math.nan) * 1e3:.1f} ms, '
+            f'{sum(settling) * 1e3:.1f} ms in all; the ticks published were at most '
+            f'{behind * 1e3:.0f} ms behind real time')
 
 
 def executors(window=5.0):
@@ -273,13 +316,12 @@ def main():
             if 'cannot be held' in log:
                 print('            node log: ' + next(line for line in log.splitlines()
                                                      if 'cannot be held' in line))
-            (longest, at), mean, turns = settle()
-            print(f'settle      real time, 100 Hz, first 5 s (bouncing and settling): longest '
-                  f'executor turn {longest * 1e3:.1f} ms of CPU (ending at t = {at:.3f} s), mean '
-                  f'{mean * 1e3:.2f} ms over {turns} turns')
-            cdr, objects = floor()
-            print(f'floor       encode + publish one tick on 5 topics, no subscriber: '
-                  f'{cdr:.1f} us (CDR templates), {objects:.1f} us (rclpy message objects)')
+            print('settle      real time, 100 Hz, first 5 s (bouncing and settling): '
+                  + settle_summary(*settle()))
+            cdr, objects, keys = floor()
+            print(f'floor       encode + publish one tick on {len(keys)} topics ({", ".join(keys)}),'
+                  f' no subscriber: {cdr:.1f} us (CDR templates), {objects:.1f} us (rclpy message '
+                  f'objects)')
             speed, per_cpu, per_tick, cpu, log = scenario_flat_out(window, workdir)
             print(f'flat-out    real_time_factor 0, 100 Hz, no subscriber: {speed:.0f} x real '
                   f'time in wall time ({cpu:.0f} % of a core: the rest of the time the node '

@@ -8,7 +8,7 @@ from .bounce_fit import fit_bounces
 from .bounces import predict_bounces
 from .contact import Contact, build_contact, build_mass, require_contact
 from .drop import (Advance, DropResult, DropSimulation, DropState, ImpactRecord, Samples,
-                   check_drop, simulate_drop)
+                   TickBatch, check_drop, simulate_drop)
 from .flight import AirDrag, FlightPath
 from .fitting import DampingFit, compare_laws, damping_for_restitution, fit_damping
 from .hertz import effective_modulus, equivalent_radius, hertz_stiffness, reduced_mass, sphere_mass
@@ -24,7 +24,7 @@ __version__ = '0.1.0'
 __all__ = [
     'AZAD_FEATHERSTONE', 'HUNT_CROSSLEY', 'LAWS', 'LEE_WANG', 'LINEAR', 'MATERIALS',
     'AirDrag', 'Advance', 'Contact', 'ContactLaw', 'DampingFit', 'DropResult', 'DropSimulation', 'DropState',
-    'FlightPath', 'ImpactRecord', 'ImpactResult', 'InputError', 'Material', 'Samples', 'build_contact',
+    'FlightPath', 'ImpactRecord', 'ImpactResult', 'InputError', 'Material', 'Samples', 'TickBatch', 'build_contact',
     'build_mass', 'check_drop', 'compare_laws', 'contact_duration', 'require_contact',
     'damping_for_restitution', 'damping_group', 'effective_modulus', 'equivalent_radius',
     'fit_bounces', 'fit_damping', 'get_law', 'get_material', 'hertz_stiffness', 'max_penetration', 'peak_force', 'predict_bounces',

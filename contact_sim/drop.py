@@ -212,6 +212,71 @@ class Advance:
     apex_heights: tuple = ()
 
 
+@dataclass(frozen=True)
+class TickBatch:
+    """What one ``DropSimulation.advance_ticks`` call produced, as arrays (SI units).
+
+    ``ticks`` tick times of the call were reached (the first ``ticks``; fewer than asked when the
+    step budget ran out).  Per tick reached, its end's state: ``time`` (s), ``penetration`` z
+    (m), ``penetration_rate`` ż (m/s), ``force`` F (N, on the sphere; -F on the plate),
+    ``plate_position`` p (m) and ``plate_velocity`` ṗ (m/s) (0 for the fixed plate), the same
+    numbers as ``DropSimulation.state`` after ``advance`` to that time.  ``points`` (``Samples``)
+    are the contact points passed, in time order, without the tick ends; ``point_tick[i]`` is the
+    index of the tick point i belongs to (``ticks`` for the points of the tick the budget stopped
+    in: its last point is the state reached, as ``advance`` returns it).  ``impacts`` completed,
+    with ``impact_tick`` (the same indexing), and the ``apex_heights`` of the flights begun.
+    """
+
+    ticks: int
+    time: np.ndarray
+    penetration: np.ndarray
+    penetration_rate: np.ndarray
+    force: np.ndarray
+    plate_position: np.ndarray
+    plate_velocity: np.ndarray
+    points: Samples
+    point_tick: np.ndarray
+    impacts: tuple
+    impact_tick: np.ndarray
+    apex_heights: tuple = ()
+
+
+def _force_array(contact, z, zdot):
+    """``Contact.force_at`` over arrays, with the same operations (``np.power`` of an array
+    exponent calls the C library's pow, as Python's ``**`` does; numpy's scalar-exponent fast
+    paths, x**0.5 -> sqrt, would round differently)."""
+    law, k, lam = contact.law, contact.stiffness, contact.damping
+    inside = z > 0.0
+    zz = np.where(inside, z, 1.0)
+    speed = np.abs(zdot)
+    rate = np.where(zdot != 0.0, np.copysign(np.power(speed, np.full_like(speed, law.q)), zdot),
+                    0.0)
+    unclamped = k * np.power(zz, np.full_like(zz, law.n)) + lam * np.power(
+        zz, np.full_like(zz, law.p)) * rate
+    return np.where(inside, np.where(unclamped < 0.0, 0.0, unclamped), 0.0)
+
+
+def _rest_states(rest, t):
+    """``_Rest.state`` over an array of times t (s), with the same operations."""
+    dt = t - rest.start
+    a, w0sq = rest.decay, rest.natural_sq
+    disc = w0sq - a * a
+    if disc > 0.0:
+        w = math.sqrt(disc)
+        e = np.exp(-a * dt)
+        ec, es = e * np.cos(w * dt), e * np.sin(w * dt) / w
+    elif disc < 0.0:
+        w = math.sqrt(-disc)
+        slow, fast = np.exp((w - a) * dt), np.exp(-(w + a) * dt)
+        ec, es = 0.5 * (slow + fast), 0.5 * (slow - fast) / w
+    else:
+        e = np.exp(-a * dt)
+        ec, es = e, e * dt
+    y = rest.offset * ec + (rest.rate + a * rest.offset) * es
+    v = rest.rate * ec - (a * rest.rate + w0sq * rest.offset) * es
+    return rest.rest_depth + y, v
+
+
 @dataclass
 class _Flight:
     start: float
@@ -511,6 +576,101 @@ class DropSimulation:
         impacts = tuple(self.impacts[n_impacts:])
         apexes = tuple(self.apex_heights[n_apex:])
         return Advance(Samples.from_points(points), impacts, apexes)
+
+    def advance_ticks(self, times, max_steps=None):
+        """Advance through the tick end times ``times`` (s, non-decreasing, >= ``time``) in one
+        call; return a ``TickBatch``: each tick end's state, the contact points passed and the
+        impacts completed, as arrays.
+
+        The same motion, points and impacts as ``advance(t)`` called at each tick time in turn:
+        a stretch of closed-form motion (flight, rest, carried, plate flight) up to its next
+        event is evaluated for all its ticks at once, vectorised over numpy arrays (the fixed
+        plate's flight and rest: the same operations as the scalar path, equal to round-off); a
+        tick with a contact goes through ``advance``.  With ``max_steps``, stop at the first
+        tick that needs integration once that many integrator steps have been taken in this
+        call (or inside a tick, as ``advance`` does): ``ticks`` then says how far it got.
+        """
+        times = np.asarray(times, dtype=float)
+        if times.ndim != 1 or not np.isfinite(times).all():
+            raise ValueError('times must be a 1-D array of finite tick times (s)')
+        if times.size and (times[0] < self.time or (times[1:] < times[:-1]).any()):
+            raise ValueError(f'times = {times[0]!r} ... is out of range: allowed non-decreasing '
+                             f'times >= {self.time!r}')
+        n = times.size
+        ends = np.zeros((6, n))
+        pieces, piece_ticks, impacts, impact_ticks, apexes = [], [], [], [], []
+        budget = math.inf if max_steps is None else max_steps
+        i = 0
+        while i < n:
+            until = self._closed_form_until()
+            j = i + int(np.searchsorted(times[i:], until, side='left'))
+            if j > i:
+                self._closed_form_ends(times[i:j], ends[:, i:j])
+                self.time = float(times[j - 1])
+                i = j
+                continue
+            if budget <= 0:
+                break
+            before = self.total_steps
+            advance = self.advance(float(times[i]), max_steps=None if math.isinf(budget)
+                                   else budget)
+            budget -= self.total_steps - before
+            samples = advance.samples
+            reached = self.time >= times[i]
+            m = samples.time.size - 1 if reached else samples.time.size
+            if m:
+                pieces.append(np.stack([samples.time[:m], samples.penetration[:m],
+                                        samples.penetration_rate[:m], samples.force[:m]]))
+                piece_ticks.append(np.full(m, i))
+            impacts.extend(advance.impacts)
+            impact_ticks.extend([i] * len(advance.impacts))
+            apexes.extend(advance.apex_heights)
+            if not reached:
+                break
+            state = self.state
+            ends[:, i] = (state.time, state.penetration, state.penetration_rate, state.force,
+                          state.plate_position, state.plate_velocity)
+            i += 1
+        points = np.concatenate(pieces, axis=1) if pieces else np.empty((4, 0))
+        return TickBatch(i, *(ends[k, :i] for k in range(6)), Samples(*points),
+                         np.concatenate(piece_ticks) if piece_ticks else np.empty(0, int),
+                         tuple(impacts), np.array(impact_ticks, dtype=int), tuple(apexes))
+
+    def _closed_form_until(self):
+        """The time (s) before which ``advance`` only evaluates the current closed-form motion
+        (no mode change): the next touch in flight, the end of the carried stretch, never at
+        rest; -inf in contact."""
+        mode = self._mode
+        if isinstance(mode, _Flight):
+            return mode.contact_time
+        if isinstance(mode, _Carried):
+            return mode.until
+        if isinstance(mode, _Rest):
+            return math.inf
+        return -math.inf
+
+    def _closed_form_ends(self, t, out):
+        """The states (t, z, ż, F, p, ṗ) at the times t (s) of the current closed-form motion,
+        into the rows of ``out``: vectorised for the fixed plate's flight and rest (beyond 8
+        ticks: fewer cost less one by one), tick by tick (scalar, as ``state``) otherwise."""
+        mode = self._mode
+        if self.plate is None and isinstance(mode, (_Flight, _Rest)) and t.size > 8:
+            if isinstance(mode, _Rest):
+                z, zdot = _rest_states(mode, t)
+            elif mode.path is not None:
+                y, v = mode.path.state(t - mode.start)
+                z, zdot = -y, -v
+            else:
+                dt = t - mode.start
+                z = mode.penetration + mode.rate * dt + 0.5 * self.gravity * dt * dt
+                zdot = mode.rate + self.gravity * dt
+            out[0], out[1], out[2] = t, z, zdot
+            out[3] = _force_array(self.contact, out[1], out[2])
+            return
+        for k, tk in enumerate(t.tolist()):
+            z, zdot = self._state_at(tk)
+            p, pv = self.plate.state(tk)[:2] if self.plate is not None else (0.0, 0.0)
+            out[:, k] = (tk, z, zdot, self.contact.force_at(z, zdot), p, pv)
 
     @property
     def total_steps(self):

@@ -20,10 +20,16 @@ tick: it publishes the missed ones at once; at 100 Hz each wake publishes two ti
 wake of the executor costs about 0.2 ms of CPU); as fast as possible, as many as fit in
 ``FAST_TURN`` s of wall time. Each tick publishes, on ~/wrench and ~/contact, every contact point
 the engine passed and the tick's end; each completed impact; and the tick's end on ~/pose,
-~/twist and /clock. The engine is called ``TURN_STEP_BUDGET`` integrator steps at a time and a
-turn ends when its wall budget is spent (the tick goes on at the next turn), so a long settling
-(about 1000 integrator steps between permanent contact and the closed-form rest, 0.5 s of CPU for
-the default drop) is spread over many turns and services stay live. Real time that cannot be held
+~/twist and /clock. The ticks of a turn are advanced together, up to ``BATCH_TICKS`` per engine
+call (``DropSimulation.advance_ticks``: flight and rest evaluated over arrays), and each call's
+messages are encoded and published topic by topic from its arrays. An engine call takes at most
+``TURN_STEP_BUDGET`` integrator steps, and a turn ends when its wall budget is spent (the tick
+goes on at the next turn): ``FAST_TURN`` as fast as possible; in real time ``TURN_BASE`` +
+``TURN_PER_TICK`` per tick due (at most ``REAL_TURN`` of the period), so that a tick with much
+work, such as the settling (about 800 integrator steps and 900 contact points between permanent
+contact and the closed-form rest for the default drop), is spread over several turns of the
+size of a bouncing one while the node stays within about 0.1 s of real time, and services stay
+live. Real time that cannot be held
 (more than ``MAX_LAG`` s behind) is logged once, with the tick rate achieved, and the node skips
 ahead (the states of the skipped ticks are not published; the contact points are).
 
@@ -42,6 +48,7 @@ away). The recorder's subscriptions are keep-all, so nothing is dropped on its s
 import math
 import time
 
+import numpy as np
 import rclpy
 import rclpy.logging
 from rcl_interfaces.msg import ParameterType, ParameterValue, SetParametersResult
@@ -55,14 +62,22 @@ from rclpy.node import Node
 from rclpy.serialization import serialize_message
 from std_srvs.srv import Trigger
 
-from .messages import PROGRESS, TOPICS, contact_samples, impact_msg, impact_ok, to_ns
+from .messages import PROGRESS, TOPICS, contact_samples, impact_msg, impact_ok, sample_columns, \
+    to_ns, to_ns_array
 from .params import DEFAULTS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, build_model, \
     check_running, descriptor, make_simulation
 from .query import answer_queries
 
 TURN_STEP_BUDGET = 20    # integrator steps per engine call (~10 ms); then the wall budget is checked
+BATCH_TICKS = 256        # ticks per batched engine call (advance_ticks), then the budgets are checked
+SMALL_BATCH = 8          # up to this many ticks without contact points are published one by one
 FAST_TURN = 0.02         # s of wall time per executor turn when running as fast as possible
 REAL_TURN = 0.75         # of the timer period: wall time per turn at most in real time
+# In real time a turn's wall budget is TURN_BASE + TURN_PER_TICK per tick due (at most REAL_TURN
+# of the period): a tick with much work (the settling's ~1000 contact points) is spread over
+# turns, and a node behind real time gets a larger budget to catch up.
+TURN_BASE = 0.002        # s
+TURN_PER_TICK = 0.0005   # s
 WAKE_PERIOD = 0.02       # s: in real time the node wakes at most every 20 ms (50 Hz)
 MAX_LAG = 2.0            # s behind real time before the node skips ahead (and says so, once)
 LEAD_TICKS = 300         # ticks ahead of a recorder's acknowledgement (< state history 1000)
@@ -98,7 +113,7 @@ class ContactSimNode(Node):
                 continue
             self._pub[topic.key] = self.create_publisher(topic.msg_type, topic.name, topic.qos)
             if topic.fields or topic.kind == 'clock':
-                self._encode[topic.key] = topic.template(frame).encode
+                self._encode[topic.key] = topic.template(frame).packer()
         self.create_service(GetParameters, '~/query_restitution', self._on_query)
         self.create_service(Trigger, '~/reset', self._on_reset)
         self.add_on_set_parameters_callback(self._on_set_parameters)
@@ -202,8 +217,9 @@ class ContactSimNode(Node):
             return   # a reliable reader still has no room: the next turn tries again
         start = time.monotonic()
         fast = self._model.fast
-        deadline = start + (FAST_TURN if fast else REAL_TURN * self._period)
         due = self._ticks_due(start)
+        deadline = start + (FAST_TURN if fast else min(
+            REAL_TURN * self._period, TURN_BASE + TURN_PER_TICK * max(due - self._tick, 0)))
         if fast:
             due = min(due, self._ticks_allowed())
             if due <= self._tick:   # a recorder is behind: wait for it (see _on_recorded)
@@ -213,7 +229,7 @@ class ContactSimNode(Node):
         elif due - self._tick > MAX_LAG * self._model.publish_rate:
             self._skip_ahead(due, start)
         while self._tick < due:
-            if not self._run_tick(deadline):
+            if not self._run_ticks(min(due, self._tick + BATCH_TICKS), deadline):
                 return    # out of wall time inside the tick: the next turn goes on with it
             if self._pending or time.monotonic() > deadline:
                 return
@@ -277,63 +293,137 @@ class ContactSimNode(Node):
                 f' skipping ahead (the states of skipped ticks are not published; logged once)')
         self._tick = due - 1
 
-    def _run_tick(self, deadline):
-        """Advance to the end of the next tick and publish it; False if the wall budget ran out
-        first (what was integrated so far is published; the tick goes on at the next turn)."""
-        target = self._anchor_sim + (self._tick + 1) * self._dt
+    def _run_ticks(self, upto, deadline):
+        """Advance through ticks up to ``upto`` (since the anchor) in batched engine calls
+        (``DropSimulation.advance_ticks``, ``TURN_STEP_BUDGET`` integrator steps each) and
+        publish them; False if the wall budget ran out first (what was integrated so far is
+        published; the rest goes on at the next turn)."""
         sim = self._sim
-        while True:
+        times = self._anchor_sim + np.arange(self._tick + 1, upto + 1) * self._dt
+        done = 0
+        while done < times.size:
             try:
-                advance = sim.advance(target, max_steps=TURN_STEP_BUDGET)
+                batch = sim.advance_ticks(times[done:], max_steps=TURN_STEP_BUDGET)
             except Exception as error:  # keep the node alive and the last good state
+                target = float(times[done])
                 self.get_logger().error(f'simulation step to t = {target:.9f} s failed: {error}',
                                         throttle_duration_sec=5.0)
                 self._tick += 1
                 return True
-            end = self._publish_samples(advance)
-            if sim.time >= target:
-                break
-            if time.monotonic() > deadline:
+            self._publish_batch(batch)
+            done += batch.ticks
+            self._tick += batch.ticks
+            if done < times.size and time.monotonic() > deadline:
                 return False
-        self._tick += 1
-        if end is not None:
-            self._publish_state(*end)
         return True
 
-    def _publish_samples(self, advance):
-        """Publish the contact points and impacts of one engine call; return the last point as
-        (ns, z, zdot) (None if not finite)."""
-        send, encode, offset = self._send, self._encode, self._offset
-        encode_wrench, encode_contact = encode['wrench'], encode['contact']
-        points, skipped = contact_samples(advance.samples, offset, self._last_sample_ns)
-        for ns, z, zdot, force in points:
-            send('wrench', encode_wrench(ns, force))
-            send('contact', encode_contact(ns, z, zdot, 1.0 if force > 0.0 else 0.0))
-        if points:
-            self._last_sample_ns = points[-1][0]
-        t, z, zdot = (float(advance.samples.time[-1]), float(advance.samples.penetration[-1]),
-                      float(advance.samples.penetration_rate[-1]))
-        end = (to_ns(offset + t), z, zdot) if math.isfinite(t + z + zdot) else None
-        for record in advance.impacts:
+    def _publish_batch(self, batch):
+        """Publish one engine call: on the sample topics every contact point passed and each
+        tick's end, in time order; each completed impact; each tick's end on the state topics
+        and /clock. Stamps strictly increase per topic; nothing non-finite is published."""
+        offset = self._offset
+        n, points = batch.ticks, batch.points
+        if not points.time.size and not batch.impacts and n <= SMALL_BATCH:
+            self._publish_few(batch)
+            return
+        if points.time.size:
+            key = np.concatenate([2 * batch.point_tick, 2 * np.arange(n) + 1])
+            order = np.argsort(key, kind='stable')
+            columns = [np.concatenate([getattr(points, f), getattr(batch, f)[:n]])[order]
+                       for f in ('time', 'penetration', 'penetration_rate', 'force')]
+        else:
+            columns = [batch.time, batch.penetration, batch.penetration_rate, batch.force]
+        ns, z, zdot, force, skipped = sample_columns(*columns, offset, self._last_sample_ns)
+        if ns:
+            self._last_sample_ns = ns[-1]
+            self._publish_many('wrench', ns, force)
+            flags = [1.0 if f > 0.0 else 0.0 for f in force]
+            self._publish_many('contact', ns, z, zdot, flags)
+        for record in batch.impacts:
             message = impact_msg(record, offset)
             if impact_ok(message):
-                send('impact', serialize_message(message))
+                self._send('impact', serialize_message(message))
             else:
                 skipped += 1
+        if n:
+            end_ns = to_ns_array(offset + batch.time)
+            finite = np.isfinite(batch.time) & np.isfinite(batch.penetration) & np.isfinite(
+                batch.penetration_rate)
+            keep = finite & (end_ns > self._last_state_ns)
+            if not keep.all() or np.any(end_ns[1:] <= end_ns[:-1]):
+                keep = self._increasing(end_ns, keep)
+            if keep.any():
+                end_ns = end_ns[keep]
+                self._last_state_ns = int(end_ns[-1])
+                stamps = end_ns.tolist()
+                self._publish_many('pose', stamps,
+                                   (self._model.radius - batch.penetration[keep]).tolist())
+                self._publish_many('twist', stamps, (-batch.penetration_rate[keep]).tolist())
+                if 'clock' in self._encode:
+                    self._publish_many('clock', stamps)
         if skipped:
             self.get_logger().warning(f'skipped {skipped} non-finite values',
                                       throttle_duration_sec=5.0)
-        return end
 
-    def _publish_state(self, ns, z, zdot):
-        if ns <= self._last_state_ns:
+    def _publish_few(self, batch):
+        """``_publish_batch`` of a few ticks without contact points (flight, rest), element by
+        element: numpy's per-call cost exceeds the work there."""
+        offset = self._offset
+        samples, skipped = contact_samples(batch, offset, self._last_sample_ns)
+        if samples:
+            self._last_sample_ns = samples[-1][0]
+            ns, z, zdot, force = zip(*samples)
+            self._publish_many('wrench', ns, force)
+            self._publish_many('contact', ns, z, zdot, [1.0 if f > 0.0 else 0.0 for f in force])
+        states, last, radius = [], self._last_state_ns, self._model.radius
+        for t, z, zdot in zip(batch.time.tolist(), batch.penetration.tolist(),
+                              batch.penetration_rate.tolist()):
+            if math.isfinite(t + z + zdot):
+                ns = to_ns(offset + t)
+                if ns > last:
+                    states.append((ns, radius - z, -zdot))
+                    last = ns
+        if states:
+            self._last_state_ns = last
+            ns, height, rate = zip(*states)
+            self._publish_many('pose', ns, height)
+            self._publish_many('twist', ns, rate)
+            if 'clock' in self._encode:
+                self._publish_many('clock', ns)
+        if skipped:
+            self.get_logger().warning(f'skipped {skipped} non-finite values',
+                                      throttle_duration_sec=5.0)
+
+    def _increasing(self, stamps, keep):
+        """``keep`` narrowed to stamps strictly increasing past the last state published."""
+        last = self._last_state_ns
+        out = np.zeros_like(keep)
+        for i, (ns, ok) in enumerate(zip(stamps.tolist(), keep.tolist())):
+            if ok and ns > last:
+                out[i], last = True, ns
+        return out
+
+    def _publish_many(self, key, *columns):
+        """Encode and publish one message per row of ``columns`` (stamp ns, values) on ``key``;
+        from the first refusal by a reliable reader on, keep the rest for the next turn (in
+        order, after what already waits: see ``_send``)."""
+        encode = self._encode[key]
+        rows = zip(*columns)
+        pending = self._pending
+        if pending:
+            pending.extend((key, encode(*row)) for row in rows)
             return
-        self._last_state_ns = ns
-        send, encode = self._send, self._encode
-        send('pose', encode['pose'](ns, self._model.radius - z))
-        send('twist', encode['twist'](ns, -zdot))
-        if 'clock' in encode:
-            send('clock', encode['clock'](ns))
+        publish = self._pub[key].publish
+        for row in rows:
+            data = encode(*row)
+            try:
+                publish(data)
+            except _rclpy.RCLError:
+                if not rclpy.ok(context=self.context):
+                    raise
+                pending.append((key, data))
+                pending.extend((key, encode(*rest)) for rest in rows)
+                return
 
     # ---- services --------------------------------------------------------------------------
 
@@ -359,7 +449,12 @@ class ContactSimNode(Node):
             response.success = False
             response.message = f'reset failed: {error}'
             return response
-        self._offset += self._sim.time
+        reached = self._sim.time
+        if reached > self._anchor_sim + self._tick * self._dt:
+            # a tick half done (its turn ran out of wall time inside it): the new drop starts
+            # at that tick's end, so its ticks stay on the grid
+            reached = max(reached, self._anchor_sim + (self._tick + 1) * self._dt)
+        self._offset += reached
         self._sim = sim
         self._start_loop()
         response.success = True
