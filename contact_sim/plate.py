@@ -44,7 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .phase import Forcing
-from .validation import InputError, require_nonnegative, require_real
+from .validation import InputError, require_nonnegative, require_range, require_real
 
 
 class PlateMotion:
@@ -460,6 +460,31 @@ def command_motion(now, position, velocity, times, positions, velocities=None):
                          '<= %g m/s^2 (points further apart in time or closer in position)'
                          % (peak, COMMAND_ACCELERATION_MAX))
     return Command(motion, dropped)
+
+# -- the vibrating table's settings (the node's parameters) ------------------------------------
+TABLE_AMPLITUDE_MAX = 0.1         # m
+TABLE_FREQUENCY_MAX = 1000.0      # Hz
+TABLE_PHASE_MAX = 2.0 * math.pi   # rad: -2π <= ϕ <= 2π
+TABLE_ACCELERATION_MAX = 1000.0   # m/s²: the peak a (2π f)² (Γ ≈ 100)
+
+
+def vibrating_table(amplitude, frequency, phase):
+    """A ``SinusoidalPlate`` from settings in the stated ranges (0 <= a <= ``TABLE_AMPLITUDE_MAX``
+    m, 0 <= f <= ``TABLE_FREQUENCY_MAX`` Hz, |ϕ| <= ``TABLE_PHASE_MAX``, peak acceleration
+    a (2π f)² <= ``TABLE_ACCELERATION_MAX``), or ``None`` if it does not move (a = 0: the fixed
+    plate).  ``InputError`` keyed ``amplitude``, ``frequency`` or ``phase``."""
+    a = require_range('amplitude', amplitude, 0.0, TABLE_AMPLITUDE_MAX, unit='m')
+    f = require_range('frequency', frequency, 0.0, TABLE_FREQUENCY_MAX, unit='Hz')
+    ph = require_range('phase', phase, -TABLE_PHASE_MAX, TABLE_PHASE_MAX, unit='rad')
+    table = SinusoidalPlate(a, f, ph)
+    peak = table.acceleration_bound()
+    if peak > TABLE_ACCELERATION_MAX:
+        raise InputError('amplitude', a, '{n[amplitude]} = {value} m at {n[frequency]} = %g Hz '
+                         'shakes the plate at %.4g m/s^2: allowed a (2 pi f)^2 <= %g m/s^2, i.e. '
+                         '{n[amplitude]} <= %.4g m at this frequency'
+                         % (f, peak, TABLE_ACCELERATION_MAX,
+                            TABLE_ACCELERATION_MAX / table.angular_frequency ** 2))
+    return table if table.moving else None
 
 
 def plate_or_none(plate):
