@@ -47,6 +47,9 @@ TYPE_NAMES = {
     f'{NODE}/twist': 'geometry_msgs/msg/TwistStamped',
     f'{NODE}/impact': 'std_msgs/msg/Float64MultiArray',
     '/clock': 'rosgraph_msgs/msg/Clock',
+    f'{NODE}/plate_pose': 'geometry_msgs/msg/PoseStamped',
+    f'{NODE}/plate_twist': 'geometry_msgs/msg/TwistStamped',
+    f'{NODE}/plate_wrench': 'geometry_msgs/msg/WrenchStamped',
 }
 DEEP = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10000,
                   reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
@@ -507,6 +510,159 @@ def test_accepted_changes_take_effect(sim, client):
     assert client.query(['restitution:1'])[0].double_value == steel_iron
 
 
+def _by_stamp(client, key, value):
+    return {stamp_ns(m.header.stamp): value(m) for m in client.messages[f'{NODE}/{key}']}
+
+
+def test_the_vibrating_table_moves_the_plate_at_once_and_stops(sim, client):
+    a, f = 0.001, 20.0
+    plate_pose = f'{NODE}/plate_pose'
+    try:
+        (result,) = client.set_parameters(NODE, atomically=True, plate_amplitude=a,
+                                          plate_frequency=f)
+        assert result.successful, result.reason
+        start = client.count(plate_pose)
+        client.spin_until(lambda: client.count(plate_pose) >= start + 60, '60 plate poses')
+        # after the bridge (one period, 0.05 s = 5 ticks): the table's motion
+        zs = [m.pose.position.z for m in client.messages[plate_pose][start + 10:]]
+        vs = [m.twist.linear.z for m in client.messages[f'{NODE}/plate_twist'][start + 10:]]
+        assert max(zs) > 0.5 * a and min(zs) < -0.5 * a
+        assert max(map(abs, zs)) <= a * (1 + 1e-9)
+        assert max(map(abs, vs)) <= a * 2 * math.pi * f * (1 + 1e-9)
+        # ~/pose and ~/twist are absolute: the plate's p + R1 - z, pdot - zdot at the same stamp
+        plate = _by_stamp(client, 'plate_pose', lambda m: m.pose.position.z)
+        plate_v = _by_stamp(client, 'plate_twist', lambda m: m.twist.linear.z)
+        contact = _by_stamp(client, 'contact', lambda m: (m.vector.x, m.vector.y))
+        matched = 0
+        for m in client.messages[f'{NODE}/twist'][start:]:
+            ns = stamp_ns(m.header.stamp)
+            if ns in plate_v and ns in contact:
+                matched += 1
+                assert m.twist.linear.z == pytest.approx(plate_v[ns] - contact[ns][1], abs=1e-9)
+        for m in client.messages[f'{NODE}/pose'][start:]:
+            ns = stamp_ns(m.header.stamp)
+            if ns in plate and ns in contact:
+                matched += 1
+                assert m.pose.position.z == pytest.approx(plate[ns] + 0.0127 - contact[ns][0],
+                                                          abs=1e-8)
+        assert matched > 40
+        # the reaction on the plate at every contact sample: -F
+        since = stamp_ns(client.messages[plate_pose][start].header.stamp)
+        wrench = {ns: v for ns, v in _by_stamp(client, 'wrench', lambda m: m.wrench.force.z)
+                  .items() if ns >= since}
+        reaction = {ns: v for ns, v in _by_stamp(client, 'plate_wrench',
+                                                 lambda m: m.wrench.force.z).items() if ns >= since}
+        last = min(max(reaction), max(wrench))     # (the latest may still be on its way)
+        wrench = {ns: v for ns, v in wrench.items() if ns <= last}
+        assert set(reaction) >= set(wrench) and any(v < 0.0 for v in reaction.values())
+        assert all(reaction[ns] == -wrench[ns] for ns in wrench)
+        # refused, naming the parameter and its range; the table goes on
+        for values, reason in [
+                (dict(plate_amplitude=float('nan')), 'plate_amplitude'),
+                (dict(plate_amplitude=-0.001), 'plate_amplitude'),
+                (dict(plate_phase=7.0), 'plate_phase'),
+                (dict(plate_frequency=200.0),
+                 'plate_amplitude = 0.001 m at plate_frequency = 200 Hz shakes the plate at'),
+                (dict(plate_frequency=float('inf')), 'plate_frequency')]:
+            (result,) = client.set_parameters(NODE, **values)
+            assert not result.successful and reason in result.reason, (values, result.reason)
+        assert client.get_parameters(NODE, ['plate_amplitude', 'plate_frequency']) == {
+            'plate_amplitude': a, 'plate_frequency': f}
+    finally:
+        (result,) = client.set_parameters(NODE, atomically=True, plate_amplitude=0.0,
+                                          plate_frequency=0.0)
+        assert result.successful, result.reason
+    # stopped: bridged to rest at p = 0 within one period
+    n = client.count(plate_pose)
+    client.spin_until(lambda: client.count(plate_pose) >= n + 20, '20 more plate poses')
+    assert client.messages[plate_pose][-1].pose.position.z == 0.0
+    assert client.messages[f'{NODE}/plate_twist'][-1].twist.linear.z == 0.0
+    assert sim.popen.poll() is None
+
+
+# The README's command, typed for the ros2 CLI (YAML 1.1), filled in as `ros2 topic pub` does
+PLATE_COMMAND_YAML = ('{joint_names: [plate_z], points: [{positions: [0.01], velocities: [0.0], '
+                      'time_from_start: {sec: 1}}]}')
+
+
+def fill_message(msg, values):
+    """Set a message's fields from a YAML mapping, as ``ros2 topic pub`` does."""
+    import importlib
+    types = msg.get_fields_and_field_types()
+    for name, value in values.items():
+        assert name in types, name
+        if isinstance(value, dict):
+            fill_message(getattr(msg, name), value)
+        elif isinstance(value, list) and value and isinstance(value[0], dict):
+            package, _, cls = types[name][len('sequence<'):-1].partition('/')
+            item = getattr(importlib.import_module(f'{package}.msg'), cls)
+            setattr(msg, name, [fill_message(item(), v) for v in value])
+        else:
+            setattr(msg, name, value)
+    return msg
+
+
+def _rosout_has(client, text):
+    return any(text in m.msg for m in client.rosout)
+
+
+def test_plate_command_moves_the_plate_and_reset_clears_it(sim, client):
+    from trajectory_msgs.msg import JointTrajectory
+    pub = client.node.create_publisher(JointTrajectory, f'{NODE}/plate_command', 10)
+    client.spin_until(lambda: pub.get_subscription_count() > 0, 'the node to subscribe')
+    plate_pose, plate_twist = f'{NODE}/plate_pose', f'{NODE}/plate_twist'
+    command = fill_message(JointTrajectory(), yaml.safe_load(PLATE_COMMAND_YAML))
+
+    def at(height):
+        poses, twists = client.messages[plate_pose], client.messages[plate_twist]
+        return (poses and poses[-1].pose.position.z == pytest.approx(height, abs=1e-12)
+                and twists and twists[-1].twist.linear.z == pytest.approx(0.0, abs=1e-12))
+
+    try:
+        deadline = time.monotonic() + TIMEOUT
+        while not at(0.01):     # (a repeated command starts again from where the plate is)
+            pub.publish(command)
+            client.spin_until(lambda: at(0.01) or time.monotonic() > deadline, 'the plate',
+                              TIMEOUT + 5.0)
+            assert time.monotonic() <= deadline, 'the plate never reached 1 cm'
+        n = client.count(plate_pose)
+        client.spin_until(lambda: client.count(plate_pose) >= n + 20, '20 more plate poses')
+        assert at(0.01)         # and stays there: the command has ended, the plate rests
+        # refusals: a warning naming the field; the plate stays where it is
+        bad = fill_message(JointTrajectory(), yaml.safe_load(PLATE_COMMAND_YAML))
+        bad.joint_names = ['paddle']
+        pub.publish(bad)
+        client.spin_until(lambda: _rosout_has(client, "joint_names = ['paddle'] is invalid: "
+                                              "allowed ['plate_z']"), 'the refusal')
+        bad = fill_message(JointTrajectory(), yaml.safe_load(PLATE_COMMAND_YAML))
+        bad.points[0].positions = [5.0]
+        pub.publish(bad)
+        client.spin_until(lambda: _rosout_has(client, 'points[].positions reaches |positions| = 5 '
+                                              'm: allowed -1 <= points[].positions <= 1 m'),
+                          'the position refusal')
+        past = fill_message(JointTrajectory(), yaml.safe_load(PLATE_COMMAND_YAML))
+        past.header.stamp.sec = 1       # stamped 1 s of simulated time: long past
+        pub.publish(past)
+        client.spin_until(lambda: _rosout_has(client, 'no point after now'), 'the ignored one')
+        assert at(0.01)
+        # refused while the table runs
+        (result,) = client.set_parameters(NODE, atomically=True, plate_amplitude=0.0005,
+                                          plate_frequency=10.0)
+        assert result.successful, result.reason
+        pub.publish(command)
+        client.spin_until(lambda: _rosout_has(client, 'refused: the vibrating table runs '
+                                              '(plate_amplitude = 0.0005 > 0)'), 'the refusal')
+    finally:
+        (result,) = client.set_parameters(NODE, atomically=True, plate_amplitude=0.0,
+                                          plate_frequency=0.0)
+        assert result.successful, result.reason
+        client.node.destroy_publisher(pub)
+    reset(client)     # the new drop's plate is the table's: fixed at 0 (the command cleared)
+    n = client.count(plate_pose)
+    client.spin_until(lambda: client.count(plate_pose) >= n + 20, '20 more plate poses')
+    assert at(0.0)
+
+
 def test_every_tick_is_published_on_the_real_time_factors_grid(sim, client):
     """In real time ticks are real_time_factor/publish_rate s of simulated time apart, and every
     tick reaches every state topic (the node skips ticks only when real time cannot be held, and
@@ -843,7 +999,15 @@ def test_the_cdr_encoders_give_the_message_functions_messages():
              'contact': ((ns, 1e-6, 0.25, 1.0), cs_msgs.contact_msg(ns, 1e-6, 0.25, 7.0, 'plate')),
              'pose': ((ns, 0.0127 - 1e-6), cs_msgs.pose_msg(ns, 0.0127, 1e-6, 'plate')),
              'twist': ((ns, -0.25), cs_msgs.twist_msg(ns, 0.25, 'plate')),
-             'clock': ((ns,), cs_msgs.clock_msg(ns))}
+             'clock': ((ns,), cs_msgs.clock_msg(ns)),
+             'plate_pose': ((ns, -0.002), cs_msgs.plate_pose_msg(ns, -0.002, 'plate')),
+             'plate_twist': ((ns, 0.3), cs_msgs.plate_twist_msg(ns, 0.3, 'plate')),
+             'plate_wrench': ((ns, -42.5), cs_msgs.plate_wrench_msg(ns, 42.5, 'plate'))}
+    assert set(cases) == {t.key for t in cs_msgs.TOPICS} - {'impact'}
+    # the sphere's pose and twist over a moving plate: absolute, p + R1 - z and pdot - zdot
+    assert cs_msgs.pose_msg(ns, 0.0127, 1e-6, 'plate', 0.003).pose.position.z == \
+        pytest.approx(0.003 + 0.0127 - 1e-6)
+    assert cs_msgs.twist_msg(ns, 0.25, 'plate', 0.5).twist.linear.z == 0.25
     for key, (args, expected) in cases.items():
         topic = cs_msgs.TOPIC[key]
         data = topic.template('plate').encode(*args)
