@@ -35,6 +35,7 @@ from rcl_interfaces.srv import GetParameters, SetParameters, SetParametersAtomic
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.serialization import serialize_message  # noqa: E402
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
+from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
 from std_msgs.msg import Float64MultiArray  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
@@ -663,6 +664,73 @@ def test_plate_command_moves_the_plate_and_reset_clears_it(sim, client):
     assert at(0.0)
 
 
+def test_the_example_juggler_keeps_the_ball_bouncing_for_60_simulated_seconds(client, ros_env,
+                                                                           workdir):
+    """examples/juggler.py against a real node (its own process, named /juggled, at 3x real
+    time): the ball starts at rest on the plate, is thrown, and keeps bouncing to the target."""
+    import sys
+    target, radius = 0.3, 0.0127
+    node = Process('contact_sim_node', ['--ros-args', '-r', '__node:=juggled', '-p',
+                                        'real_time_factor:=3.0', '-p', 'publish_clock:=false',
+                                        '-p', 'initial_height:=0.0'], ros_env, workdir)
+    log = Path(workdir) / f'juggler-{time.monotonic_ns()}.log'
+    with open(log, 'w') as out:
+        juggler = subprocess.Popen([sys.executable, str(ROOT / 'examples' / 'juggler.py'),
+                                    '--ros-args', '-p', 'node:=/juggled', '-p',
+                                    f'target_apex:={target}'], env=ros_env, stdout=out,
+                                   stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+                                   start_new_session=True, cwd=workdir)
+    poses, impacts = [], []
+    subs = [client.node.create_subscription(PoseStamped, '/juggled/pose', poses.append, DEEP),
+            client.node.create_subscription(Float64MultiArray, '/juggled/impact',
+                                            impacts.append, DEEP)]
+    try:
+        n = client.node
+        client.spin_until(lambda: n.count_subscribers('/juggled/pose') >= 2
+                          and n.count_publishers('/juggled/plate_command') >= 1
+                          and n.count_subscribers('/juggled/plate_command') >= 1
+                          or node.popen.poll() is not None or juggler.poll() is not None,
+                          'the juggler and the node to discover each other', 60.0)
+        assert node.popen.poll() is None and juggler.poll() is None, log.read_text()
+        response = client.call(Trigger, '/juggled/reset', Trigger.Request())
+        assert response.success, response.message
+        t0 = float(re.search(r'at t = ([0-9.]+) s', response.message).group(1))
+        end = t0 + 60.0
+
+        def reached():
+            return poses and stamp_s(poses[-1].header.stamp) >= end
+        client.spin_until(lambda: reached() or juggler.poll() is not None, '60 simulated s',
+                          240.0)
+        assert juggler.poll() is None, log.read_text()
+    finally:
+        for sub in subs:
+            client.node.destroy_subscription(sub)
+        if juggler.poll() is None:
+            os.killpg(juggler.pid, signal.SIGINT)
+            juggler.wait(TIMEOUT)
+        assert_clean_exit(node)
+    assert 'Traceback' not in log.read_text(), log.read_text()
+    records = [dict(zip(FIELDS, m.data)) for m in impacts if m.data[0] >= t0]
+    bounces = [r for r in records if r['impact_speed'] > 0.5]
+    assert bounces and bounces[0]['time'] < t0 + 5.0, records[:5]      # thrown from rest
+    first = bounces[0]['time']
+    # impacts keep arriving through the whole window, never a permanent contact after the throw
+    assert not [r for r in records if r['time'] >= first and math.isinf(r['contact_duration'])]
+    times = [first] + [r['time'] for r in bounces] + [end]
+    assert max(b - a for a, b in zip(times, times[1:])) < 2.0, times
+    assert len(bounces) > 60
+    # the apex of each flight after the first 10 s: near the target
+    heights = [(stamp_s(p.header.stamp), p.pose.position.z - radius) for p in poses]
+    apexes = []
+    for a, b in zip(times[1:], times[2:-1]):
+        flight = [y for t, y in heights if a < t < b]
+        if a > t0 + 10.0 and flight:
+            apexes.append(max(flight))
+    assert len(apexes) > 50
+    assert float(np.median(apexes)) == pytest.approx(target, rel=0.05), apexes
+    assert np.mean(np.abs(np.array(apexes) - target) < 0.1 * target) > 0.8, apexes
+
+
 def test_every_tick_is_published_on_the_real_time_factors_grid(sim, client):
     """In real time ticks are real_time_factor/publish_rate s of simulated time apart, and every
     tick reaches every state topic (the node skips ticks only when real time cannot be held, and
@@ -811,7 +879,13 @@ def test_recorder_stops_on_a_consistent_cut(tmp_path):
         assert not done()
         for topic, msg in [(wrench, cs_msgs.wrench_msg(1_000_200_000, 0.0, 'plate')),
                            (contact, cs_msgs.contact_msg(1_000_300_000, 0.0, 0.0, 0.0, 'plate')),
-                           (pose, cs_msgs.pose_msg(1_000_300_000, 0.01, 0.0, 'plate'))]:
+                           (pose, cs_msgs.pose_msg(1_000_300_000, 0.01, 0.0, 'plate')),
+                           (f'{NODE}/plate_wrench', cs_msgs.plate_wrench_msg(1_000_200_000, 0.0,
+                                                                             'plate')),
+                           (f'{NODE}/plate_pose', cs_msgs.plate_pose_msg(1_000_300_000, 0.0,
+                                                                         'plate')),
+                           (f'{NODE}/plate_twist', cs_msgs.plate_twist_msg(1_000_300_000, 0.0,
+                                                                           'plate'))]:
             recorder._on_message(topic, cs_msgs.type_name(type(msg)), serialize_message(msg))
         assert recorder.lagging() == [f'{NODE}/twist'] and not done()
         msg = cs_msgs.twist_msg(1_000_250_000, 0.0, 'plate')
@@ -1131,7 +1205,9 @@ def replay(ticks, offset):
         impacts += [cs_msgs.to_ns(r.time + offset) for r in advance.impacts]
     sample_ns = [p[0] for p in samples]
     return ({f'{NODE}/wrench': sample_ns, f'{NODE}/contact': sample_ns, f'{NODE}/pose': states,
-             f'{NODE}/twist': states, '/clock': states, f'{NODE}/impact': impacts},
+             f'{NODE}/twist': states, '/clock': states, f'{NODE}/impact': impacts,
+             f'{NODE}/plate_pose': states, f'{NODE}/plate_twist': states,
+             f'{NODE}/plate_wrench': sample_ns},
             {p[0]: p[3] for p in samples})
 
 
