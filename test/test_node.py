@@ -603,6 +603,25 @@ def fill_message(msg, values):
     return msg
 
 
+def test_the_readme_plate_commands_parse_as_yaml_and_drive_the_plate():
+    """The README's `ros2 topic pub` lines: YAML 1.1 (yaml.safe_load, as the ros2 CLI reads it),
+    the message's own fields, and accepted by the node's translation and the core's rules."""
+    from trajectory_msgs.msg import JointTrajectory
+
+    from contact_sim.plate import command_motion
+    from contact_sim.ros.node import read_plate_command
+    lines = re.findall(r'ros2 topic pub --once (\S+) (\S+) "(.*)"', _readme())
+    assert len(lines) >= 2 and PLATE_COMMAND_YAML in [text for _, _, text in lines]
+    for topic, type_name, text in lines:
+        assert topic == f'{NODE}/plate_command'
+        assert type_name == 'trajectory_msgs/msg/JointTrajectory'
+        msg = fill_message(JointTrajectory(), yaml.safe_load(text))
+        times, positions, velocities = read_plate_command(msg, 2.0, 0.0)
+        command = command_motion(2.0, 0.0, 0.0, times, positions, velocities)
+        assert command.dropped == 0 and command.motion is not None
+        assert command.motion.state(times[-1])[0] == pytest.approx(positions[-1])
+
+
 def _rosout_has(client, text):
     return any(text in m.msg for m in client.rosout)
 

@@ -11,6 +11,13 @@ and the plate's surface (the top of the lower sphere, for two spheres) at z = 0.
 along that z axis only. Penetration z > 0 means the undeformed bodies overlap; its rate ż > 0 means
 approach. README.md documents every topic, service and parameter.
 
+The plate. ``plate_amplitude`` > 0 vibrates it (``plate.table_transition`` bridges every change);
+``~/plate_command`` (trajectory_msgs/JointTrajectory, joint ``plate_z``) drives it otherwise: the
+node only translates the message (``read_plate_command``), the rules are ``plate.command_motion``'s;
+both go to the engine through ``DropSimulation.set_plate``. ~/pose and ~/twist are absolute
+(p + R1 - z, pdot - zdot); ~/plate_pose, ~/plate_twist (once per tick) and ~/plate_wrench (-F, at
+every contact sample) show the plate.
+
 The loop. Simulated time is cut into ticks of ``dt`` = real_time_factor / publish_rate s
 (1 / publish_rate s when running as fast as possible), counted from an anchor (the start, a
 ~/reset or a change of real_time_factor). A steady-clock timer (period 1/publish_rate, at least
