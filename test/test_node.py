@@ -534,21 +534,21 @@ def test_the_vibrating_table_moves_the_plate_at_once_and_stops(sim, client):
         plate = _by_stamp(client, 'plate_pose', lambda m: m.pose.position.z)
         plate_v = _by_stamp(client, 'plate_twist', lambda m: m.twist.linear.z)
         contact = _by_stamp(client, 'contact', lambda m: (m.vector.x, m.vector.y))
+        since = stamp_ns(client.messages[plate_pose][start].header.stamp)
         matched = 0
-        for m in client.messages[f'{NODE}/twist'][start:]:
+        for m in client.messages[f'{NODE}/twist']:
             ns = stamp_ns(m.header.stamp)
-            if ns in plate_v and ns in contact:
+            if ns >= since and ns in plate_v and ns in contact:
                 matched += 1
                 assert m.twist.linear.z == pytest.approx(plate_v[ns] - contact[ns][1], abs=1e-9)
-        for m in client.messages[f'{NODE}/pose'][start:]:
+        for m in client.messages[f'{NODE}/pose']:
             ns = stamp_ns(m.header.stamp)
-            if ns in plate and ns in contact:
+            if ns >= since and ns in plate and ns in contact:
                 matched += 1
                 assert m.pose.position.z == pytest.approx(plate[ns] + 0.0127 - contact[ns][0],
                                                           abs=1e-8)
-        assert matched > 40
+        assert matched > 40, (len(plate), len(contact), matched)
         # the reaction on the plate at every contact sample: -F
-        since = stamp_ns(client.messages[plate_pose][start].header.stamp)
         wrench = {ns: v for ns, v in _by_stamp(client, 'wrench', lambda m: m.wrench.force.z)
                   .items() if ns >= since}
         reaction = {ns: v for ns, v in _by_stamp(client, 'plate_wrench',
@@ -714,11 +714,11 @@ def test_the_example_juggler_keeps_the_ball_bouncing_for_60_simulated_seconds(cl
         response = client.call(Trigger, '/juggled/reset', Trigger.Request())
         assert response.success, response.message
         t0 = float(re.search(r'at t = ([0-9.]+) s', response.message).group(1))
-        end = t0 + 60.0
+        end = t0 + 80.0     # the throw within 20 s (discovery), then 60 s of bouncing
 
         def reached():
             return poses and stamp_s(poses[-1].header.stamp) >= end
-        client.spin_until(lambda: reached() or juggler.poll() is not None, '60 simulated s',
+        client.spin_until(lambda: reached() or juggler.poll() is not None, '80 simulated s',
                           240.0)
         assert juggler.poll() is None, log.read_text()
     finally:
@@ -731,10 +731,13 @@ def test_the_example_juggler_keeps_the_ball_bouncing_for_60_simulated_seconds(cl
     assert 'Traceback' not in log.read_text(), log.read_text()
     records = [dict(zip(FIELDS, m.data)) for m in impacts if m.data[0] >= t0]
     bounces = [r for r in records if r['impact_speed'] > 0.5]
-    assert bounces and bounces[0]['time'] < t0 + 5.0, records[:5]      # thrown from rest
+    assert bounces and bounces[0]['time'] < t0 + 20.0, records[:5]     # thrown from rest
     first = bounces[0]['time']
+    end = first + 60.0
+    bounces = [r for r in bounces if r['time'] <= end]
     # impacts keep arriving through the whole window, never a permanent contact after the throw
-    assert not [r for r in records if r['time'] >= first and math.isinf(r['contact_duration'])]
+    assert not [r for r in records if first <= r['time'] <= end
+                and math.isinf(r['contact_duration'])]
     times = [first] + [r['time'] for r in bounces] + [end]
     assert max(b - a for a, b in zip(times, times[1:])) < 2.0, times
     assert len(bounces) > 60
@@ -743,7 +746,7 @@ def test_the_example_juggler_keeps_the_ball_bouncing_for_60_simulated_seconds(cl
     apexes = []
     for a, b in zip(times[1:], times[2:-1]):
         flight = [y for t, y in heights if a < t < b]
-        if a > t0 + 10.0 and flight:
+        if a > first + 10.0 and flight:
             apexes.append(max(flight))
     assert len(apexes) > 50
     assert float(np.median(apexes)) == pytest.approx(target, rel=0.05), apexes
