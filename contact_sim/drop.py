@@ -126,8 +126,12 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
     allowed = '{n[stiffness]} >= %.4g N/m^%g' % (minimum, n)
     # or, with this k, the highest drop: m v1²/2 <= k R^(n+1)/(n+1) - m g R
     top_speed_sq = 2.0 * (k * radius ** (n + 1.0) / (n + 1.0) - mass * gravity * radius) / mass
+    if plate_speed > 0.0:   # the sphere's own share of the impact speed
+        top_speed_sq = max(math.sqrt(max(top_speed_sq, 0.0)) - plate_speed, 0.0) ** 2
     if gravity > 0.0 and top_speed_sq > velocity ** 2:
         allowed += ' or {n[height]} <= %.4g m' % ((top_speed_sq - velocity ** 2) / (2.0 * gravity))
+    if plate_speed > 0.0:
+        allowed += ' (with the plate moving at up to %.4g m/s)' % plate_speed
     raise InputError('stiffness', k, '{n[stiffness]} = %.4g N/m^%g is too small for this drop: '
                      'a %.4g kg sphere hitting at %.4g m/s would sink more than its radius '
                      '(%g m) into the plate, where no contact law here applies; allowed %s'

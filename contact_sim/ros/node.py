@@ -198,8 +198,9 @@ class ContactSimNode(Node):
         except ValueError as error:  # validated already (check_running): keep running
             log.error(f'could not change the vibrating table: {error}')
             return
-        if new is not None:
+        if new is not None and self._commanded:
             self._commanded = False
+            log.info('the vibrating table takes the plate over from ~/plate_command')
         log.info('vibrating table ' + (f'a = {new.amplitude:g} m, f = {new.frequency:g} Hz, '
                                        f'phi = {new.phase:g} rad' if new is not None
                                        else 'stopped (the plate comes to rest at p = 0)')
