@@ -516,7 +516,9 @@ def _by_stamp(client, key, value):
 
 
 def test_the_vibrating_table_moves_the_plate_at_once_and_stops(sim, client):
-    a, f = 0.001, 20.0
+    # Gamma = 0.4: the resting ball is carried (a bouncing one would flood this Python client
+    # with contact samples on a loaded machine)
+    a, f = 0.001, 10.0
     plate_pose = f'{NODE}/plate_pose'
     try:
         (result,) = client.set_parameters(NODE, atomically=True, plate_amplitude=a,
@@ -524,9 +526,18 @@ def test_the_vibrating_table_moves_the_plate_at_once_and_stops(sim, client):
         assert result.successful, result.reason
         start = client.count(plate_pose)
         client.spin_until(lambda: client.count(plate_pose) >= start + 60, '60 plate poses')
-        # after the bridge (one period, 0.05 s = 5 ticks): the table's motion
-        zs = [m.pose.position.z for m in client.messages[plate_pose][start + 10:]]
-        vs = [m.twist.linear.z for m in client.messages[f'{NODE}/plate_twist'][start + 10:]]
+        since = stamp_ns(client.messages[plate_pose][start].header.stamp)
+        last = stamp_ns(client.messages[plate_pose][-1].header.stamp)
+        for key in ('pose', 'twist', 'plate_twist', 'contact', 'wrench', 'plate_wrench'):
+            client.spin_until(lambda key=key: max(_by_stamp(client, key, lambda m: 0)) >= last,
+                              f'~/{key} up to the last plate pose')
+        # after the bridge (one period, 0.1 s): the table's motion
+        bridged = since + 150_000_000
+        zs = [z for ns, z in _by_stamp(client, 'plate_pose', lambda m: m.pose.position.z).items()
+              if bridged <= ns <= last]
+        vs = [v for ns, v in _by_stamp(client, 'plate_twist', lambda m: m.twist.linear.z).items()
+              if bridged <= ns <= last]
+        assert len(zs) > 40 and len(vs) > 40
         assert max(zs) > 0.5 * a and min(zs) < -0.5 * a
         assert max(map(abs, zs)) <= a * (1 + 1e-9)
         assert max(map(abs, vs)) <= a * 2 * math.pi * f * (1 + 1e-9)
@@ -534,7 +545,6 @@ def test_the_vibrating_table_moves_the_plate_at_once_and_stops(sim, client):
         plate = _by_stamp(client, 'plate_pose', lambda m: m.pose.position.z)
         plate_v = _by_stamp(client, 'plate_twist', lambda m: m.twist.linear.z)
         contact = _by_stamp(client, 'contact', lambda m: (m.vector.x, m.vector.y))
-        since = stamp_ns(client.messages[plate_pose][start].header.stamp)
         matched = 0
         for m in client.messages[f'{NODE}/twist']:
             ns = stamp_ns(m.header.stamp)
@@ -550,12 +560,11 @@ def test_the_vibrating_table_moves_the_plate_at_once_and_stops(sim, client):
         assert matched > 40, (len(plate), len(contact), matched)
         # the reaction on the plate at every contact sample: -F
         wrench = {ns: v for ns, v in _by_stamp(client, 'wrench', lambda m: m.wrench.force.z)
-                  .items() if ns >= since}
+                  .items() if since <= ns <= last}
         reaction = {ns: v for ns, v in _by_stamp(client, 'plate_wrench',
-                                                 lambda m: m.wrench.force.z).items() if ns >= since}
-        last = min(max(reaction), max(wrench))     # (the latest may still be on its way)
-        wrench = {ns: v for ns, v in wrench.items() if ns <= last}
-        assert set(reaction) >= set(wrench) and any(v < 0.0 for v in reaction.values())
+                                                 lambda m: m.wrench.force.z).items()
+                    if since <= ns <= last}
+        assert set(reaction) == set(wrench) and any(v < 0.0 for v in reaction.values())
         assert all(reaction[ns] == -wrench[ns] for ns in wrench)
         # refused, naming the parameter and its range; the table goes on
         for values, reason in [
@@ -564,6 +573,7 @@ def test_the_vibrating_table_moves_the_plate_at_once_and_stops(sim, client):
                 (dict(plate_phase=7.0), 'plate_phase'),
                 (dict(plate_frequency=200.0),
                  'plate_amplitude = 0.001 m at plate_frequency = 200 Hz shakes the plate at'),
+                (dict(plate_amplitude=0.2), 'plate_amplitude'),
                 (dict(plate_frequency=float('inf')), 'plate_frequency')]:
             (result,) = client.set_parameters(NODE, **values)
             assert not result.successful and reason in result.reason, (values, result.reason)
