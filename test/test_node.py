@@ -521,6 +521,9 @@ def test_the_vibrating_table_moves_the_plate_at_once_and_stops(sim, client):
     a, f = 0.001, 10.0
     plate_pose = f'{NODE}/plate_pose'
     try:
+        (result,) = client.set_parameters(NODE, initial_height=0.0)   # the ball at rest
+        assert result.successful, result.reason
+        reset(client)
         (result,) = client.set_parameters(NODE, atomically=True, plate_amplitude=a,
                                           plate_frequency=f)
         assert result.successful, result.reason
@@ -528,44 +531,40 @@ def test_the_vibrating_table_moves_the_plate_at_once_and_stops(sim, client):
         client.spin_until(lambda: client.count(plate_pose) >= start + 60, '60 plate poses')
         since = stamp_ns(client.messages[plate_pose][start].header.stamp)
         last = stamp_ns(client.messages[plate_pose][-1].header.stamp)
-        for key in ('pose', 'twist', 'plate_twist', 'contact', 'wrench', 'plate_wrench'):
+        for key in ('pose', 'twist', 'plate_twist'):     # the state topics: one per tick
             client.spin_until(lambda key=key: max(_by_stamp(client, key, lambda m: 0)) >= last,
                               f'~/{key} up to the last plate pose')
         # after the bridge (one period, 0.1 s): the table's motion
         bridged = since + 150_000_000
-        zs = [z for ns, z in _by_stamp(client, 'plate_pose', lambda m: m.pose.position.z).items()
-              if bridged <= ns <= last]
-        vs = [v for ns, v in _by_stamp(client, 'plate_twist', lambda m: m.twist.linear.z).items()
-              if bridged <= ns <= last]
+        plate = {ns: z for ns, z in _by_stamp(client, 'plate_pose',
+                                              lambda m: m.pose.position.z).items()
+                 if bridged <= ns <= last}
+        plate_v = {ns: v for ns, v in _by_stamp(client, 'plate_twist',
+                                                lambda m: m.twist.linear.z).items()
+                   if bridged <= ns <= last}
+        zs, vs = list(plate.values()), list(plate_v.values())
         assert len(zs) > 40 and len(vs) > 40
         assert max(zs) > 0.5 * a and min(zs) < -0.5 * a
         assert max(map(abs, zs)) <= a * (1 + 1e-9)
         assert max(map(abs, vs)) <= a * 2 * math.pi * f * (1 + 1e-9)
-        # ~/pose and ~/twist are absolute: the plate's p + R1 - z, pdot - zdot at the same stamp
-        plate = _by_stamp(client, 'plate_pose', lambda m: m.pose.position.z)
-        plate_v = _by_stamp(client, 'plate_twist', lambda m: m.twist.linear.z)
-        contact = _by_stamp(client, 'contact', lambda m: (m.vector.x, m.vector.y))
-        matched = 0
-        for m in client.messages[f'{NODE}/twist']:
-            ns = stamp_ns(m.header.stamp)
-            if ns >= since and ns in plate_v and ns in contact:
-                matched += 1
-                assert m.twist.linear.z == pytest.approx(plate_v[ns] - contact[ns][1], abs=1e-9)
-        for m in client.messages[f'{NODE}/pose']:
-            ns = stamp_ns(m.header.stamp)
-            if ns >= since and ns in plate and ns in contact:
-                matched += 1
-                assert m.pose.position.z == pytest.approx(plate[ns] + 0.0127 - contact[ns][0],
-                                                          abs=1e-8)
-        assert matched > 40, (len(plate), len(contact), matched)
-        # the reaction on the plate at every contact sample: -F
-        wrench = {ns: v for ns, v in _by_stamp(client, 'wrench', lambda m: m.wrench.force.z)
-                  .items() if since <= ns <= last}
-        reaction = {ns: v for ns, v in _by_stamp(client, 'plate_wrench',
-                                                 lambda m: m.wrench.force.z).items()
-                    if since <= ns <= last}
-        assert set(reaction) == set(wrench) and any(v < 0.0 for v in reaction.values())
-        assert all(reaction[ns] == -wrench[ns] for ns in wrench)
+        # ~/pose and ~/twist are absolute, p + R1 - z and pdot - zdot: the carried ball moves
+        # with the plate (z ~ 1.5e-7 m, its rate ~ 1e-6 m/s), 1 mm up and down
+        pose = _by_stamp(client, 'pose', lambda m: m.pose.position.z)
+        twist = _by_stamp(client, 'twist', lambda m: m.twist.linear.z)
+        assert all(pose[ns] == pytest.approx(z + 0.0127, abs=1e-6) for ns, z in plate.items())
+        assert all(twist[ns] == pytest.approx(v, abs=1e-4) for ns, v in plate_v.items())
+        assert max(pose[ns] for ns in plate) - min(pose[ns] for ns in plate) > a
+
+        # the reaction on the plate at every contact sample: -F (the sample topics may lag far
+        # behind on a loaded machine: the stamps both have)
+        def both():
+            wrench = _by_stamp(client, 'wrench', lambda m: m.wrench.force.z)
+            reaction = _by_stamp(client, 'plate_wrench', lambda m: m.wrench.force.z)
+            return {ns: (wrench[ns], reaction[ns]) for ns in wrench.keys() & reaction.keys()
+                    if since <= ns}
+        client.spin_until(lambda: len(both()) >= 20, '20 samples on ~/wrench and ~/plate_wrench',
+                          3 * TIMEOUT)
+        assert all(reaction == -force and force > 0.0 for force, reaction in both().values())
         # refused, naming the parameter and its range; the table goes on
         for values, reason in [
                 (dict(plate_amplitude=float('nan')), 'plate_amplitude'),
@@ -581,7 +580,7 @@ def test_the_vibrating_table_moves_the_plate_at_once_and_stops(sim, client):
             'plate_amplitude': a, 'plate_frequency': f}
     finally:
         (result,) = client.set_parameters(NODE, atomically=True, plate_amplitude=0.0,
-                                          plate_frequency=0.0)
+                                          plate_frequency=0.0, initial_height=1.0)
         assert result.successful, result.reason
     # stopped: bridged to rest at p = 0 (within one period; the client may lag behind)
     client.spin_until(lambda: client.messages[plate_pose][-1].pose.position.z == 0.0
