@@ -59,8 +59,12 @@ def _first_impact_speed(gravity, height, velocity):
     return math.sqrt(velocity * velocity + 2.0 * gravity * height)
 
 
-def check_drop(contact, mass, gravity, height, velocity, radius=None):
+def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_speed=0.0):
     """Refuse a drop the engine cannot follow, or one outside the contact model's validity.
+
+    With a moving plate of peak speed ``plate_speed`` (m/s, ``PlateMotion.speed_bound``) an
+    impact can be faster by up to that: the checks below take v1 + ``plate_speed`` as the
+    impact speed (a vibrating table that pumps the sphere higher still can exceed it).
 
     * the contact's time scale T (at the first impact, and at rest under gravity) must be at
       least ``CONTACT_TIME_MIN``, and its damping group ζ at most ``DAMPING_GROUP_MAX`` (a
@@ -73,7 +77,7 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None):
 
     Raises ``InputError`` keyed ``stiffness`` or ``damping`` whose reason gives the bounds.
     """
-    speed = _first_impact_speed(gravity, height, velocity)
+    speed = _first_impact_speed(gravity, height, velocity) + plate_speed
     if speed == 0.0 and gravity == 0.0:
         return                      # never lands: nothing to check
     law, k, lam = contact.law, contact.stiffness, contact.damping
@@ -122,8 +126,12 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None):
     allowed = '{n[stiffness]} >= %.4g N/m^%g' % (minimum, n)
     # or, with this k, the highest drop: m v1²/2 <= k R^(n+1)/(n+1) - m g R
     top_speed_sq = 2.0 * (k * radius ** (n + 1.0) / (n + 1.0) - mass * gravity * radius) / mass
+    if plate_speed > 0.0:   # the sphere's own share of the impact speed
+        top_speed_sq = max(math.sqrt(max(top_speed_sq, 0.0)) - plate_speed, 0.0) ** 2
     if gravity > 0.0 and top_speed_sq > velocity ** 2:
         allowed += ' or {n[height]} <= %.4g m' % ((top_speed_sq - velocity ** 2) / (2.0 * gravity))
+    if plate_speed > 0.0:
+        allowed += ' (with the plate moving at up to %.4g m/s)' % plate_speed
     raise InputError('stiffness', k, '{n[stiffness]} = %.4g N/m^%g is too small for this drop: '
                      'a %.4g kg sphere hitting at %.4g m/s would sink more than its radius '
                      '(%g m) into the plate, where no contact law here applies; allowed %s'
@@ -468,10 +476,54 @@ class DropSimulation:
         rate = self.velocity + (self.plate.state(0.0)[1] if self.plate is not None else 0.0)
         self._enter_free_motion(0.0, -self.height, rate)
 
-    def check(self, contact, height=None, velocity=None):
-        """``check_drop`` of ``contact`` for this drop (its initial conditions by default)."""
+    def check(self, contact, height=None, velocity=None, plate=False):
+        """``check_drop`` of ``contact`` for this drop (its initial conditions by default) over
+        ``plate`` (default: the drop's own plate; ``None``: the fixed plate)."""
+        plate = self.plate if plate is False else plate
         check_drop(contact, self.mass, self.gravity, self.height if height is None else height,
-                   self.velocity if velocity is None else velocity, self.radius)
+                   self.velocity if velocity is None else velocity, self.radius,
+                   plate.speed_bound() if plate is not None else 0.0)
+
+    def set_plate(self, plate):
+        """Move the plate as ``plate`` (a ``plate.PlateMotion``, or ``None``: fixed at p = 0)
+        from the current time on.
+
+        The sphere's absolute height and velocity are unchanged at the switch; its state relative
+        to the plate is recomputed from the new plate's p, ṗ now (the same if the motion is
+        continuous: ``plate.table_transition`` and ``plate.command_motion`` make it so).  In
+        flight the flight is re-entered from the new relative state; in a contact phase the phase
+        restarts with the new forcing, the running impact's record carried across (no new impact);
+        a resting or carried sphere starts a contact phase (no impact recorded).  The new plate
+        is checked as ``check`` does, with its peak speed.
+        """
+        new = plate_motion.plate_or_none(plate)
+        if new is not None:
+            _require_gravity_for('a moving plate', self.gravity)
+        self.check(self.contact, plate=new)
+        t, mode = self.time, self._mode
+        z, zdot = self._state_at(t)
+        p, pv = self.plate.state(t)[:2] if self.plate is not None else (0.0, 0.0)
+        q, qv = new.state(t)[:2] if new is not None else (0.0, 0.0)
+        z, zdot = z + (q - p), zdot + (qv - pv)     # y = p - z and v = ṗ - ż unchanged
+        if isinstance(mode, _Contact) and not mode.permanent and mode.rest is None:
+            phase = mode.integrator
+            kept = [pt for pt in phase.points if pt[0] <= t]
+            self.steps += phase.steps
+            record = (mode.first_point or phase.points[0],
+                      max([mode.peak] + [pt[3] for pt in kept]),
+                      max([mode.depth] + [pt[1] for pt in kept]))
+            self.plate = new
+            self._begin_contact(t, z, zdot, resumed=mode.resumed)
+            fresh = self._mode
+            fresh.first_point, fresh.peak, fresh.depth = record
+            return
+        if isinstance(mode, _Contact):
+            self.steps += mode.integrator.steps
+        self.plate = new
+        if isinstance(mode, _Flight):
+            self._enter_free_motion(t, z, zdot, resumed=True)
+        else:       # resting, carried, or a permanent contact settling
+            self._begin_contact(t, z, zdot, resumed=True)
 
     def set_contact(self, contact):
         """Use ``contact`` from the next contact phase on: at once in flight or at rest (a

@@ -16,9 +16,10 @@ A plate motion is any object with the methods of ``PlateMotion``:
 * ``acceleration_bound()`` -> an upper bound of |p̈| over all t (the flights' root bracket);
 * ``acceleration_range(t0, t1)`` -> (min, max) of p̈ over [t0, t1] (the local bracket);
 * ``forcing_piece(t)`` -> (Forcing, t_until): p̈ on [t, t_until) as a ``phase.Forcing``;
-* ``next_acceleration_below(t, level)`` -> the first time >= t at which p̈ <= level (inf: never).
+* ``next_acceleration_below(t, level)`` -> the first time >= t at which p̈ <= level (inf: never);
+* ``speed_bound()`` -> an upper bound of |ṗ| over all t (the drop's depth check).
 
-Two are provided:
+Three are provided:
 
 * ``SinusoidalPlate(amplitude a, frequency f, phase ϕ)``: p = a sin(2π f t + ϕ), so
   Γ = a (2π f)² / g is the table's peak acceleration in units of g;
@@ -28,7 +29,13 @@ Two are provided:
   make every piece an exact forcing of the compiled contact phase (no kernel change); the
   interpolant is C¹ (no velocity jump, hence no impulse on a carried sphere).  Outside the
   set-points the plate moves at constant velocity (zero acceleration): before t₀ it extrapolates
-  (p₀, v₀) backwards, after the last set-point it holds the last velocity.
+  (p₀, v₀) backwards, after the last set-point it holds the last velocity;
+* ``SwitchedPlate(before, after, switch_time)``: one motion before the switch, another from it
+  on (a change of motion at a time: what ``DropSimulation.set_plate`` does to a running drop).
+
+``table_transition`` joins the plate's current motion to a new vibrating table with a C¹ bridge;
+``command_motion`` turns a trajectory command (timed set-points) into a ``CommandedPlate`` that
+starts from the plate's current state and brakes to rest after the last point.
 """
 import bisect
 import math
@@ -37,7 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .phase import Forcing
-from .validation import require_nonnegative, require_real
+from .validation import InputError, require_nonnegative, require_range, require_real
 
 
 class PlateMotion:
@@ -62,6 +69,9 @@ class PlateMotion:
 
     def jerk(self, t):
         return 0.0
+
+    def speed_bound(self):
+        raise NotImplementedError
 
     @property
     def moving(self):
@@ -112,6 +122,10 @@ class SinusoidalPlate(PlateMotion):
 
     def acceleration_bound(self):
         return self.amplitude * self.angular_frequency ** 2
+
+    def speed_bound(self):
+        """Peak |ṗ| = a ω (m/s)."""
+        return self.amplitude * self.angular_frequency
 
     def acceleration_range(self, t0, t1):
         """(min, max) of p̈ over [t0, t1] (exact: the extremes of sin on the phase interval)."""
@@ -218,6 +232,10 @@ class CommandedPlate(PlateMotion):
     def acceleration_bound(self):
         return max(abs(a) for a in self._pieces[3])
 
+    def speed_bound(self):
+        """Peak |ṗ| (m/s): ṗ is piecewise linear, so at a piece's ends."""
+        return max(abs(v) for v in self.velocities + self._pieces[2])
+
     def acceleration_range(self, t0, t1):
         """(min, max) of p̈ over [t0, t1]: over the pieces it overlaps."""
         starts, acc = self._pieces[0], self._pieces[3]
@@ -246,6 +264,227 @@ class CommandedPlate(PlateMotion):
             if acc[i] <= level:
                 return max(t, starts[i])
         return math.inf
+
+@dataclass(frozen=True)
+class SwitchedPlate(PlateMotion):
+    """``before`` (a ``PlateMotion``) for t < ``switch_time`` (s), ``after`` from it on.
+
+    The protocol is the parts', cut at the switch: a forcing piece of ``before`` ends at the
+    switch at the latest.  The caller makes the switch continuous where it must be (a switch in
+    p or ṗ is a teleport or an impulse of the plate): ``table_transition`` and
+    ``command_motion`` start ``after`` from ``before``'s state at the switch.
+    """
+
+    before: PlateMotion
+    after: PlateMotion
+    switch_time: float
+
+    def __post_init__(self):
+        for name in ('before', 'after'):
+            if not isinstance(getattr(self, name), PlateMotion):
+                raise ValueError(f'{name} = {getattr(self, name)!r} is invalid: allowed a '
+                                 'plate.PlateMotion')
+        object.__setattr__(self, 'switch_time', require_real('switch_time', self.switch_time))
+
+    def _part(self, t):
+        return self.before if t < self.switch_time else self.after
+
+    @property
+    def moving(self):
+        return self.before.moving or self.after.moving
+
+    def state(self, t):
+        return self._part(t).state(t)
+
+    def jerk(self, t):
+        return self._part(t).jerk(t)
+
+    def acceleration_bound(self):
+        return max(self.before.acceleration_bound(), self.after.acceleration_bound())
+
+    def speed_bound(self):
+        return max(self.before.speed_bound(), self.after.speed_bound())
+
+    def acceleration_range(self, t0, t1):
+        ts = self.switch_time
+        if t1 < ts:
+            return self.before.acceleration_range(t0, t1)
+        if t0 >= ts:
+            return self.after.acceleration_range(t0, t1)
+        lo0, hi0 = self.before.acceleration_range(t0, ts)
+        lo1, hi1 = self.after.acceleration_range(ts, t1)
+        return min(lo0, lo1), max(hi0, hi1)
+
+    def forcing_piece(self, t):
+        if t < self.switch_time:
+            forcing, until = self.before.forcing_piece(t)
+            return forcing, min(until, self.switch_time)
+        return self.after.forcing_piece(t)
+
+    def next_acceleration_below(self, t, level):
+        if t < self.switch_time:
+            found = self.before.next_acceleration_below(t, level)
+            if found < self.switch_time:
+                return found
+            t = self.switch_time
+        return self.after.next_acceleration_below(t, level)
+
+
+# -- changes of motion at a time: the table's bridge, trajectory commands -----------------------
+BRIDGE_TIME = 0.5           # s: the bridge's length when no table frequency gives one
+COMMAND_STOP_TIME = 0.2     # s: after a command's last point the plate brakes to rest over this
+COMMAND_POSITION_MAX = 1.0  # m: commanded |p|
+COMMAND_VELOCITY_MAX = 10.0  # m/s: commanded (or estimated) |ṗ|
+COMMAND_ACCELERATION_MAX = 1000.0  # m/s²: |p̈| of the commanded motion (the interpolant's)
+
+
+def bridge_time(table, previous_frequency=0.0):
+    """The bridge's length T (s): one period of the new table's frequency; when the table stops
+    (or has f = 0), one period of the ``previous_frequency`` (Hz); else ``BRIDGE_TIME``."""
+    if table is not None and table.moving and table.frequency > 0.0:
+        return 1.0 / table.frequency
+    if previous_frequency > 0.0:
+        return 1.0 / previous_frequency
+    return BRIDGE_TIME
+
+
+def table_transition(now, current, table, previous_frequency=0.0):
+    """The plate's motion from ``now`` (s) on when the vibrating table becomes ``table``.
+
+    ``current``: the plate's motion until now (``None``: fixed at p = 0); ``table``: a
+    ``SinusoidalPlate`` (``None`` or one that does not move: the table stops, at rest at p = 0).
+    The plate is bridged C¹ from its state (p, ṗ) at ``now`` to the new motion's state at
+    now + T (a 2-point ``CommandedPlate``), T from ``bridge_time``: one period of the new
+    frequency, or of ``previous_frequency`` when the table stops, or ``BRIDGE_TIME``.  Returns a
+    ``SwitchedPlate`` (bridge, then the table), or ``None`` when the plate stays fixed.
+    """
+    now = require_real('now', now)
+    p, pv = current.state(now)[:2] if current is not None else (0.0, 0.0)
+    target = table if table is not None and table.moving else SinusoidalPlate()
+    if current is None and not target.moving:
+        return None
+    end = now + bridge_time(table, previous_frequency)
+    pt, vt, _ = target.state(end)
+    return SwitchedPlate(CommandedPlate((now, end), (p, pt), (pv, vt)), target, end)
+
+
+@dataclass(frozen=True)
+class Command:
+    """What ``command_motion`` made of a command: the plate's ``motion`` from now on (``None``
+    when no point was left), and how many points it ``dropped`` (at or before now)."""
+
+    motion: object
+    dropped: int
+
+
+def _finite_array(name, values, count=None):
+    try:
+        arr = np.asarray(values, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise InputError(name, values, '{n[%s]} = {value} is invalid: allowed a sequence of '
+                         'finite numbers' % name, value=repr(values)) from None
+    if not np.all(np.isfinite(arr)):
+        raise InputError(name, values, '{n[%s]} = {value} is out of range: allowed finite '
+                         'numbers' % name, value=repr(list(arr)))
+    if count is not None and arr.size != count:
+        raise InputError(name, values, '{n[%s]} has %d values: allowed one per point (%d)'
+                         % (name, arr.size, count), value=repr(list(arr)))
+    return arr
+
+
+def _require_magnitude(name, arr, bound, unit):
+    worst = float(np.max(np.abs(arr))) if arr.size else 0.0
+    if worst > bound:
+        raise InputError(name, worst, '{n[%s]} reaches |%s| = %.6g %s: allowed -%g <= {n[%s]} '
+                         '<= %g %s' % (name, name, worst, unit, bound, name, bound, unit))
+
+
+def command_motion(now, position, velocity, times, positions, velocities=None):
+    """A trajectory command as the plate's motion from ``now`` (s, the drop's time) on.
+
+    ``position``, ``velocity``: the plate's state at now (m, m/s); ``times`` (s, the drop's time,
+    strictly increasing), ``positions`` (m) and ``velocities`` (m/s, or ``None``) of the points.
+    The rules (those of a ros2_control JointTrajectoryController, as far as they apply):
+
+    * points at or before ``now`` are dropped (``Command.dropped``); none left: ``motion`` is
+      ``None`` (the command is ignored);
+    * the motion starts at (now, position, velocity), so a jump in the command is followed C¹,
+      never teleported, and runs through the points (``CommandedPlate``: C¹, constant
+      acceleration on each half-interval);
+    * velocities not given are estimated by finite differences over the points (the first
+      point counts the current state): the central difference (pᵢ₊₁ - pᵢ₋₁)/(tᵢ₊₁ - tᵢ₋₁)
+      inside, zero at the last point; accelerations are not taken (the interpolant sets them);
+    * after the last point the plate brakes to rest at constant deceleration over
+      ``COMMAND_STOP_TIME`` s and stays there: when commands stop, the plate stops.
+
+    Refused (``InputError`` naming the field and the allowed range): non-finite values, times
+    not strictly increasing, |positions| > ``COMMAND_POSITION_MAX``, |velocities| (given or
+    estimated) > ``COMMAND_VELOCITY_MAX``, an interpolant with |p̈| > ``COMMAND_ACCELERATION_MAX``.
+    """
+    now = require_real('now', now)
+    position, velocity = require_real('position', position), require_real('velocity', velocity)
+    t = _finite_array('times', times)
+    if t.size == 0:
+        raise InputError('times', times, '{n[times]} is empty: allowed at least one point',
+                         value='[]')
+    if np.any(np.diff(t) <= 0.0):
+        raise InputError('times', times, '{n[times]} = {value} is out of range: allowed strictly '
+                         'increasing times', value=repr(list(t)))
+    p = _finite_array('positions', positions, t.size)
+    _require_magnitude('positions', p, COMMAND_POSITION_MAX, 'm')
+    v = None if velocities is None else _finite_array('velocities', velocities, t.size)
+    if v is not None:
+        _require_magnitude('velocities', v, COMMAND_VELOCITY_MAX, 'm/s')
+    keep = t > now
+    dropped = int(np.count_nonzero(~keep))
+    if not np.any(keep):
+        return Command(None, dropped)
+    tt = np.concatenate(([now], t[keep]))
+    pp = np.concatenate(([position], p[keep]))
+    if v is None:
+        vv = np.zeros_like(tt)
+        vv[1:-1] = (pp[2:] - pp[:-2]) / (tt[2:] - tt[:-2])
+        _require_magnitude('velocities', vv[1:], COMMAND_VELOCITY_MAX, 'm/s')
+    else:
+        vv = np.concatenate(([0.0], v[keep]))
+    vv[0] = velocity
+    if vv[-1] != 0.0:       # brake to rest: Δp = v T / 2 at constant deceleration v / T
+        tt = np.append(tt, tt[-1] + COMMAND_STOP_TIME)
+        pp = np.append(pp, pp[-1] + 0.5 * vv[-1] * COMMAND_STOP_TIME)
+        vv = np.append(vv, 0.0)
+    motion = CommandedPlate(tuple(tt), tuple(pp), tuple(vv))
+    peak = motion.acceleration_bound()
+    if peak > COMMAND_ACCELERATION_MAX:
+        raise InputError('accelerations', peak, 'the commanded motion (from the plate\'s state '
+                         'at now through the points) needs |acceleration| = %.6g m/s^2: allowed '
+                         '<= %g m/s^2 (points further apart in time or closer in position)'
+                         % (peak, COMMAND_ACCELERATION_MAX))
+    return Command(motion, dropped)
+
+# -- the vibrating table's settings (the node's parameters) ------------------------------------
+TABLE_AMPLITUDE_MAX = 0.1         # m
+TABLE_FREQUENCY_MAX = 1000.0      # Hz
+TABLE_PHASE_MAX = 2.0 * math.pi   # rad: -2π <= ϕ <= 2π
+TABLE_ACCELERATION_MAX = 1000.0   # m/s²: the peak a (2π f)² (Γ ≈ 100)
+
+
+def vibrating_table(amplitude, frequency, phase):
+    """A ``SinusoidalPlate`` from settings in the stated ranges (0 <= a <= ``TABLE_AMPLITUDE_MAX``
+    m, 0 <= f <= ``TABLE_FREQUENCY_MAX`` Hz, |ϕ| <= ``TABLE_PHASE_MAX``, peak acceleration
+    a (2π f)² <= ``TABLE_ACCELERATION_MAX``), or ``None`` if it does not move (a = 0: the fixed
+    plate).  ``InputError`` keyed ``amplitude``, ``frequency`` or ``phase``."""
+    a = require_range('amplitude', amplitude, 0.0, TABLE_AMPLITUDE_MAX, unit='m')
+    f = require_range('frequency', frequency, 0.0, TABLE_FREQUENCY_MAX, unit='Hz')
+    ph = require_range('phase', phase, -TABLE_PHASE_MAX, TABLE_PHASE_MAX, unit='rad')
+    table = SinusoidalPlate(a, f, ph)
+    peak = table.acceleration_bound()
+    if peak > TABLE_ACCELERATION_MAX:
+        raise InputError('amplitude', a, '{n[amplitude]} = {value} m at {n[frequency]} = %g Hz '
+                         'shakes the plate at %.4g m/s^2: allowed a (2 pi f)^2 <= %g m/s^2, i.e. '
+                         '{n[amplitude]} <= %.4g m at this frequency'
+                         % (f, peak, TABLE_ACCELERATION_MAX,
+                            TABLE_ACCELERATION_MAX / table.angular_frequency ** 2))
+    return table if table.moving else None
 
 
 def plate_or_none(plate):

@@ -35,6 +35,7 @@ from rcl_interfaces.srv import GetParameters, SetParameters, SetParametersAtomic
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.serialization import serialize_message  # noqa: E402
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy  # noqa: E402
+from geometry_msgs.msg import PoseStamped  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
 from std_msgs.msg import Float64MultiArray  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
@@ -47,6 +48,9 @@ TYPE_NAMES = {
     f'{NODE}/twist': 'geometry_msgs/msg/TwistStamped',
     f'{NODE}/impact': 'std_msgs/msg/Float64MultiArray',
     '/clock': 'rosgraph_msgs/msg/Clock',
+    f'{NODE}/plate_pose': 'geometry_msgs/msg/PoseStamped',
+    f'{NODE}/plate_twist': 'geometry_msgs/msg/TwistStamped',
+    f'{NODE}/plate_wrench': 'geometry_msgs/msg/WrenchStamped',
 }
 DEEP = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=10000,
                   reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
@@ -507,6 +511,260 @@ def test_accepted_changes_take_effect(sim, client):
     assert client.query(['restitution:1'])[0].double_value == steel_iron
 
 
+def _by_stamp(client, key, value):
+    return {stamp_ns(m.header.stamp): value(m) for m in client.messages[f'{NODE}/{key}']}
+
+
+def test_the_vibrating_table_moves_the_plate_at_once_and_stops(sim, client):
+    # Gamma = 0.4: the resting ball is carried (a bouncing one would flood this Python client
+    # with contact samples on a loaded machine)
+    a, f = 0.001, 10.0
+    plate_pose = f'{NODE}/plate_pose'
+    try:
+        (result,) = client.set_parameters(NODE, initial_height=0.0)   # the ball at rest
+        assert result.successful, result.reason
+        reset(client)
+        (result,) = client.set_parameters(NODE, atomically=True, plate_amplitude=a,
+                                          plate_frequency=f)
+        assert result.successful, result.reason
+        start = client.count(plate_pose)
+        client.spin_until(lambda: client.count(plate_pose) >= start + 60, '60 plate poses')
+        since = stamp_ns(client.messages[plate_pose][start].header.stamp)
+        last = stamp_ns(client.messages[plate_pose][-1].header.stamp)
+        for key in ('pose', 'twist', 'plate_twist'):     # the state topics: one per tick
+            client.spin_until(lambda key=key: max(_by_stamp(client, key, lambda m: 0)) >= last,
+                              f'~/{key} up to the last plate pose')
+        # after the bridge (one period, 0.1 s): the table's motion
+        bridged = since + 150_000_000
+        plate = {ns: z for ns, z in _by_stamp(client, 'plate_pose',
+                                              lambda m: m.pose.position.z).items()
+                 if bridged <= ns <= last}
+        plate_v = {ns: v for ns, v in _by_stamp(client, 'plate_twist',
+                                                lambda m: m.twist.linear.z).items()
+                   if bridged <= ns <= last}
+        zs, vs = list(plate.values()), list(plate_v.values())
+        assert len(zs) > 40 and len(vs) > 40
+        assert max(zs) > 0.5 * a and min(zs) < -0.5 * a
+        assert max(map(abs, zs)) <= a * (1 + 1e-9)
+        assert max(map(abs, vs)) <= a * 2 * math.pi * f * (1 + 1e-9)
+        # ~/pose and ~/twist are absolute, p + R1 - z and pdot - zdot: the carried ball moves
+        # with the plate (z ~ 1.5e-7 m, its rate ~ 1e-6 m/s), 1 mm up and down
+        pose = _by_stamp(client, 'pose', lambda m: m.pose.position.z)
+        twist = _by_stamp(client, 'twist', lambda m: m.twist.linear.z)
+        assert all(pose[ns] == pytest.approx(z + 0.0127, abs=1e-6) for ns, z in plate.items())
+        assert all(twist[ns] == pytest.approx(v, abs=1e-4) for ns, v in plate_v.items())
+        assert max(pose[ns] for ns in plate) - min(pose[ns] for ns in plate) > a
+
+        # the reaction on the plate at every contact sample: -F (the sample topics may lag far
+        # behind on a loaded machine: the stamps both have)
+        def both():
+            wrench = _by_stamp(client, 'wrench', lambda m: m.wrench.force.z)
+            reaction = _by_stamp(client, 'plate_wrench', lambda m: m.wrench.force.z)
+            return {ns: (wrench[ns], reaction[ns]) for ns in wrench.keys() & reaction.keys()
+                    if since <= ns}
+        client.spin_until(lambda: len(both()) >= 20, '20 samples on ~/wrench and ~/plate_wrench',
+                          3 * TIMEOUT)
+        assert all(reaction == -force and force > 0.0 for force, reaction in both().values())
+        # refused, naming the parameter and its range; the table goes on
+        for values, reason in [
+                (dict(plate_amplitude=float('nan')), 'plate_amplitude'),
+                (dict(plate_amplitude=-0.001), 'plate_amplitude'),
+                (dict(plate_phase=7.0), 'plate_phase'),
+                (dict(plate_frequency=200.0),
+                 'plate_amplitude = 0.001 m at plate_frequency = 200 Hz shakes the plate at'),
+                (dict(plate_amplitude=0.2), 'plate_amplitude'),
+                (dict(plate_frequency=float('inf')), 'plate_frequency')]:
+            (result,) = client.set_parameters(NODE, **values)
+            assert not result.successful and reason in result.reason, (values, result.reason)
+        assert client.get_parameters(NODE, ['plate_amplitude', 'plate_frequency']) == {
+            'plate_amplitude': a, 'plate_frequency': f}
+    finally:
+        (result,) = client.set_parameters(NODE, atomically=True, plate_amplitude=0.0,
+                                          plate_frequency=0.0, initial_height=1.0)
+        assert result.successful, result.reason
+    # stopped: bridged to rest at p = 0 (within one period; the client may lag behind)
+    client.spin_until(lambda: client.messages[plate_pose][-1].pose.position.z == 0.0
+                      and client.messages[f'{NODE}/plate_twist'][-1].twist.linear.z == 0.0,
+                      'the plate at rest at 0')
+    assert sim.popen.poll() is None
+
+
+# The README's command, typed for the ros2 CLI (YAML 1.1), filled in as `ros2 topic pub` does
+PLATE_COMMAND_YAML = ('{joint_names: [plate_z], points: [{positions: [0.01], velocities: [0.0], '
+                      'time_from_start: {sec: 1}}]}')
+
+
+def fill_message(msg, values):
+    """Set a message's fields from a YAML mapping, as ``ros2 topic pub`` does."""
+    import importlib
+    types = msg.get_fields_and_field_types()
+    for name, value in values.items():
+        assert name in types, name
+        if isinstance(value, dict):
+            fill_message(getattr(msg, name), value)
+        elif isinstance(value, list) and value and isinstance(value[0], dict):
+            package, _, cls = types[name][len('sequence<'):-1].partition('/')
+            item = getattr(importlib.import_module(f'{package}.msg'), cls)
+            setattr(msg, name, [fill_message(item(), v) for v in value])
+        else:
+            setattr(msg, name, value)
+    return msg
+
+
+def test_the_readme_plate_commands_parse_as_yaml_and_drive_the_plate():
+    """The README's `ros2 topic pub` lines: YAML 1.1 (yaml.safe_load, as the ros2 CLI reads it),
+    the message's own fields, and accepted by the node's translation and the core's rules."""
+    from trajectory_msgs.msg import JointTrajectory
+
+    from contact_sim.plate import command_motion
+    from contact_sim.ros.node import read_plate_command
+    lines = re.findall(r'ros2 topic pub --once (\S+) (\S+) "(.*)"', _readme())
+    assert len(lines) >= 2 and PLATE_COMMAND_YAML in [text for _, _, text in lines]
+    for topic, type_name, text in lines:
+        assert topic == f'{NODE}/plate_command'
+        assert type_name == 'trajectory_msgs/msg/JointTrajectory'
+        msg = fill_message(JointTrajectory(), yaml.safe_load(text))
+        times, positions, velocities = read_plate_command(msg, 2.0, 0.0)
+        command = command_motion(2.0, 0.0, 0.0, times, positions, velocities)
+        assert command.dropped == 0 and command.motion is not None
+        assert command.motion.state(times[-1])[0] == pytest.approx(positions[-1])
+
+
+def _rosout_has(client, text):
+    return any(text in m.msg for m in client.rosout)
+
+
+def test_plate_command_moves_the_plate_and_reset_clears_it(sim, client):
+    from trajectory_msgs.msg import JointTrajectory
+    pub = client.node.create_publisher(JointTrajectory, f'{NODE}/plate_command', 10)
+    client.spin_until(lambda: pub.get_subscription_count() > 0, 'the node to subscribe')
+    plate_pose, plate_twist = f'{NODE}/plate_pose', f'{NODE}/plate_twist'
+    command = fill_message(JointTrajectory(), yaml.safe_load(PLATE_COMMAND_YAML))
+
+    def at(height):
+        poses, twists = client.messages[plate_pose], client.messages[plate_twist]
+        return (poses and poses[-1].pose.position.z == pytest.approx(height, abs=1e-12)
+                and twists and twists[-1].twist.linear.z == pytest.approx(0.0, abs=1e-12))
+
+    try:
+        deadline = time.monotonic() + TIMEOUT
+        while not at(0.01):     # (a repeated command starts again from where the plate is)
+            pub.publish(command)
+            client.spin_until(lambda: at(0.01) or time.monotonic() > deadline, 'the plate',
+                              TIMEOUT + 5.0)
+            assert time.monotonic() <= deadline, 'the plate never reached 1 cm'
+        n = client.count(plate_pose)
+        client.spin_until(lambda: client.count(plate_pose) >= n + 20, '20 more plate poses')
+        assert at(0.01)         # and stays there: the command has ended, the plate rests
+        # refusals: a warning naming the field; the plate stays where it is
+        bad = fill_message(JointTrajectory(), yaml.safe_load(PLATE_COMMAND_YAML))
+        bad.joint_names = ['paddle']
+        pub.publish(bad)
+        client.spin_until(lambda: _rosout_has(client, "joint_names = ['paddle'] is invalid: "
+                                              "allowed ['plate_z']"), 'the refusal')
+        bad = fill_message(JointTrajectory(), yaml.safe_load(PLATE_COMMAND_YAML))
+        bad.points[0].positions = [5.0]
+        pub.publish(bad)
+        client.spin_until(lambda: _rosout_has(client, 'points[].positions reaches |positions| = 5 '
+                                              'm: allowed -1 <= points[].positions <= 1 m'),
+                          'the position refusal')
+        past = fill_message(JointTrajectory(), yaml.safe_load(PLATE_COMMAND_YAML))
+        past.header.stamp.nanosec = 1   # stamped 1 ns of simulated time, the point then: past
+        past.points[0].time_from_start.sec = 0
+        pub.publish(past)
+        client.spin_until(lambda: _rosout_has(client, 'no point after now'), 'the ignored one')
+        assert at(0.01)
+        # refused while the table runs
+        (result,) = client.set_parameters(NODE, atomically=True, plate_amplitude=0.0005,
+                                          plate_frequency=10.0)
+        assert result.successful, result.reason
+        pub.publish(command)
+        client.spin_until(lambda: _rosout_has(client, 'refused: the vibrating table runs '
+                                              '(plate_amplitude = 0.0005 > 0)'), 'the refusal')
+    finally:
+        (result,) = client.set_parameters(NODE, atomically=True, plate_amplitude=0.0,
+                                          plate_frequency=0.0)
+        assert result.successful, result.reason
+        client.node.destroy_publisher(pub)
+    t0 = reset(client)   # the new drop's plate is the table's: fixed at 0 (the command cleared)
+
+    def after_reset():
+        return [m.pose.position.z for m in client.messages[plate_pose]
+                if stamp_ns(m.header.stamp) > t0]
+    client.spin_until(lambda: len(after_reset()) >= 20, '20 plate poses after the reset')
+    assert set(after_reset()) == {0.0}
+
+
+def test_the_example_juggler_keeps_the_ball_bouncing_for_60_simulated_seconds(client, ros_env,
+                                                                           workdir):
+    """examples/juggler.py against a real node (its own process, named /juggled, at 3x real
+    time): the ball starts at rest on the plate, is thrown, and keeps bouncing to the target."""
+    import sys
+    target, radius = 0.3, 0.0127
+    node = Process('contact_sim_node', ['--ros-args', '-r', '__node:=juggled', '-p',
+                                        'real_time_factor:=3.0', '-p', 'publish_clock:=false',
+                                        '-p', 'initial_height:=0.0'], ros_env, workdir)
+    log = Path(workdir) / f'juggler-{time.monotonic_ns()}.log'
+    with open(log, 'w') as out:
+        juggler = subprocess.Popen([sys.executable, str(ROOT / 'examples' / 'juggler.py'),
+                                    '--ros-args', '-p', 'node:=/juggled', '-p',
+                                    f'target_apex:={target}'], env=ros_env, stdout=out,
+                                   stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+                                   start_new_session=True, cwd=workdir)
+    poses, impacts = [], []
+    subs = [client.node.create_subscription(PoseStamped, '/juggled/pose', poses.append, DEEP),
+            client.node.create_subscription(Float64MultiArray, '/juggled/impact',
+                                            impacts.append, DEEP)]
+    try:
+        n = client.node
+        client.spin_until(lambda: n.count_subscribers('/juggled/pose') >= 2
+                          and n.count_publishers('/juggled/plate_command') >= 1
+                          and n.count_subscribers('/juggled/plate_command') >= 1
+                          or node.popen.poll() is not None or juggler.poll() is not None,
+                          'the juggler and the node to discover each other', 60.0)
+        assert node.popen.poll() is None and juggler.poll() is None, log.read_text()
+        response = client.call(Trigger, '/juggled/reset', Trigger.Request())
+        assert response.success, response.message
+        t0 = float(re.search(r'at t = ([0-9.]+) s', response.message).group(1))
+        end = t0 + 80.0     # the throw within 20 s (discovery), then 60 s of bouncing
+
+        def reached():
+            return poses and stamp_s(poses[-1].header.stamp) >= end
+        client.spin_until(lambda: reached() or juggler.poll() is not None, '80 simulated s',
+                          240.0)
+        assert juggler.poll() is None, log.read_text()
+    finally:
+        for sub in subs:
+            client.node.destroy_subscription(sub)
+        if juggler.poll() is None:
+            os.killpg(juggler.pid, signal.SIGINT)
+            juggler.wait(TIMEOUT)
+        assert_clean_exit(node)
+    assert 'Traceback' not in log.read_text(), log.read_text()
+    records = [dict(zip(FIELDS, m.data)) for m in impacts if m.data[0] >= t0]
+    bounces = [r for r in records if r['impact_speed'] > 0.5]
+    assert bounces and bounces[0]['time'] < t0 + 20.0, records[:5]     # thrown from rest
+    first = bounces[0]['time']
+    end = first + 60.0
+    bounces = [r for r in bounces if r['time'] <= end]
+    # impacts keep arriving through the whole window, never a permanent contact after the throw
+    assert not [r for r in records if first <= r['time'] <= end
+                and math.isinf(r['contact_duration'])]
+    times = [first] + [r['time'] for r in bounces] + [end]
+    assert max(b - a for a, b in zip(times, times[1:])) < 2.0, times
+    assert len(bounces) > 60
+    # the apex of each flight after the first 10 s: near the target
+    heights = [(stamp_s(p.header.stamp), p.pose.position.z - radius) for p in poses]
+    apexes = []
+    for a, b in zip(times[1:], times[2:-1]):
+        flight = [y for t, y in heights if a < t < b]
+        if a > first + 10.0 and flight:
+            apexes.append(max(flight))
+    assert len(apexes) > 50
+    assert float(np.median(apexes)) == pytest.approx(target, rel=0.05), apexes
+    assert np.mean(np.abs(np.array(apexes) - target) < 0.1 * target) > 0.8, apexes
+
+
 def test_every_tick_is_published_on_the_real_time_factors_grid(sim, client):
     """In real time ticks are real_time_factor/publish_rate s of simulated time apart, and every
     tick reaches every state topic (the node skips ticks only when real time cannot be held, and
@@ -655,7 +913,13 @@ def test_recorder_stops_on_a_consistent_cut(tmp_path):
         assert not done()
         for topic, msg in [(wrench, cs_msgs.wrench_msg(1_000_200_000, 0.0, 'plate')),
                            (contact, cs_msgs.contact_msg(1_000_300_000, 0.0, 0.0, 0.0, 'plate')),
-                           (pose, cs_msgs.pose_msg(1_000_300_000, 0.01, 0.0, 'plate'))]:
+                           (pose, cs_msgs.pose_msg(1_000_300_000, 0.01, 0.0, 'plate')),
+                           (f'{NODE}/plate_wrench', cs_msgs.plate_wrench_msg(1_000_200_000, 0.0,
+                                                                             'plate')),
+                           (f'{NODE}/plate_pose', cs_msgs.plate_pose_msg(1_000_300_000, 0.0,
+                                                                         'plate')),
+                           (f'{NODE}/plate_twist', cs_msgs.plate_twist_msg(1_000_300_000, 0.0,
+                                                                           'plate'))]:
             recorder._on_message(topic, cs_msgs.type_name(type(msg)), serialize_message(msg))
         assert recorder.lagging() == [f'{NODE}/twist'] and not done()
         msg = cs_msgs.twist_msg(1_000_250_000, 0.0, 'plate')
@@ -843,7 +1107,15 @@ def test_the_cdr_encoders_give_the_message_functions_messages():
              'contact': ((ns, 1e-6, 0.25, 1.0), cs_msgs.contact_msg(ns, 1e-6, 0.25, 7.0, 'plate')),
              'pose': ((ns, 0.0127 - 1e-6), cs_msgs.pose_msg(ns, 0.0127, 1e-6, 'plate')),
              'twist': ((ns, -0.25), cs_msgs.twist_msg(ns, 0.25, 'plate')),
-             'clock': ((ns,), cs_msgs.clock_msg(ns))}
+             'clock': ((ns,), cs_msgs.clock_msg(ns)),
+             'plate_pose': ((ns, -0.002), cs_msgs.plate_pose_msg(ns, -0.002, 'plate')),
+             'plate_twist': ((ns, 0.3), cs_msgs.plate_twist_msg(ns, 0.3, 'plate')),
+             'plate_wrench': ((ns, -42.5), cs_msgs.plate_wrench_msg(ns, 42.5, 'plate'))}
+    assert set(cases) == {t.key for t in cs_msgs.TOPICS} - {'impact'}
+    # the sphere's pose and twist over a moving plate: absolute, p + R1 - z and pdot - zdot
+    assert cs_msgs.pose_msg(ns, 0.0127, 1e-6, 'plate', 0.003).pose.position.z == \
+        pytest.approx(0.003 + 0.0127 - 1e-6)
+    assert cs_msgs.twist_msg(ns, 0.25, 'plate', 0.5).twist.linear.z == 0.25
     for key, (args, expected) in cases.items():
         topic = cs_msgs.TOPIC[key]
         data = topic.template('plate').encode(*args)
@@ -967,7 +1239,9 @@ def replay(ticks, offset):
         impacts += [cs_msgs.to_ns(r.time + offset) for r in advance.impacts]
     sample_ns = [p[0] for p in samples]
     return ({f'{NODE}/wrench': sample_ns, f'{NODE}/contact': sample_ns, f'{NODE}/pose': states,
-             f'{NODE}/twist': states, '/clock': states, f'{NODE}/impact': impacts},
+             f'{NODE}/twist': states, '/clock': states, f'{NODE}/impact': impacts,
+             f'{NODE}/plate_pose': states, f'{NODE}/plate_twist': states,
+             f'{NODE}/plate_wrench': sample_ns},
             {p[0]: p[3] for p in samples})
 
 

@@ -48,7 +48,7 @@ def test_package_xml_declares_the_runtime_and_test_dependencies():
     for path in (ROOT / 'contact_sim').rglob('*.py'):
         imported |= set(re.findall(r'^\s*(?:from|import) (\w+)', path.read_text(), flags=re.M))
     ros = {'rclpy', 'std_msgs', 'geometry_msgs', 'rosgraph_msgs', 'rcl_interfaces', 'std_srvs',
-           'builtin_interfaces', 'ament_index_python'}
+           'trajectory_msgs', 'builtin_interfaces', 'ament_index_python'}
     assert imported & ros <= ros
     for dep in sorted(imported & ros) + ['python3-numpy', 'python3-scipy']:
         assert f'<exec_depend>{dep}</exec_depend>' in xml, dep

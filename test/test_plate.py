@@ -9,7 +9,8 @@ from scipy.optimize import brentq
 from contact_sim.contact import Contact
 from contact_sim.drop import DropSimulation, simulate_drop
 from contact_sim.flight import AirDrag, FlightPath
-from contact_sim.plate import CommandedPlate, SinusoidalPlate, first_gap_root
+from contact_sim.plate import CommandedPlate, SinusoidalPlate, SwitchedPlate, first_gap_root, \
+    table_transition
 
 G = 9.81
 MASS = 0.066
@@ -264,3 +265,143 @@ def test_a_contact_change_inside_the_surface_after_lift_off_is_no_impact(moving)
     sim.set_contact(Contact('linear', 1e5, 0.0))      # undamped: pushes at once
     sim.advance(sim.time + 0.01)
     assert len(sim.impacts) == count, sim.impacts[count:]
+
+
+# -- changing the plate's motion at a time: set_plate, SwitchedPlate, the table's bridge -------
+def _absolute(sim):
+    s = sim.state
+    return s.plate_position - s.penetration, s.plate_velocity - s.penetration_rate
+
+
+def _set_plate_continuously(sim, plate):
+    """set_plate, asserting the sphere's absolute state and, for a continuous motion, p, ṗ."""
+    before, p_before = _absolute(sim), (sim.state.plate_position, sim.state.plate_velocity)
+    sim.set_plate(plate)
+    assert _absolute(sim) == pytest.approx(before, abs=1e-15, rel=1e-12)
+    assert (sim.state.plate_position, sim.state.plate_velocity) == pytest.approx(
+        p_before, abs=1e-15, rel=1e-12)
+
+
+def test_switched_plate_is_each_motion_on_its_side():
+    a, b = SinusoidalPlate(0.001, 10.0), CommandedPlate([0.0, 1.0], [0.0, 0.01], [0.0, 0.0])
+    plate = SwitchedPlate(a, b, 0.3)
+    assert plate.state(0.2999) == a.state(0.2999) and plate.state(0.3) == b.state(0.3)
+    assert plate.forcing_piece(0.1)[1] == 0.3                 # a's piece cut at the switch
+    assert plate.forcing_piece(0.3) == b.forcing_piece(0.3)
+    assert plate.acceleration_bound() == max(a.acceleration_bound(), b.acceleration_bound())
+    assert plate.speed_bound() == max(a.speed_bound(), b.speed_bound())
+    lo, hi = plate.acceleration_range(0.25, 0.6)
+    assert lo <= min(b._pieces[3]) and hi >= a.acceleration_range(0.25, 0.3)[1]
+    # p̈ of a is <= -1 first at 0.25 + ...; with a level below a's range it is b's first piece
+    assert plate.next_acceleration_below(0.0, -1.0) == a.next_acceleration_below(0.0, -1.0)
+    assert plate.next_acceleration_below(0.0, -10.0) == b.next_acceleration_below(0.3, -10.0)
+    with pytest.raises(ValueError, match='after'):
+        SwitchedPlate(a, 'table', 1.0)
+
+
+@pytest.mark.parametrize('table', [SinusoidalPlate(0.001, 20.0, 0.7), None], ids=['on', 'off'])
+def test_table_transition_bridges_c1_in_one_period(table):
+    old = SinusoidalPlate(0.002, 25.0, 0.3)
+    now = 0.4123
+    motion = table_transition(now, old, table, previous_frequency=old.frequency)
+    period = 1.0 / (table.frequency if table is not None else old.frequency)
+    assert motion.switch_time == pytest.approx(now + period)
+    assert motion.state(now)[:2] == pytest.approx(old.state(now)[:2], abs=1e-15)
+    target = table if table is not None else SinusoidalPlate()
+    end = now + period
+    assert motion.state(end) == target.state(end)
+    left = motion.state(math.nextafter(end, 0.0))
+    assert left[:2] == pytest.approx(target.state(end)[:2], abs=1e-12)
+    assert table_transition(now, None, SinusoidalPlate()) is None      # fixed stays fixed
+
+
+def test_set_plate_keeps_the_sphere_and_plate_continuous_in_flight():
+    sim = DropSimulation(STEEL, MASS, 0.1)
+    sim.advance(0.05)
+    _set_plate_continuously(sim, table_transition(0.05, None, SinusoidalPlate(0.002, 20.0)))
+    assert not sim.in_contact and sim.plate is not None
+    sim.advance(0.3)
+    assert sim.impacts
+    # a discontinuous motion: the sphere stays where it is, its relative state jumps
+    sim = DropSimulation(STEEL, MASS, 0.1)
+    sim.advance(0.05)
+    y, v = _absolute(sim)
+    sim.set_plate(SinusoidalPlate(0.01, 5.0))     # p(0.05) = 0.01 sin(π / 2)
+    assert _absolute(sim) == pytest.approx((y, v), rel=1e-12)
+    assert sim.state.plate_position == pytest.approx(0.01)
+
+
+@pytest.mark.parametrize('to_fixed', [False, True], ids=['to-table', 'to-fixed'])
+def test_set_plate_in_a_contact_phase_carries_the_impact_across(to_fixed):
+    start = None if to_fixed else SinusoidalPlate(0.001, 20.0)
+    ref = DropSimulation(STEEL, MASS, 0.02, plate=start)
+    ref.advance(0.2)
+    first = ref.impacts[0]
+    sim = DropSimulation(STEEL, MASS, 0.02, plate=start)
+    sim.advance(first.time + 0.5 * first.contact_duration)
+    assert sim.in_contact and not sim.impacts
+    now = sim.time
+    target = None if to_fixed else SinusoidalPlate()
+    _set_plate_continuously(sim, table_transition(now, start or None, target or
+                                                  SinusoidalPlate(0.001, 30.0), 20.0))
+    sim.advance(now + first.contact_duration)
+    assert len(sim.impacts) == 1
+    got = sim.impacts[0]
+    assert got.time == first.time and got.impact_speed == first.impact_speed  # carried across
+    assert got.peak_force >= sim.state.force and got.max_penetration > 0.0
+    assert got.contact_duration == pytest.approx(first.contact_duration, rel=0.05)
+
+
+def test_set_plate_on_a_resting_and_on_a_carried_sphere_records_no_impact():
+    lossy = Contact('linear', 1e6, 400.0)
+    sim = DropSimulation(lossy, MASS, 0.002)
+    sim.advance(2.0)
+    assert sim.settle_time is not None
+    count = len(sim.impacts)
+    _set_plate_continuously(sim, table_transition(2.0, None, SinusoidalPlate(0.0005, 15.0)))
+    sim.advance(4.0)
+    assert sim.carried and len(sim.impacts) == count      # Γ ≈ 0.45: carried, no new impact
+    _set_plate_continuously(sim, table_transition(4.0, sim.plate, None, 15.0))
+    sim.advance(5.0)
+    assert sim.in_contact and len(sim.impacts) == count
+    assert sim.state.plate_position == 0.0 and sim.state.plate_velocity == 0.0
+    assert sim.state.penetration == pytest.approx(MASS * G / lossy.stiffness, rel=1e-6)
+    sim.set_plate(None)                                    # and back to the fixed plate
+    sim.advance(5.5)
+    assert sim.in_contact and len(sim.impacts) == count and sim.plate is None
+
+
+def test_a_table_switched_on_changed_and_off_matches_the_switched_plate_from_the_start():
+    t1, t2, t3, end = 0.3, 0.8, 1.3, 2.0
+    t_a, t_b = SinusoidalPlate(0.001, 30.0), SinusoidalPlate(0.0015, 25.0, 1.0)
+    live = DropSimulation(STEEL, MASS, 0.05)
+    live.advance(t1)
+    m1 = table_transition(t1, None, t_a)
+    live.set_plate(m1)
+    live.advance(t2)
+    m2 = table_transition(t2, m1, t_b, t_a.frequency)
+    live.set_plate(m2)
+    live.advance(t3)
+    m3 = table_transition(t3, m2, None, t_b.frequency)
+    live.set_plate(m3)
+    live.advance(end)
+    whole = SwitchedPlate(SwitchedPlate(SwitchedPlate(SinusoidalPlate(), m1, t1), m2, t2), m3, t3)
+    ref = DropSimulation(STEEL, MASS, 0.05, plate=whole)
+    ref.advance(end)
+    assert len(live.impacts) == len(ref.impacts) > 10
+    assert any(i.time > t3 for i in ref.impacts) and any(t1 < i.time < t2 for i in ref.impacts)
+    for a, b in zip(live.impacts, ref.impacts):
+        assert a.time == pytest.approx(b.time, abs=1e-9)
+        assert a.impact_speed == pytest.approx(b.impact_speed, rel=1e-6, abs=1e-9)
+        assert a.restitution == pytest.approx(b.restitution, rel=1e-6, abs=1e-9)
+    assert _absolute(live) == pytest.approx(_absolute(ref), rel=1e-6, abs=1e-9)
+
+
+def test_the_depth_check_counts_the_plate_speed():
+    soft = Contact('linear', 200.0, 0.0)
+    sim = DropSimulation(soft, MASS, 0.0001, radius=0.0127)
+    with pytest.raises(ValueError, match=r'stiffness .*with the plate moving at up to 6\.283 m/s'):
+        sim.set_plate(SinusoidalPlate(0.05, 20.0))
+    assert sim.plate is None
+    sim.set_plate(SinusoidalPlate(0.0005, 2.0))     # slow enough: accepted
+    assert sim.plate is not None

@@ -57,23 +57,49 @@ def contact_msg(ns, penetration, penetration_rate, force, frame_id):
     return msg
 
 
-def pose_msg(ns, radius, penetration, frame_id):
-    """Sphere centre in the plate frame: z = R1 - penetration (height of the undeformed centre)."""
+def pose_msg(ns, radius, penetration, frame_id, plate_position=0.0):
+    """Sphere centre in the plate frame (the plate's surface at rest at z = 0): z = p + R1 -
+    penetration (height of the undeformed centre; p = 0 for the fixed plate)."""
     msg = PoseStamped()
     msg.header.stamp = time_msg(ns)
     msg.header.frame_id = frame_id
-    msg.pose.position.z = float(radius - penetration)
+    msg.pose.position.z = float(plate_position + radius - penetration)
     msg.pose.orientation.w = 1.0
     return msg
 
 
-def twist_msg(ns, penetration_rate, frame_id):
-    """Sphere velocity in the plate frame: linear.z = -zdot (> 0 moving up)."""
+def twist_msg(ns, penetration_rate, frame_id, plate_velocity=0.0):
+    """Sphere velocity in the plate frame: linear.z = pdot - zdot (> 0 moving up; pdot = 0 for
+    the fixed plate)."""
     msg = TwistStamped()
     msg.header.stamp = time_msg(ns)
     msg.header.frame_id = frame_id
-    msg.twist.linear.z = float(-penetration_rate)
+    msg.twist.linear.z = float(plate_velocity - penetration_rate)
     return msg
+
+
+def plate_pose_msg(ns, position, frame_id):
+    """The plate's surface in the plate frame: position.z = p (m; 0 for the fixed plate)."""
+    msg = PoseStamped()
+    msg.header.stamp = time_msg(ns)
+    msg.header.frame_id = frame_id
+    msg.pose.position.z = float(position)
+    msg.pose.orientation.w = 1.0
+    return msg
+
+
+def plate_twist_msg(ns, velocity, frame_id):
+    """The plate's velocity: linear.z = ṗ (m/s, > 0 moving up)."""
+    msg = TwistStamped()
+    msg.header.stamp = time_msg(ns)
+    msg.header.frame_id = frame_id
+    msg.twist.linear.z = float(velocity)
+    return msg
+
+
+def plate_wrench_msg(ns, force, frame_id):
+    """The contact's reaction on the plate: force.z = -F (N, <= 0: pushed down)."""
+    return wrench_msg(ns, -force, frame_id)
 
 
 def impact_msg(record, offset):
@@ -379,6 +405,13 @@ TOPICS = (
     Topic('impact', '~/impact', Float64MultiArray, IMPACT_QOS, 'impact',
           stamp_ns=_impact_ns, covered_ns=_impact_end_ns),
     Topic('clock', '/clock', ClockMsg, CLOCK_QOS, 'clock', stamp_ns=_clock_ns),
+    # the plate: its surface's height p and velocity ṗ once per tick, the reaction -F on it at
+    # every contact sample (a fixed plate: p = ṗ = 0)
+    Topic('plate_pose', '~/plate_pose', PoseStamped, STATE_QOS, 'state', ('pose.position.z',),
+          (('pose.orientation.w', 1.0),)),
+    Topic('plate_twist', '~/plate_twist', TwistStamped, STATE_QOS, 'state', ('twist.linear.z',)),
+    Topic('plate_wrench', '~/plate_wrench', WrenchStamped, SAMPLE_QOS, 'sample',
+          ('wrench.force.z',)),
 )
 TOPIC = {topic.key: topic for topic in TOPICS}
 # The recorder's acknowledgement (not recorded): the simulated time up to which it has recorded

@@ -11,6 +11,13 @@ and the plate's surface (the top of the lower sphere, for two spheres) at z = 0.
 along that z axis only. Penetration z > 0 means the undeformed bodies overlap; its rate ż > 0 means
 approach. README.md documents every topic, service and parameter.
 
+The plate. ``plate_amplitude`` > 0 vibrates it (``plate.table_transition`` bridges every change);
+``~/plate_command`` (trajectory_msgs/JointTrajectory, joint ``plate_z``) drives it otherwise: the
+node only translates the message (``read_plate_command``), the rules are ``plate.command_motion``'s;
+both go to the engine through ``DropSimulation.set_plate``. ~/pose and ~/twist are absolute
+(p + R1 - z, pdot - zdot); ~/plate_pose, ~/plate_twist (once per tick) and ~/plate_wrench (-F, at
+every contact sample) show the plate.
+
 The loop. Simulated time is cut into ticks of ``dt`` = real_time_factor / publish_rate s
 (1 / publish_rate s when running as fast as possible), counted from an anchor (the start, a
 ~/reset or a change of real_time_factor). A steady-clock timer (period 1/publish_rate, at least
@@ -61,6 +68,10 @@ from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.serialization import serialize_message
 from std_srvs.srv import Trigger
+from trajectory_msgs.msg import JointTrajectory
+
+from contact_sim.plate import command_motion, table_transition
+from contact_sim.validation import InputError
 
 from .messages import PROGRESS, TOPICS, contact_samples, impact_msg, impact_ok, sample_columns, \
     to_ns, to_ns_array
@@ -82,6 +93,10 @@ WAKE_PERIOD = 0.02       # s: in real time the node wakes at most every 20 ms (5
 MAX_LAG = 2.0            # s behind real time before the node skips ahead (and says so, once)
 LEAD_TICKS = 300         # ticks ahead of a recorder's acknowledgement (< state history 1000)
 WATCH_PERIOD = 0.5       # s: a paused node checks this often whether its recorder has gone
+PLATE_JOINT = 'plate_z'  # the one joint of ~/plate_command: prismatic, m, up
+# the core's fields of a plate command (plate.command_motion) as the message spells them
+COMMAND_FIELDS = {'times': 'points[].time_from_start (after header.stamp)',
+                  'positions': 'points[].positions', 'velocities': 'points[].velocities'}
 
 
 class StartupError(Exception):
@@ -116,6 +131,8 @@ class ContactSimNode(Node):
                 self._encode[topic.key] = topic.template(frame).packer()
         self.create_service(GetParameters, '~/query_restitution', self._on_query)
         self.create_service(Trigger, '~/reset', self._on_reset)
+        self._commanded = False   # the plate follows ~/plate_command (until ~/reset or a table)
+        self.create_subscription(JointTrajectory, '~/plate_command', self._on_plate_command, 10)
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.add_post_set_parameters_callback(self._on_parameters_set)
         self._recorded_ns = None  # the recorder's acknowledgement, see PROGRESS
@@ -177,10 +194,65 @@ class ContactSimNode(Node):
                 (old.mass, old.gravity, old.height, old.velocity, old.drag):
             log.info(f'mass, gravity, drag or initial conditions changed, from the next ~/reset: '
                      f'{new.summary()}')
+        if new.table != old.table:
+            self._set_table(old.table, new.table)
         if new.real_time_factor != old.real_time_factor:
             self._start_loop()
             log.info(f'real_time_factor = {new.real_time_factor:g}'
                      + (' (as fast as possible)' if new.fast else ''))
+
+    # ---- the plate: vibrating table, ~/plate_command -----------------------------------------
+
+    def _set_table(self, old, new):
+        """The table's parameters changed: bridge the plate from where it is (C1, one period;
+        ``plate.table_transition``); a table > 0 takes the plate over from ~/plate_command."""
+        sim, log = self._sim, self.get_logger()
+        previous = old.frequency if old is not None else 0.0
+        try:
+            sim.set_plate(table_transition(sim.time, sim.plate, new, previous))
+        except ValueError as error:  # validated already (check_running): keep running
+            log.error(f'could not change the vibrating table: {error}')
+            return
+        if new is not None and self._commanded:
+            self._commanded = False
+            log.info('the vibrating table takes the plate over from ~/plate_command')
+        log.info('vibrating table ' + (f'a = {new.amplitude:g} m, f = {new.frequency:g} Hz, '
+                                       f'phi = {new.phase:g} rad' if new is not None
+                                       else 'stopped (the plate comes to rest at p = 0)')
+                 + f' from t = {self._offset + sim.time:.6f} s, bridged C1')
+
+    def _on_plate_command(self, msg):
+        """A trajectory for the plate (README, "Commanded plate"): translated here, the rules are
+        ``plate.command_motion``'s; a refusal is a warning and changes nothing."""
+        log, sim = self.get_logger(), self._sim
+        table = self._model.table
+        if table is not None:
+            log.warning(f'~/plate_command refused: the vibrating table runs (plate_amplitude = '
+                        f'{table.amplitude:g} > 0); allowed only with plate_amplitude = 0',
+                        throttle_duration_sec=5.0)
+            return
+        try:
+            times, positions, velocities = read_plate_command(msg, sim.time, self._offset)
+            state = sim.state
+            command = command_motion(sim.time, state.plate_position, state.plate_velocity,
+                                     times, positions, velocities)
+            if command.dropped:
+                log.warning(f'~/plate_command: dropped {command.dropped} point(s) at or before '
+                            f'now (t = {self._offset + sim.time:.6f} s)',
+                            throttle_duration_sec=5.0)
+            if command.motion is None:
+                log.warning('~/plate_command ignored: no point after now (t = '
+                            f'{self._offset + sim.time:.6f} s)', throttle_duration_sec=5.0)
+                return
+            sim.set_plate(command.motion)
+        except InputError as error:
+            log.warning(f'~/plate_command refused: {error.render(COMMAND_FIELDS)}',
+                        throttle_duration_sec=1.0)
+            return
+        except ValueError as error:
+            log.warning(f'~/plate_command refused: {error}', throttle_duration_sec=1.0)
+            return
+        self._commanded = True
 
     # ---- simulation loop -------------------------------------------------------------------
 
@@ -339,6 +411,7 @@ class ContactSimNode(Node):
             self._publish_many('wrench', ns, force)
             flags = [1.0 if f > 0.0 else 0.0 for f in force]
             self._publish_many('contact', ns, z, zdot, flags)
+            self._publish_many('plate_wrench', ns, [-f for f in force])
         for record in batch.impacts:
             message = impact_msg(record, offset)
             if impact_ok(message):
@@ -356,9 +429,13 @@ class ContactSimNode(Node):
                 end_ns = end_ns[keep]
                 self._last_state_ns = int(end_ns[-1])
                 stamps = end_ns.tolist()
+                p, pv = batch.plate_position[keep], batch.plate_velocity[keep]
+                # absolute: the centre at p + R1 - z, moving up at pdot - zdot
                 self._publish_many('pose', stamps,
-                                   (self._model.radius - batch.penetration[keep]).tolist())
-                self._publish_many('twist', stamps, (-batch.penetration_rate[keep]).tolist())
+                                   (p + self._model.radius - batch.penetration[keep]).tolist())
+                self._publish_many('twist', stamps, (pv - batch.penetration_rate[keep]).tolist())
+                self._publish_many('plate_pose', stamps, p.tolist())
+                self._publish_many('plate_twist', stamps, pv.tolist())
                 if 'clock' in self._encode:
                     self._publish_many('clock', stamps)
         if skipped:
@@ -375,19 +452,23 @@ class ContactSimNode(Node):
             ns, z, zdot, force = zip(*samples)
             self._publish_many('wrench', ns, force)
             self._publish_many('contact', ns, z, zdot, [1.0 if f > 0.0 else 0.0 for f in force])
+            self._publish_many('plate_wrench', ns, [-f for f in force])
         states, last, radius = [], self._last_state_ns, self._model.radius
-        for t, z, zdot in zip(batch.time.tolist(), batch.penetration.tolist(),
-                              batch.penetration_rate.tolist()):
+        for t, z, zdot, p, pv in zip(batch.time.tolist(), batch.penetration.tolist(),
+                                     batch.penetration_rate.tolist(),
+                                     batch.plate_position.tolist(), batch.plate_velocity.tolist()):
             if math.isfinite(t + z + zdot):
                 ns = to_ns(offset + t)
                 if ns > last:
-                    states.append((ns, radius - z, -zdot))
+                    states.append((ns, p + radius - z, pv - zdot, p, pv))
                     last = ns
         if states:
             self._last_state_ns = last
-            ns, height, rate = zip(*states)
+            ns, height, rate, p, pv = zip(*states)
             self._publish_many('pose', ns, height)
             self._publish_many('twist', ns, rate)
+            self._publish_many('plate_pose', ns, p)
+            self._publish_many('plate_twist', ns, pv)
             if 'clock' in self._encode:
                 self._publish_many('clock', ns)
         if skipped:
@@ -456,11 +537,43 @@ class ContactSimNode(Node):
             reached = max(reached, self._anchor_sim + (self._tick + 1) * self._dt)
         self._offset += reached
         self._sim = sim
+        self._commanded = False     # the new drop's plate: the table's, or fixed
         self._start_loop()
         response.success = True
         response.message = f'drop restarted at t = {self._offset:.9f} s: {model.summary()}'
         self.get_logger().info(response.message)
         return response
+
+
+def read_plate_command(msg, now, offset):
+    """A ``trajectory_msgs/JointTrajectory`` as (times, positions, velocities or None) in the
+    drop's time (s): point time = stamp + time_from_start, the stamp in simulated time (the
+    node's /clock: ``offset`` + the drop's time), stamp 0 = ``now`` (receipt).  Accelerations and
+    efforts are ignored.  ValueError naming the field for a wrong joint or a malformed point."""
+    names = list(msg.joint_names)
+    if names != [PLATE_JOINT]:
+        raise ValueError(f'joint_names = {names!r} is invalid: allowed [{PLATE_JOINT!r}] (one '
+                         'prismatic joint, m, up)')
+    stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+    base = now if stamp == 0.0 else stamp - offset
+    times, positions, velocities = [], [], []
+    for i, point in enumerate(msg.points):
+        if len(point.positions) != 1:
+            raise ValueError(f'points[{i}].positions has {len(point.positions)} values: allowed '
+                             f'1 ({PLATE_JOINT})')
+        if len(point.velocities) not in (0, 1):
+            raise ValueError(f'points[{i}].velocities has {len(point.velocities)} values: '
+                             f'allowed 0 (estimated) or 1 ({PLATE_JOINT})')
+        times.append(base + point.time_from_start.sec + point.time_from_start.nanosec * 1e-9)
+        positions.append(point.positions[0])
+        velocities.append(point.velocities[0] if len(point.velocities) else None)
+    if not times:
+        raise ValueError('points is empty: allowed at least one point')
+    given = [v is not None for v in velocities]
+    if any(given) and not all(given):
+        raise ValueError('points[].velocities are given for some points only: allowed on every '
+                         'point or on none (then estimated)')
+    return times, positions, (velocities if all(given) else None)
 
 
 def spin(node, executor):

@@ -22,6 +22,8 @@ from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 import contact_sim as cs
 from contact_sim.drop import GRAVITY_MAX, HEIGHT_MAX, VELOCITY_MAX
 from contact_sim.flight import AIR_DENSITY
+from contact_sim.plate import (TABLE_ACCELERATION_MAX, TABLE_AMPLITUDE_MAX, TABLE_FREQUENCY_MAX,
+                               TABLE_PHASE_MAX, vibrating_table)
 from contact_sim.validation import InputError, require_positive, require_range
 
 NODE_NAME = 'contact_sim'
@@ -105,6 +107,19 @@ PARAMETERS = (
          f'Drag coefficient C_d of the sphere [-]: quadratic air drag 1/2 rho_air C_d pi R1^2 v^2 '
          f'in flight (closed form; neglected during contact); 0 = vacuum; {_RESET_NOTE}',
          (0.0, 10.0), constraints='0 <= drag_coefficient <= 10'),
+    Spec('plate_amplitude', 0.0,
+         'Amplitude a of the vibrating table, p(t) = a sin(2 pi f t + phi), t the simulated '
+         'time since the last ~/reset [m]; 0 = the fixed plate; takes effect at once (a C1 '
+         'bridge over one period, see README); > 0 takes the plate over from ~/plate_command',
+         (0.0, TABLE_AMPLITUDE_MAX),
+         constraints=f'0 <= plate_amplitude <= {TABLE_AMPLITUDE_MAX:g}, and plate_amplitude '
+                     f'(2 pi plate_frequency)^2 <= {TABLE_ACCELERATION_MAX:g} m/s^2'),
+    Spec('plate_frequency', 0.0, 'Frequency f of the vibrating table [Hz]; takes effect at once',
+         (0.0, TABLE_FREQUENCY_MAX),
+         constraints=f'0 <= plate_frequency <= {TABLE_FREQUENCY_MAX:g}'),
+    Spec('plate_phase', 0.0, 'Phase phi of the vibrating table [rad]; takes effect at once',
+         (-TABLE_PHASE_MAX, TABLE_PHASE_MAX),
+         constraints='-2 pi <= plate_phase <= 2 pi'),
     Spec('publish_rate', 100.0,
          'Publish ticks per second [Hz]: wall-clock rate at a finite real_time_factor, simulated '
          'ticks per simulated second when real_time_factor is 0 or .inf',
@@ -155,6 +170,7 @@ class Model:
     plate: cs.Material
     plate_radius: float   # m, inf = flat
     drag: cs.AirDrag = None   # None = vacuum
+    table: object = None      # the vibrating table (plate.SinusoidalPlate), None = fixed plate
 
     @property
     def fast(self):
@@ -165,6 +181,10 @@ class Model:
         plate = 'flat plate' if math.isinf(self.plate_radius) \
             else f'sphere R2 = {self.plate_radius * 1e3:g} mm'
         drag = '' if self.drag is None else f', air drag C_d = {self.drag.drag_coefficient:g}'
+        if self.table is not None:
+            t = self.table
+            drag += (f'; table a = {t.amplitude:g} m, f = {t.frequency:g} Hz, '
+                     f'phi = {t.phase:g} rad (Gamma = {t.peak_acceleration_ratio(self.gravity or 9.81):.3g})')
         return (f'{self.contact.law.name}: {self.sphere.name} sphere '
                 f'R1 = {self.radius * 1e3:g} mm, '
                 f'm = {self.mass * 1e3:.4g} g on {self.plate.name} {plate}; '
@@ -178,7 +198,8 @@ class Model:
 # no entry.
 PARAMETER_KEYS = {'law': 'contact_law', 'sphere': 'sphere_material', 'plate': 'plate_material',
                   'radius': 'sphere_radius', 'mass': 'sphere_mass', 'height': 'initial_height',
-                  'velocity': 'initial_velocity'}
+                  'velocity': 'initial_velocity', 'amplitude': 'plate_amplitude',
+                  'frequency': 'plate_frequency', 'phase': 'plate_phase'}
 _MATERIAL_FIELDS = ('youngs_modulus', 'poisson_ratio', 'density')
 
 
@@ -200,6 +221,8 @@ def refusal(error, values):
         text += ', or plate_radius = 0 for a flat plate'
     elif field == 'gravity' and values.get('drag_coefficient', 0.0) > 0.0:
         text += '; drag_coefficient = 0 turns the air drag off'
+    elif field == 'gravity' and values.get('plate_amplitude', 0.0) > 0.0:
+        text += '; plate_amplitude = 0 stops the vibrating table'
     return text
 
 
@@ -251,7 +274,9 @@ def _build_model(values):
                                        allow_inf=True),
         publish_rate=require_range('publish_rate', values['publish_rate'], 0.1, 10000.0),
         frame_id=frame_id, publish_clock=bool(values['publish_clock']),
-        sphere=sphere, plate=plate, plate_radius=plate_radius, drag=_drag(values, radius))
+        sphere=sphere, plate=plate, plate_radius=plate_radius, drag=_drag(values, radius),
+        table=vibrating_table(values['plate_amplitude'], values['plate_frequency'],
+                              values['plate_phase']))
     make_simulation(model)  # the engine's checks: ranges of the drop, and the depth check
     return model
 
@@ -287,14 +312,21 @@ def check_running(sim, model, values):
     the energy until the next ~/reset), as ``sim.set_contact`` will; ValueError as build_model."""
     try:
         sim.check(model.contact)
+        if model.table is not None:     # the table about to start: its peak speed
+            sim.check(model.contact, plate=model.table)
     except InputError as error:
         raise ValueError('the running drop (until ~/reset) refuses it: '
                          f'{refusal(error, values)}') from None
+    if model.table is not None and not sim.gravity > 0.0:
+        raise ValueError(f'plate_amplitude = {values["plate_amplitude"]!r} needs gravity > 0 and '
+                         f'the running drop has gravity = {sim.gravity!r} (until ~/reset): '
+                         'allowed plate_amplitude = 0 until then')
 
 
 def make_simulation(model):
     """A fresh drop at t = 0 from the model's initial conditions (the engine checks them)."""
     return cs.DropSimulation(model.contact, model.mass, model.height, velocity=model.velocity,
-                             gravity=model.gravity, radius=model.radius, drag=model.drag)
+                             gravity=model.gravity, radius=model.radius, drag=model.drag,
+                             plate=model.table)
 
 
