@@ -249,21 +249,6 @@ class TickBatch:
     apex_heights: tuple = ()
 
 
-def _force_array(contact, z, zdot):
-    """``Contact.force_at`` over arrays, with the same operations (``np.power`` of an array
-    exponent calls the C library's pow, as Python's ``**`` does; numpy's scalar-exponent fast
-    paths, x**0.5 -> sqrt, would round differently)."""
-    law, k, lam = contact.law, contact.stiffness, contact.damping
-    inside = z > 0.0
-    zz = np.where(inside, z, 1.0)
-    speed = np.abs(zdot)
-    rate = np.where(zdot != 0.0, np.copysign(np.power(speed, np.full_like(speed, law.q)), zdot),
-                    0.0)
-    unclamped = k * np.power(zz, np.full_like(zz, law.n)) + lam * np.power(
-        zz, np.full_like(zz, law.p)) * rate
-    return np.where(inside, np.where(unclamped < 0.0, 0.0, unclamped), 0.0)
-
-
 def _rest_states(rest, t):
     """``_Rest.state`` over an array of times t (s), with the same operations."""
     dt = t - rest.start
@@ -717,7 +702,7 @@ class DropSimulation:
                 z = mode.penetration + mode.rate * dt + 0.5 * self.gravity * dt * dt
                 zdot = mode.rate + self.gravity * dt
             out[0], out[1], out[2] = t, z, zdot
-            out[3] = _force_array(self.contact, out[1], out[2])
+            out[3] = self.contact.force(out[1], out[2])
             return
         for k, tk in enumerate(t.tolist()):
             z, zdot = self._state_at(tk)

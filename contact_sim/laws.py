@@ -53,12 +53,20 @@ class ContactLaw:
         return 0.0 if unclamped < 0.0 else unclamped     # NaN stays NaN, as np.maximum
 
     def force(self, z, zdot, k, damping):
-        """Clamped normal force in N for arrays of z (m) and ż (m/s) of any broadcastable shape."""
-        z = np.asarray(z, dtype=float)
-        zdot = np.asarray(zdot, dtype=float)
-        zp = np.maximum(z, 0.0)
-        unclamped = k * zp ** self.n + damping * zp ** self.p * np.sign(zdot) * np.abs(zdot) ** self.q
-        return np.where(z > 0.0, np.maximum(unclamped, 0.0), 0.0)
+        """Clamped normal force in N for arrays of z (m) and ż (m/s) of any broadcastable shape.
+
+        The same operations as ``force_at``, element by element, so both agree to the last bit
+        (``np.power`` with an array exponent calls the C library's pow, as Python's ``**``
+        does; numpy's scalar-exponent fast paths, x**0.5 -> sqrt, round differently)."""
+        z, zdot = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(zdot, dtype=float))
+        inside = z > 0.0
+        zz = np.where(inside, z, 1.0)
+        speed = np.abs(zdot)
+        rate = np.where(zdot != 0.0,
+                        np.copysign(np.power(speed, np.full_like(speed, self.q)), zdot), 0.0)
+        unclamped = k * np.power(zz, np.full_like(zz, self.n)) + damping * np.power(
+            zz, np.full_like(zz, self.p)) * rate
+        return np.where(inside, np.where(unclamped < 0.0, 0.0, unclamped), 0.0)
 
 
 AZAD_FEATHERSTONE = ContactLaw('azad_featherstone', 1.5, 0.5, 1.0)  # eq. 8

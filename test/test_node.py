@@ -1288,7 +1288,9 @@ def test_a_recorded_flat_out_run_holds_every_sample_of_every_topic(own_domain, w
         assert [ts for ts, _ in items] == got  # bag time = simulated time
         got = [ns for ns in got if ns > reset_ns]
         want = [ns for ns in expected[topic] if ns <= got[-1]]
-        assert got == want, (topic, len(got), len(want))  # every sample, in order
+        missing = sorted(set(want) - set(got))
+        assert got == want, (topic, len(got), len(want), missing[:3], missing[-3:],
+                             reset_ns, got[-1])  # every sample, in order
         if not topic.endswith('impact'):
             assert got[-1] - reset_ns >= 60e9, topic  # >= 60 simulated seconds
     # the same values, and the sample topics end together at the stop
