@@ -881,6 +881,51 @@ def test_recorder_writes_a_bag_that_reads_back(sim, client, ros_env, workdir):
             assert items[-1][0] >= max(ends), (topic, log)
 
 
+def test_a_stopping_recorder_keeps_pacing_the_node_until_it_is_gone(tmp_path):
+    """At the stop the acknowledgement stands still but its publisher stays: a node running as
+    fast as possible stays within LEAD_TICKS of it while the lagging topics drain (let loose, it
+    outran its writers' histories and the drain lost samples)."""
+    context = rclpy.Context()
+    context.init()
+    recorder = cs_recorder.Recorder(tmp_path / 'bag', context=context)
+    probe = rclpy.create_node('probe', context=context)
+    acks = []
+    probe.create_subscription(Clock, f'{NODE}/recorded',
+                              lambda m: acks.append(stamp_ns(m.clock)), cs_msgs.PROGRESS.qos)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(probe)
+    try:
+        def deliver(ns):
+            for topic in recorder.topics:
+                key = topic.rsplit('/', 1)[-1]
+                if key in ('pose', 'twist', 'clock'):
+                    msg = (cs_msgs.clock_msg(ns) if key == 'clock' else
+                           cs_msgs.pose_msg(ns, 0.01, 0.0, 'plate') if key == 'pose' else
+                           cs_msgs.twist_msg(ns, 0.0, 'plate'))
+                    recorder._on_message(topic, cs_msgs.type_name(type(msg)),
+                                         serialize_message(msg))
+        deliver(1_000_000_000)
+        deadline = time.monotonic() + TIMEOUT
+        while not acks and time.monotonic() < deadline:
+            recorder.report()
+            executor.spin_once(timeout_sec=0.05)
+        assert acks == [1_000_000_000]
+        for topic in recorder.topics:
+            recorder.publishers_matched[topic] = 1
+        done = recorder.cut()
+        assert not done()   # the other topics lag
+        assert probe.count_publishers(f'{NODE}/recorded') == 1   # still pacing the node
+        deliver(2_000_000_000)
+        recorder.report()
+        executor.spin_once(timeout_sec=0.2)
+        assert acks == [1_000_000_000]     # it stands still while stopping
+    finally:
+        probe.destroy_node()
+        recorder.close()
+        recorder.destroy_node()
+        context.try_shutdown()
+
+
 def test_recorder_stops_on_a_consistent_cut(tmp_path):
     """The stop waits until every continuous topic with a publisher reaches the furthest
     simulated time any topic shows, an impact counting to the end of its contact."""

@@ -93,6 +93,7 @@ class Recorder(Node):
         self._progress = self.create_publisher(PROGRESS.msg_type, PROGRESS.resolve(target),
                                                PROGRESS.qos)
         self._reported_ns = -1
+        self._stopping = False
         self.create_timer(REPORT_PERIOD, self.report)
         self.get_logger().info(f'recording {", ".join(self.topics)} to {self.bag.path} '
                                f'({storage})')
@@ -107,7 +108,7 @@ class Recorder(Node):
     def report(self):
         """Acknowledge on ~/recorded what is recorded (if it moved on; not while stopping)."""
         ns = self.recorded_ns()
-        if self._progress is not None and ns is not None and ns > self._reported_ns:
+        if not self._stopping and ns is not None and ns > self._reported_ns:
             self._reported_ns = ns
             self._progress.publish(clock_msg(ns))
 
@@ -167,9 +168,10 @@ class Recorder(Node):
         and every continuous topic reaches the same simulated time. /clock, a global topic
         that another node may publish, neither sets the cut nor is waited for.
         """
-        if self._progress is not None:  # stopping: the node no longer waits for this recorder
-            self.destroy_publisher(self._progress)
-            self._progress = None
+        # stopping: the acknowledgement stops moving but its publisher stays until the recorder
+        # is gone, so the node stays within LEAD_TICKS of it while the lagging topics drain (a
+        # node let loose here outruns its writers' histories and the drain loses samples)
+        self._stopping = True
         own = [ns for topic, ns in self.covered_ns.items()
                if self._topics[topic].kind != 'clock']
         if not own:
