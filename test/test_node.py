@@ -1309,6 +1309,8 @@ def test_a_recorded_flat_out_run_holds_every_sample_of_every_topic(own_domain, w
     try:
         spin_until(lambda: all(f'receiving {t}' in recorder.output() for t in TOPICS
                                if not t.endswith('impact')), 'the recorder to receive')
+        # paced from here on (before, the node may run ahead of what the recorder can take)
+        spin_until(lambda: 'pacing 1 node(s)' in recorder.output(), 'the node to be paced')
         offset = reset_drop()   # a drop that bounces, recorded from its start
         ticks_before = round(offset * 100)
         assert offset == pytest.approx(ticks_before * 0.01, abs=1e-9)  # on the tick grid

@@ -94,6 +94,7 @@ class Recorder(Node):
                                                PROGRESS.qos)
         self._reported_ns = -1
         self._stopping = False
+        self._pacing = 0        # nodes matched on the acknowledgement
         self.create_timer(REPORT_PERIOD, self.report)
         self.get_logger().info(f'recording {", ".join(self.topics)} to {self.bag.path} '
                                f'({storage})')
@@ -130,6 +131,13 @@ class Recorder(Node):
             if count > before:
                 self.get_logger().info(f'matched {topic}: {count} publisher(s)')
             self.publishers_matched[topic] = max(count, before) if only_new else count
+        pacing = self._progress.get_subscription_count()
+        if pacing != self._pacing:
+            self._pacing = pacing
+            self.get_logger().info(f'pacing {pacing} node(s) through {self._progress.topic_name}'
+                                   ' (a node running as fast as possible waits for this recorder)'
+                                   if pacing else f'pacing no node through '
+                                   f'{self._progress.topic_name}')
 
     def _on_message(self, topic, msgtype, data):
         """One serialized message (bytes, as received: the recorder never deserializes the
