@@ -57,44 +57,45 @@ def contact_msg(ns, penetration, penetration_rate, force, frame_id):
     return msg
 
 
-def pose_msg(ns, radius, penetration, frame_id, plate_position=0.0):
-    """Sphere centre in the plate frame (the plate's surface at rest at z = 0): z = p + R1 -
-    penetration (height of the undeformed centre; p = 0 for the fixed plate)."""
+def height_msg(ns, height, frame_id):
+    """A PoseStamped at ``height`` (m) on the frame's z axis, orientation identity."""
     msg = PoseStamped()
     msg.header.stamp = time_msg(ns)
     msg.header.frame_id = frame_id
-    msg.pose.position.z = float(plate_position + radius - penetration)
+    msg.pose.position.z = float(height)
     msg.pose.orientation.w = 1.0
     return msg
 
 
-def twist_msg(ns, penetration_rate, frame_id, plate_velocity=0.0):
-    """Sphere velocity in the plate frame: linear.z = pdot - zdot (> 0 moving up; pdot = 0 for
-    the fixed plate)."""
-    msg = TwistStamped()
-    msg.header.stamp = time_msg(ns)
-    msg.header.frame_id = frame_id
-    msg.twist.linear.z = float(plate_velocity - penetration_rate)
-    return msg
-
-
-def plate_pose_msg(ns, position, frame_id):
-    """The plate's surface in the plate frame: position.z = p (m; 0 for the fixed plate)."""
-    msg = PoseStamped()
-    msg.header.stamp = time_msg(ns)
-    msg.header.frame_id = frame_id
-    msg.pose.position.z = float(position)
-    msg.pose.orientation.w = 1.0
-    return msg
-
-
-def plate_twist_msg(ns, velocity, frame_id):
-    """The plate's velocity: linear.z = ṗ (m/s, > 0 moving up)."""
+def vertical_velocity_msg(ns, velocity, frame_id):
+    """A TwistStamped moving at ``velocity`` (m/s, > 0 up) along the frame's z axis."""
     msg = TwistStamped()
     msg.header.stamp = time_msg(ns)
     msg.header.frame_id = frame_id
     msg.twist.linear.z = float(velocity)
     return msg
+
+
+def pose_msg(ns, radius, penetration, frame_id, plate_position=0.0):
+    """Sphere centre in the plate frame (the plate's surface at rest at z = 0): z = p + R1 -
+    penetration (height of the undeformed centre; p = 0 for the fixed plate)."""
+    return height_msg(ns, plate_position + radius - penetration, frame_id)
+
+
+def twist_msg(ns, penetration_rate, frame_id, plate_velocity=0.0):
+    """Sphere velocity in the plate frame: linear.z = pdot - zdot (> 0 moving up; pdot = 0 for
+    the fixed plate)."""
+    return vertical_velocity_msg(ns, plate_velocity - penetration_rate, frame_id)
+
+
+def plate_pose_msg(ns, position, frame_id):
+    """The plate's surface in the plate frame: position.z = p (m; 0 for the fixed plate)."""
+    return height_msg(ns, position, frame_id)
+
+
+def plate_twist_msg(ns, velocity, frame_id):
+    """The plate's velocity: linear.z = ṗ (m/s, > 0 moving up)."""
+    return vertical_velocity_msg(ns, velocity, frame_id)
 
 
 def plate_wrench_msg(ns, force, frame_id):
