@@ -469,6 +469,15 @@ class DropSimulation:
                    self.velocity if velocity is None else velocity, self.radius,
                    plate.speed_bound() if plate is not None else 0.0)
 
+    def check_plate(self, plate):
+        """The checks ``set_plate`` makes of ``plate`` (gravity > 0 for a moving plate, and
+        ``check`` with its peak speed); returns it as ``set_plate`` takes it (``None``: fixed)."""
+        new = plate_motion.plate_or_none(plate)
+        if new is not None:
+            _require_gravity_for('a moving plate', self.gravity)
+        self.check(self.contact, plate=new)
+        return new
+
     def set_plate(self, plate):
         """Move the plate as ``plate`` (a ``plate.PlateMotion``, or ``None``: fixed at p = 0)
         from the current time on.
@@ -481,10 +490,7 @@ class DropSimulation:
         a resting or carried sphere starts a contact phase (no impact recorded).  The new plate
         is checked as ``check`` does, with its peak speed.
         """
-        new = plate_motion.plate_or_none(plate)
-        if new is not None:
-            _require_gravity_for('a moving plate', self.gravity)
-        self.check(self.contact, plate=new)
+        new = self.check_plate(plate)
         t, mode = self.time, self._mode
         z, zdot = self._state_at(t)
         p, pv = self.plate.state(t)[:2] if self.plate is not None else (0.0, 0.0)

@@ -232,6 +232,20 @@ class CommandedPlate(PlateMotion):
     def acceleration_bound(self):
         return max(abs(a) for a in self._pieces[3])
 
+    def position_range(self):
+        """(min, max) of p (m) from the first set-point on: at the knots, and at a piece's
+        turning point (ṗ = 0 inside it)."""
+        starts, pos, vel, acc = self._pieces
+        values = list(pos)
+        for i in range(len(starts) - 1):
+            h = starts[i + 1] - starts[i]
+            values.append(pos[i] + vel[i] * h + 0.5 * acc[i] * h * h)
+            if acc[i] != 0.0 and 0.0 < -vel[i] / acc[i] < h:
+                values.append(pos[i] - 0.5 * vel[i] * vel[i] / acc[i])
+        if vel[-1] != 0.0:      # constant velocity after the last set-point: unbounded
+            values.append(math.copysign(math.inf, vel[-1]))
+        return min(values), max(values)
+
     def speed_bound(self):
         """Peak |ṗ| (m/s): ṗ is piecewise linear, so at a piece's ends."""
         return max(abs(v) for v in self.velocities + self._pieces[2])
@@ -336,6 +350,7 @@ COMMAND_STOP_TIME = 0.2     # s: after a command's last point the plate brakes t
 COMMAND_POSITION_MAX = 1.0  # m: commanded |p|
 COMMAND_VELOCITY_MAX = 10.0  # m/s: commanded (or estimated) |ṗ|
 COMMAND_ACCELERATION_MAX = 1000.0  # m/s²: |p̈| of the commanded motion (the interpolant's)
+COMMAND_HORIZON = 600.0     # s: the last point at most this long after now
 
 
 def bridge_time(table, previous_frequency=0.0):
@@ -355,7 +370,9 @@ def table_transition(now, current, table, previous_frequency=0.0):
     ``SinusoidalPlate`` (``None`` or one that does not move: the table stops, at rest at p = 0).
     The plate is bridged C¹ from its state (p, ṗ) at ``now`` to the new motion's state at
     now + T (a 2-point ``CommandedPlate``), T from ``bridge_time``: one period of the new
-    frequency, or of ``previous_frequency`` when the table stops, or ``BRIDGE_TIME``.  Returns a
+    frequency, or of ``previous_frequency`` when the table stops, or ``BRIDGE_TIME``, made longer
+    (by factors of 1.25) until the bridge's |p̈| is within ``TABLE_ACCELERATION_MAX``, so that a
+    change far from the plate's state is no slam.  Returns a
     ``SwitchedPlate`` (bridge, then the table), or ``None`` when the plate stays fixed.
     """
     now = require_real('now', now)
@@ -363,9 +380,15 @@ def table_transition(now, current, table, previous_frequency=0.0):
     target = table if table is not None and table.moving else SinusoidalPlate()
     if current is None and not target.moving:
         return None
-    end = now + bridge_time(table, previous_frequency)
-    pt, vt, _ = target.state(end)
-    return SwitchedPlate(CommandedPlate((now, end), (p, pt), (pv, vt)), target, end)
+    duration = bridge_time(table, previous_frequency)
+    for _ in range(200):    # longer until the bridge is as gentle as a table may be
+        end = now + duration
+        pt, vt, _ = target.state(end)
+        bridge = CommandedPlate((now, end), (p, pt), (pv, vt))
+        if bridge.acceleration_bound() <= TABLE_ACCELERATION_MAX:
+            break
+        duration *= 1.25
+    return SwitchedPlate(bridge, target, end)
 
 
 @dataclass(frozen=True)
@@ -385,18 +408,18 @@ def _finite_array(name, values, count=None):
                          'finite numbers' % name, value=repr(values)) from None
     if not np.all(np.isfinite(arr)):
         raise InputError(name, values, '{n[%s]} = {value} is out of range: allowed finite '
-                         'numbers' % name, value=repr(list(arr)))
+                         'numbers' % name, value=repr(arr.tolist()))
     if count is not None and arr.size != count:
         raise InputError(name, values, '{n[%s]} has %d values: allowed one per point (%d)'
-                         % (name, arr.size, count), value=repr(list(arr)))
+                         % (name, arr.size, count), value=repr(arr.tolist()))
     return arr
 
 
-def _require_magnitude(name, arr, bound, unit):
+def _require_magnitude(name, arr, bound, unit, where=''):
     worst = float(np.max(np.abs(arr))) if arr.size else 0.0
     if worst > bound:
-        raise InputError(name, worst, '{n[%s]} reaches |%s| = %.6g %s: allowed -%g <= {n[%s]} '
-                         '<= %g %s' % (name, name, worst, unit, bound, name, bound, unit))
+        raise InputError(name, worst, '{n[%s]} reaches |%s| = %.6g %s%s: allowed -%g <= {n[%s]} '
+                         '<= %g %s' % (name, name, worst, unit, where, bound, name, bound, unit))
 
 
 def command_motion(now, position, velocity, times, positions, velocities=None):
@@ -429,12 +452,16 @@ def command_motion(now, position, velocity, times, positions, velocities=None):
                          value='[]')
     if np.any(np.diff(t) <= 0.0):
         raise InputError('times', times, '{n[times]} = {value} is out of range: allowed strictly '
-                         'increasing times', value=repr(list(t)))
+                         'increasing times', value=repr(t.tolist()))
     p = _finite_array('positions', positions, t.size)
     _require_magnitude('positions', p, COMMAND_POSITION_MAX, 'm')
     v = None if velocities is None else _finite_array('velocities', velocities, t.size)
     if v is not None:
         _require_magnitude('velocities', v, COMMAND_VELOCITY_MAX, 'm/s')
+    if t[-1] > now + COMMAND_HORIZON:
+        raise InputError('times', float(t[-1]), '{n[times]} reach %.6g s, %.6g s after now '
+                         '(%.6g s): allowed up to %g s ahead (times are simulated time, /clock)'
+                         % (t[-1], t[-1] - now, now, COMMAND_HORIZON))
     keep = t > now
     dropped = int(np.count_nonzero(~keep))
     if not np.any(keep):
@@ -453,6 +480,9 @@ def command_motion(now, position, velocity, times, positions, velocities=None):
         pp = np.append(pp, pp[-1] + 0.5 * vv[-1] * COMMAND_STOP_TIME)
         vv = np.append(vv, 0.0)
     motion = CommandedPlate(tuple(tt), tuple(pp), tuple(vv))
+    low, high = motion.position_range()
+    _require_magnitude('positions', np.array([low, high]), COMMAND_POSITION_MAX, 'm',
+                       ' (the motion through the points, braking to rest after the last)')
     peak = motion.acceleration_bound()
     if peak > COMMAND_ACCELERATION_MAX:
         raise InputError('accelerations', peak, 'the commanded motion (from the plate\'s state '
@@ -485,6 +515,14 @@ def vibrating_table(amplitude, frequency, phase):
                          % (f, peak, TABLE_ACCELERATION_MAX,
                             TABLE_ACCELERATION_MAX / table.angular_frequency ** 2))
     return table if table.moving else None
+
+
+def sphere_motion(radius, penetration, penetration_rate, plate_position=0.0,
+                  plate_velocity=0.0):
+    """The sphere's centre height p + R1 - z (m) and upward velocity ṗ - ż (m/s) in the frame
+    where the plate's surface at rest is at height 0, from the penetration z (m) and its rate ż
+    (m/s) relative to the plate at p (m), moving at ṗ (m/s); floats or numpy arrays."""
+    return plate_position + radius - penetration, plate_velocity - penetration_rate
 
 
 def plate_or_none(plate):

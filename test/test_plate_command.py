@@ -11,6 +11,7 @@ from contact_sim.drop import DropSimulation
 from contact_sim.plate import (COMMAND_ACCELERATION_MAX, COMMAND_POSITION_MAX, COMMAND_STOP_TIME,
                                COMMAND_VELOCITY_MAX, TABLE_ACCELERATION_MAX, CommandedPlate,
                                SinusoidalPlate, command_motion, vibrating_table)
+from contact_sim import plate
 from contact_sim.validation import InputError
 
 MASS = 0.066
@@ -147,9 +148,39 @@ def test_check_running_refuses_a_table_too_fast_for_the_contact():
     sim = cs_params.make_simulation(_model(**{**soft, 'initial_height': 0.3}))
     table = dict(plate_amplitude=0.005, plate_frequency=10.0)
     model = _model(**soft, **table)
-    cs_params.check_running(sim, _model(**soft), {**cs_params.DEFAULTS, **soft})
+    running = _model(**soft)
+    cs_params.check_running(sim, running, {**cs_params.DEFAULTS, **soft}, running)
     with pytest.raises(ValueError, match='running drop .*stiffness = 3000 .* is too small'):
-        cs_params.check_running(sim, model, {**cs_params.DEFAULTS, **soft, **table})
+        cs_params.check_running(sim, model, {**cs_params.DEFAULTS, **soft, **table}, running)
+
+
+def test_a_table_change_far_from_the_plate_is_bridged_no_harder_than_a_table_may_shake():
+    # a 10 Hz table at its crest changed to 1000 Hz: one new period (1 ms) would take 1e4 m/s^2
+    old = plate.SinusoidalPlate(0.0025, 10.0, 0.0)
+    new = plate.vibrating_table(2.5e-5, 1000.0, 0.0)
+    now = 0.025                                   # p = a, the crest
+    motion = plate.table_transition(now, old, new, old.frequency)
+    bridge = motion.before
+    assert bridge.acceleration_bound() <= plate.TABLE_ACCELERATION_MAX
+    assert motion.switch_time > now + 1e-3        # longer than one new period
+    for t in (now, motion.switch_time):           # C1 at both ends
+        a, b = (old if t == now else new).state(t), motion.state(t)
+        assert b[:2] == pytest.approx(a[:2], abs=1e-12)
+    # from a commanded plate 5 cm down, too
+    held = plate.command_motion(0.0, 0.0, 0.0, [0.5], [-0.05], [0.0]).motion
+    motion = plate.table_transition(1.0, held, new, 0.0)
+    assert motion.before.acceleration_bound() <= plate.TABLE_ACCELERATION_MAX
+
+
+def test_a_command_beyond_the_horizon_or_braking_out_of_range_is_refused():
+    with pytest.raises(InputError, match=r'times reach .* allowed up to 600 s ahead'):
+        plate.command_motion(1.0, 0.0, 0.0, [1.0 + 1.8e9], [0.01], [0.0])   # a wall-clock stamp
+    # the given points are within 1 m, the brake after the last one is not
+    with pytest.raises(InputError, match=r'positions reaches \|positions\| = 2 m .*braking'):
+        plate.command_motion(0.0, 0.0, 0.0, [0.2, 0.4], [0.9, 1.0], [9.0, 10.0])
+    # refusals show plain numbers
+    with pytest.raises(InputError, match=r'= \[nan\]'):
+        plate.command_motion(0.0, 0.0, 0.0, [1.0], [float('nan')])
 
 
 def test_read_plate_command_translates_stamps_and_fields():

@@ -22,6 +22,8 @@ from rclpy.serialization import deserialize_message, serialize_message
 from rosgraph_msgs.msg import Clock as ClockMsg
 from std_msgs.msg import Float64MultiArray, MultiArrayDimension, MultiArrayLayout
 
+from contact_sim.plate import sphere_motion
+
 IMPACT_FIELDS = ('time', 'impact_speed', 'rebound_speed', 'restitution', 'contact_duration',
                  'peak_force', 'max_penetration')
 
@@ -79,13 +81,14 @@ def vertical_velocity_msg(ns, velocity, frame_id):
 def pose_msg(ns, radius, penetration, frame_id, plate_position=0.0):
     """Sphere centre in the plate frame (the plate's surface at rest at z = 0): z = p + R1 -
     penetration (height of the undeformed centre; p = 0 for the fixed plate)."""
-    return height_msg(ns, plate_position + radius - penetration, frame_id)
+    return height_msg(ns, sphere_motion(radius, penetration, 0.0, plate_position)[0], frame_id)
 
 
 def twist_msg(ns, penetration_rate, frame_id, plate_velocity=0.0):
     """Sphere velocity in the plate frame: linear.z = pdot - zdot (> 0 moving up; pdot = 0 for
     the fixed plate)."""
-    return vertical_velocity_msg(ns, plate_velocity - penetration_rate, frame_id)
+    return vertical_velocity_msg(ns, sphere_motion(0.0, 0.0, penetration_rate, 0.0,
+                                                   plate_velocity)[1], frame_id)
 
 
 def plate_pose_msg(ns, position, frame_id):

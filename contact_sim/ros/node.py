@@ -70,13 +70,13 @@ from rclpy.serialization import serialize_message
 from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory
 
-from contact_sim.plate import command_motion, table_transition
+from contact_sim.plate import command_motion, sphere_motion
 from contact_sim.validation import InputError
 
 from .messages import PROGRESS, TOPICS, contact_samples, impact_msg, impact_ok, sample_columns, \
     to_ns, to_ns_array
 from .params import DEFAULTS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, build_model, \
-    check_running, descriptor, make_simulation
+    check_running, descriptor, make_simulation, refusal, table_motion
 from .query import answer_queries
 
 TURN_STEP_BUDGET = 20    # integrator steps per engine call (~10 ms); then the wall budget is checked
@@ -169,7 +169,7 @@ class ContactSimNode(Node):
             values = self._values(ours)
             model = build_model(values)
             # a new contact acts from the next contact phase of the running drop
-            check_running(self._sim, model, values)
+            check_running(self._sim, model, values, self._model)
         except Exception as error:  # any failure rejects the change, never the node
             names = ', '.join(p.name for p in ours)
             return SetParametersResult(successful=False, reason=f'rejected {names}: {error}')
@@ -207,9 +207,8 @@ class ContactSimNode(Node):
         """The table's parameters changed: bridge the plate from where it is (C1, one period;
         ``plate.table_transition``); a table > 0 takes the plate over from ~/plate_command."""
         sim, log = self._sim, self.get_logger()
-        previous = old.frequency if old is not None else 0.0
         try:
-            sim.set_plate(table_transition(sim.time, sim.plate, new, previous))
+            sim.set_plate(table_motion(sim, old, new))
         except ValueError as error:  # validated already (check_running): keep running
             log.error(f'could not change the vibrating table: {error}')
             return
@@ -244,13 +243,20 @@ class ContactSimNode(Node):
                 log.warning('~/plate_command ignored: no point after now (t = '
                             f'{self._offset + sim.time:.6f} s)', throttle_duration_sec=5.0)
                 return
-            sim.set_plate(command.motion)
         except InputError as error:
             log.warning(f'~/plate_command refused: {error.render(COMMAND_FIELDS)}',
                         throttle_duration_sec=1.0)
             return
         except ValueError as error:
             log.warning(f'~/plate_command refused: {error}', throttle_duration_sec=1.0)
+            return
+        try:
+            sim.set_plate(command.motion)
+        except InputError as error:   # the drop's own limits (the depth check)
+            log.warning('~/plate_command refused: the commanded motion (points[].velocities, '
+                        f'peak plate speed {command.motion.speed_bound():.6g} m/s) is too fast '
+                        f'for the running drop: {refusal(error, self._values())}',
+                        throttle_duration_sec=1.0)
             return
         self._commanded = True
 
@@ -430,10 +436,10 @@ class ContactSimNode(Node):
                 self._last_state_ns = int(end_ns[-1])
                 stamps = end_ns.tolist()
                 p, pv = batch.plate_position[keep], batch.plate_velocity[keep]
-                # absolute: the centre at p + R1 - z, moving up at pdot - zdot
-                self._publish_many('pose', stamps,
-                                   (p + self._model.radius - batch.penetration[keep]).tolist())
-                self._publish_many('twist', stamps, (pv - batch.penetration_rate[keep]).tolist())
+                height, velocity = sphere_motion(self._model.radius, batch.penetration[keep],
+                                                 batch.penetration_rate[keep], p, pv)
+                self._publish_many('pose', stamps, height.tolist())
+                self._publish_many('twist', stamps, velocity.tolist())
                 self._publish_many('plate_pose', stamps, p.tolist())
                 self._publish_many('plate_twist', stamps, pv.tolist())
                 if 'clock' in self._encode:
@@ -460,7 +466,7 @@ class ContactSimNode(Node):
             if math.isfinite(t + z + zdot):
                 ns = to_ns(offset + t)
                 if ns > last:
-                    states.append((ns, p + radius - z, pv - zdot, p, pv))
+                    states.append((ns, *sphere_motion(radius, z, zdot, p, pv), p, pv))
                     last = ns
         if states:
             self._last_state_ns = last

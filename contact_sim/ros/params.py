@@ -23,7 +23,7 @@ import contact_sim as cs
 from contact_sim.drop import GRAVITY_MAX, HEIGHT_MAX, VELOCITY_MAX
 from contact_sim.flight import AIR_DENSITY
 from contact_sim.plate import (TABLE_ACCELERATION_MAX, TABLE_AMPLITUDE_MAX, TABLE_FREQUENCY_MAX,
-                               TABLE_PHASE_MAX, vibrating_table)
+                               TABLE_PHASE_MAX, table_transition, vibrating_table)
 from contact_sim.validation import InputError, require_positive, require_range
 
 NODE_NAME = 'contact_sim'
@@ -307,20 +307,25 @@ def build_model(values):
                          f'physically sensible magnitudes') from None
 
 
-def check_running(sim, model, values):
-    """Check ``model``'s contact against the running drop ``sim`` (its initial conditions bound
-    the energy until the next ~/reset), as ``sim.set_contact`` will; ValueError as build_model."""
+def check_running(sim, model, values, previous=None):
+    """Check ``model`` against the running drop ``sim`` (its initial conditions bound the energy
+    until the next ~/reset): its contact, as ``sim.set_contact`` will, and a change of the table
+    from ``previous`` (the Model running), as ``sim.set_plate`` will take it (``table_motion``,
+    bridge included); ValueError as build_model."""
     try:
         sim.check(model.contact)
-        if model.table is not None:     # the table about to start: its peak speed
-            sim.check(model.contact, plate=model.table)
+        if previous is not None and model.table != previous.table:
+            sim.check_plate(table_motion(sim, previous.table, model.table))
     except InputError as error:
         raise ValueError('the running drop (until ~/reset) refuses it: '
                          f'{refusal(error, values)}') from None
-    if model.table is not None and not sim.gravity > 0.0:
-        raise ValueError(f'plate_amplitude = {values["plate_amplitude"]!r} needs gravity > 0 and '
-                         f'the running drop has gravity = {sim.gravity!r} (until ~/reset): '
-                         'allowed plate_amplitude = 0 until then')
+
+
+def table_motion(sim, old, new):
+    """The plate's motion from now on when the table changes from ``old`` to ``new``
+    (``SinusoidalPlate`` or ``None``): the running plate bridged to the new table
+    (``plate.table_transition``)."""
+    return table_transition(sim.time, sim.plate, new, old.frequency if old is not None else 0.0)
 
 
 def make_simulation(model):
