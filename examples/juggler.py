@@ -19,13 +19,15 @@ extrapolated from its first state in flight).  A ball at rest on the plate is th
 accelerates up for 0.1 s and brakes at 3 g, faster than gravity, which releases the ball.
 
     python examples/juggler.py --ros-args -p target_apex:=0.3
-    (with contact_sim_node running; -p node:=/contact_sim names the simulator's node)
+    (with contact_sim_node running; -p node:=/contact_sim names the simulator's node, whose
+    sphere_radius and gravity the juggler asks for through its parameter service)
 """
 import math
 
 import rclpy
 from builtin_interfaces.msg import Duration, Time
 from geometry_msgs.msg import PoseStamped, TwistStamped
+from rcl_interfaces.srv import GetParameters
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
@@ -60,10 +62,13 @@ class Juggler(Node):
     def __init__(self):
         super().__init__('juggler')
         self.target = self.declare_parameter('target_apex', 0.3).value     # m
-        self.radius = self.declare_parameter('sphere_radius', 0.0127).value  # m, R1
-        self.g = self.declare_parameter('gravity', 9.81).value              # m/s^2
         self.u_max = self.declare_parameter('max_plate_speed', 2.0).value   # m/s
         node = self.declare_parameter('node', '/contact_sim').value
+        # the simulator's sphere radius R1 (m) and gravity (m/s^2), asked of it (not copied)
+        self.radius = self.g = None
+        self._ask = self.create_client(GetParameters, f'{node}/get_parameters')
+        self._asking = None
+        self._ask_timer = self.create_timer(0.2, self._ask_simulator)
         state_qos = QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT)
         self.create_subscription(PoseStamped, f'{node}/pose', self._on_pose, state_qos)
         self.create_subscription(TwistStamped, f'{node}/twist', self._on_twist, state_qos)
@@ -78,6 +83,20 @@ class Juggler(Node):
         self.last_launch = -math.inf
         self.strokes = 0
 
+    def _ask_simulator(self):
+        """Ask the simulator for sphere_radius and gravity until it answers."""
+        if self._asking is None and self._ask.service_is_ready():
+            self._asking = self._ask.call_async(
+                GetParameters.Request(names=['sphere_radius', 'gravity']))
+        elif self._asking is not None and self._asking.done():
+            values = [v.double_value for v in self._asking.result().values]
+            if len(values) == 2 and values[0] > 0.0 and values[1] > 0.0:
+                self.radius, self.g = values
+                self._ask_timer.cancel()
+                self.get_logger().info(f'simulator: sphere_radius {self.radius:g} m, gravity '
+                                       f'{self.g:g} m/s^2')
+            self._asking = None
+
     def _on_plate(self, msg):
         self.plate = msg.pose.position.z
 
@@ -90,7 +109,7 @@ class Juggler(Node):
     def _pair(self, ns, store, value):
         """Keep a pose or a twist until its partner of the same stamp arrives."""
         store[ns] = value
-        if ns in self.heights and ns in self.velocity:
+        if ns in self.heights and ns in self.velocity and self.radius is not None:
             height, v = self.heights.pop(ns), self.velocity.pop(ns)
             self._on_state(ns * 1e-9, height - self.radius, v)
         for old in (self.heights, self.velocity):
@@ -99,6 +118,8 @@ class Juggler(Node):
 
     def _on_state(self, t, y, v):
         """The ball's lowest point at height y (m) moving up at v (m/s) at time t (s)."""
+        if self.g is None:
+            return                   # the simulator has not told its gravity yet
         if self.hit is not None and t < self.hit[0] + 0.02:
             return                   # the stroke sent is still ahead
         gap = y - self.plate
