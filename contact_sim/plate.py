@@ -501,8 +501,9 @@ TABLE_ACCELERATION_MAX = 1000.0   # m/s²: the peak a (2π f)² (Γ ≈ 100)
 def vibrating_table(amplitude, frequency, phase):
     """A ``SinusoidalPlate`` from settings in the stated ranges (0 <= a <= ``TABLE_AMPLITUDE_MAX``
     m, 0 <= f <= ``TABLE_FREQUENCY_MAX`` Hz, |ϕ| <= ``TABLE_PHASE_MAX``, peak acceleration
-    a (2π f)² <= ``TABLE_ACCELERATION_MAX``), or ``None`` if it does not move (a = 0: the fixed
-    plate).  ``InputError`` keyed ``amplitude``, ``frequency`` or ``phase``."""
+    a (2π f)² <= ``TABLE_ACCELERATION_MAX``), or ``None`` if it does not vibrate (a = 0 or
+    f = 0: the fixed plate, not a plate held at a sin ϕ).  ``InputError`` keyed ``amplitude``,
+    ``frequency`` or ``phase``."""
     a = require_range('amplitude', amplitude, 0.0, TABLE_AMPLITUDE_MAX, unit='m')
     f = require_range('frequency', frequency, 0.0, TABLE_FREQUENCY_MAX, unit='Hz')
     ph = require_range('phase', phase, -TABLE_PHASE_MAX, TABLE_PHASE_MAX, unit='rad')
@@ -514,7 +515,7 @@ def vibrating_table(amplitude, frequency, phase):
                          '{n[amplitude]} <= %.4g m at this frequency'
                          % (f, peak, TABLE_ACCELERATION_MAX,
                             TABLE_ACCELERATION_MAX / table.angular_frequency ** 2))
-    return table if table.moving else None
+    return table if a > 0.0 and f > 0.0 else None
 
 
 def sphere_motion(radius, penetration, penetration_rate, plate_position=0.0,

@@ -213,3 +213,10 @@ def test_read_plate_command_translates_stamps_and_fields():
         read_plate_command(msg, 3.0, 100.0)
     with pytest.raises(ValueError, match='points is empty'):
         read_plate_command(JointTrajectory(joint_names=['plate_z']), 3.0, 0.0)
+
+
+def test_a_table_without_frequency_is_the_fixed_plate():
+    # not a plate held at a sin(phi), which would block ~/plate_command for nothing
+    assert plate.vibrating_table(0.001, 0.0, 1.0) is None
+    assert plate.vibrating_table(0.0, 20.0, 1.0) is None
+    assert plate.vibrating_table(0.001, 20.0, 1.0) == plate.SinusoidalPlate(0.001, 20.0, 1.0)

@@ -114,7 +114,8 @@ PARAMETERS = (
          (0.0, TABLE_AMPLITUDE_MAX),
          constraints=f'0 <= plate_amplitude <= {TABLE_AMPLITUDE_MAX:g}, and plate_amplitude '
                      f'(2 pi plate_frequency)^2 <= {TABLE_ACCELERATION_MAX:g} m/s^2'),
-    Spec('plate_frequency', 0.0, 'Frequency f of the vibrating table [Hz]; takes effect at once',
+    Spec('plate_frequency', 0.0, 'Frequency f of the vibrating table [Hz]; 0 = the fixed '
+         'plate (as plate_amplitude 0); takes effect at once',
          (0.0, TABLE_FREQUENCY_MAX),
          constraints=f'0 <= plate_frequency <= {TABLE_FREQUENCY_MAX:g}'),
     Spec('plate_phase', 0.0, 'Phase phi of the vibrating table [rad]; takes effect at once',
