@@ -471,11 +471,14 @@ class DropSimulation:
 
     def check_plate(self, plate):
         """The checks ``set_plate`` makes of ``plate`` (gravity > 0 for a moving plate, and
-        ``check`` with its peak speed); returns it as ``set_plate`` takes it (``None``: fixed)."""
+        ``check`` with its peak speed, of the contact and of one waiting for the next contact
+        phase); returns it as ``set_plate`` takes it (``None``: fixed)."""
         new = plate_motion.plate_or_none(plate)
         if new is not None:
             _require_gravity_for('a moving plate', self.gravity)
-        self.check(self.contact, plate=new)
+        for contact in (self.contact, self._pending_contact):
+            if contact is not None:
+                self.check(contact, plate=new)
         return new
 
     def set_plate(self, plate):

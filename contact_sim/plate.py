@@ -346,6 +346,7 @@ class SwitchedPlate(PlateMotion):
 
 # -- changes of motion at a time: the table's bridge, trajectory commands -----------------------
 BRIDGE_TIME = 0.5           # s: the bridge's length when no table frequency gives one
+BRIDGE_SPEED_MAX = 0.5      # m/s: a bridge is no faster than this, the plate now or the table
 COMMAND_STOP_TIME = 0.2     # s: after a command's last point the plate brakes to rest over this
 COMMAND_POSITION_MAX = 1.0  # m: commanded |p|
 COMMAND_VELOCITY_MAX = 10.0  # m/s: commanded (or estimated) |ṗ|
@@ -371,8 +372,9 @@ def table_transition(now, current, table, previous_frequency=0.0):
     The plate is bridged C¹ from its state (p, ṗ) at ``now`` to the new motion's state at
     now + T (a 2-point ``CommandedPlate``), T from ``bridge_time``: one period of the new
     frequency, or of ``previous_frequency`` when the table stops, or ``BRIDGE_TIME``, made longer
-    (by factors of 1.25) until the bridge's |p̈| is within ``TABLE_ACCELERATION_MAX``, so that a
-    change far from the plate's state is no slam.  Returns a
+    (by factors of 1.25) until the bridge's |p̈| is within ``TABLE_ACCELERATION_MAX`` and its
+    |ṗ| within the larger of ``BRIDGE_SPEED_MAX``, the plate's speed now and the table's peak
+    speed, so that a change far from the plate's state is no slam.  Returns a
     ``SwitchedPlate`` (bridge, then the table), or ``None`` when the plate stays fixed.
     """
     now = require_real('now', now)
@@ -381,14 +383,16 @@ def table_transition(now, current, table, previous_frequency=0.0):
     if current is None and not target.moving:
         return None
     duration = bridge_time(table, previous_frequency)
-    for _ in range(200):    # longer until the bridge is as gentle as a table may be
+    speed_max = max(abs(pv), target.speed_bound(), BRIDGE_SPEED_MAX)
+    for _ in range(400):    # longer until the bridge is as gentle as a table may be
         end = now + duration
         pt, vt, _ = target.state(end)
         bridge = CommandedPlate((now, end), (p, pt), (pv, vt))
-        if bridge.acceleration_bound() <= TABLE_ACCELERATION_MAX:
-            break
+        if bridge.acceleration_bound() <= TABLE_ACCELERATION_MAX \
+                and bridge.speed_bound() <= speed_max:
+            return SwitchedPlate(bridge, target, end)
         duration *= 1.25
-    return SwitchedPlate(bridge, target, end)
+    raise RuntimeError(f'no gentle bridge from p = {p!r} m, pdot = {pv!r} m/s to {target!r}')
 
 
 @dataclass(frozen=True)
@@ -459,9 +463,9 @@ def command_motion(now, position, velocity, times, positions, velocities=None):
     if v is not None:
         _require_magnitude('velocities', v, COMMAND_VELOCITY_MAX, 'm/s')
     if t[-1] > now + COMMAND_HORIZON:
-        raise InputError('times', float(t[-1]), '{n[times]} reach %.6g s, %.6g s after now '
-                         '(%.6g s): allowed up to %g s ahead (times are simulated time, /clock)'
-                         % (t[-1], t[-1] - now, now, COMMAND_HORIZON))
+        raise InputError('times', float(t[-1]), '{n[times]} reach %.6g s after now: allowed up '
+                         'to %g s ahead (stamps are simulated time, the node\'s /clock, not '
+                         'wall time)' % (t[-1] - now, COMMAND_HORIZON))
     keep = t > now
     dropped = int(np.count_nonzero(~keep))
     if not np.any(keep):

@@ -680,7 +680,8 @@ def test_plate_command_moves_the_plate_and_reset_clears_it(sim, client):
         assert result.successful, result.reason
         pub.publish(command)
         client.spin_until(lambda: _rosout_has(client, 'refused: the vibrating table runs '
-                                              '(plate_amplitude = 0.0005 > 0)'), 'the refusal')
+                                              '(plate_amplitude = 0.0005, plate_frequency = 10 '
+                                              '> 0)'), 'the refusal')
     finally:
         (result,) = client.set_parameters(NODE, atomically=True, plate_amplitude=0.0,
                                           plate_frequency=0.0)
@@ -1130,13 +1131,13 @@ def test_the_depth_check_skips_a_sphere_that_never_lands_and_guards_the_running_
                               'contact': cs.Contact(cs.AZAD_FEATHERSTONE, 1.0, 0.0)})
     upwards = cs.DropSimulation(soft.contact, 0.067, 1.0, velocity=-1.0, gravity=0.0,
                                 radius=0.0127)
-    cs_params.check_running(upwards, soft, values)  # never lands: nothing to check
+    cs_params.check_running(upwards, soft, values, soft)  # never lands: nothing to check
     falling = cs.DropSimulation(cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 0.0), 0.067, 1.0,
                                 velocity=-1.0, gravity=9.81, radius=0.0127)
     with pytest.raises(ValueError, match=r'^the running drop \(until ~/reset\) refuses it: '
                                          r'stiffness = 1 N/m\^1.5 is too small for this drop: '
                                          r'.* allowed stiffness >= '):
-        cs_params.check_running(falling, soft, values)
+        cs_params.check_running(falling, soft, values, soft)
     with pytest.raises(ValueError, match='stiffness = 1 N/m'):   # as set_contact would refuse
         falling.set_contact(soft.contact)
 

@@ -11,6 +11,7 @@ from contact_sim.drop import DropSimulation
 from contact_sim.plate import (COMMAND_ACCELERATION_MAX, COMMAND_POSITION_MAX, COMMAND_STOP_TIME,
                                COMMAND_VELOCITY_MAX, TABLE_ACCELERATION_MAX, CommandedPlate,
                                SinusoidalPlate, command_motion, vibrating_table)
+import contact_sim as cs
 from contact_sim import plate
 from contact_sim.validation import InputError
 
@@ -154,6 +155,30 @@ def test_check_running_refuses_a_table_too_fast_for_the_contact():
         cs_params.check_running(sim, model, {**cs_params.DEFAULTS, **soft, **table}, running)
 
 
+def test_a_contact_and_a_table_changed_together_are_checked_together():
+    # each alone is fine over the running drop; together the soft contact cannot take the table
+    soft = dict(contact_law='linear', stiffness=3000.0, damping=1.0)
+    table = dict(plate_amplitude=0.005, plate_frequency=10.0)
+    running = _model(initial_height=0.3)
+    sim = cs_params.make_simulation(running)
+    sim.advance(0.05)
+    values = {**cs_params.DEFAULTS, 'initial_height': 0.3}
+    cs_params.check_running(sim, _model(initial_height=0.3, **table), {**values, **table},
+                            running)
+    cs_params.check_running(sim, _model(initial_height=0.001, **soft),
+                            {**values, **soft}, running)
+    with pytest.raises(ValueError, match='running drop .*stiffness = 3000 .* is too small'):
+        cs_params.check_running(sim, _model(initial_height=0.001, **soft, **table),
+                                {**values, **soft, **table}, running)
+    # a contact waiting for the next contact phase is checked with a new table too
+    bouncing = cs_params.make_simulation(running)
+    bouncing.advance(math.sqrt(2.0 * 0.3 / 9.81) + 1e-5)      # inside the first contact
+    assert bouncing.in_contact
+    bouncing.set_contact(cs.Contact(cs.LINEAR, 3000.0, 1.0))   # waits for the lift-off
+    with pytest.raises(InputError, match='stiffness = 3000'):
+        bouncing.check_plate(plate.vibrating_table(0.005, 10.0, 0.0))
+
+
 def test_a_table_change_far_from_the_plate_is_bridged_no_harder_than_a_table_may_shake():
     # a 10 Hz table at its crest changed to 1000 Hz: one new period (1 ms) would take 1e4 m/s^2
     old = plate.SinusoidalPlate(0.0025, 10.0, 0.0)
@@ -170,10 +195,15 @@ def test_a_table_change_far_from_the_plate_is_bridged_no_harder_than_a_table_may
     held = plate.command_motion(0.0, 0.0, 0.0, [0.5], [-0.05], [0.0]).motion
     motion = plate.table_transition(1.0, held, new, 0.0)
     assert motion.before.acceleration_bound() <= plate.TABLE_ACCELERATION_MAX
+    # and no faster than BRIDGE_SPEED_MAX: from a plate held 1 m down, not a launch at 29 m/s
+    held = plate.command_motion(0.0, 0.0, 0.0, [2.0], [-1.0], [0.0]).motion
+    motion = plate.table_transition(3.0, held, new, 0.0)
+    assert motion.before.speed_bound() <= plate.BRIDGE_SPEED_MAX
+    assert motion.before.acceleration_bound() <= plate.TABLE_ACCELERATION_MAX
 
 
 def test_a_command_beyond_the_horizon_or_braking_out_of_range_is_refused():
-    with pytest.raises(InputError, match=r'times reach .* allowed up to 600 s ahead'):
+    with pytest.raises(InputError, match=r'times reach .* after now: allowed up to 600 s ahead'):
         plate.command_motion(1.0, 0.0, 0.0, [1.0 + 1.8e9], [0.01], [0.0])   # a wall-clock stamp
     # the given points are within 1 m, the brake after the last one is not
     with pytest.raises(InputError, match=r'positions reaches \|positions\| = 2 m .*braking'):

@@ -11,9 +11,10 @@ and the plate's surface (the top of the lower sphere, for two spheres) at z = 0.
 along that z axis only. Penetration z > 0 means the undeformed bodies overlap; its rate ż > 0 means
 approach. README.md documents every topic, service and parameter.
 
-The plate. ``plate_amplitude`` > 0 vibrates it (``plate.table_transition`` bridges every change);
-``~/plate_command`` (trajectory_msgs/JointTrajectory, joint ``plate_z``) drives it otherwise: the
-node only translates the message (``read_plate_command``), the rules are ``plate.command_motion``'s;
+The plate. ``plate_amplitude`` and ``plate_frequency`` > 0 vibrate it
+(``plate.table_transition`` bridges every change); ``~/plate_command``
+(trajectory_msgs/JointTrajectory, joint ``plate_z``) drives it otherwise: the node only
+translates the message (``read_plate_command``), the rules are ``plate.command_motion``'s;
 both go to the engine through ``DropSimulation.set_plate``. ~/pose and ~/twist are absolute
 (p + R1 - z, pdot - zdot); ~/plate_pose, ~/plate_twist (once per tick) and ~/plate_wrench (-F, at
 every contact sample) show the plate.
@@ -205,7 +206,8 @@ class ContactSimNode(Node):
 
     def _set_table(self, old, new):
         """The table's parameters changed: bridge the plate from where it is (C1, one period;
-        ``plate.table_transition``); a table > 0 takes the plate over from ~/plate_command."""
+        ``plate.table_transition``, one period or longer); a running table takes the plate over
+        from ~/plate_command."""
         sim, log = self._sim, self.get_logger()
         try:
             sim.set_plate(table_motion(sim, old, new))
@@ -227,7 +229,8 @@ class ContactSimNode(Node):
         table = self._model.table
         if table is not None:
             log.warning(f'~/plate_command refused: the vibrating table runs (plate_amplitude = '
-                        f'{table.amplitude:g} > 0); allowed only with plate_amplitude = 0',
+                        f'{table.amplitude:g}, plate_frequency = {table.frequency:g} > 0); '
+                        'allowed only with plate_amplitude = 0 or plate_frequency = 0',
                         throttle_duration_sec=5.0)
             return
         try:
@@ -252,11 +255,13 @@ class ContactSimNode(Node):
             return
         try:
             sim.set_plate(command.motion)
-        except InputError as error:   # the drop's own limits (the depth check)
-            log.warning('~/plate_command refused: the commanded motion (points[].velocities, '
-                        f'peak plate speed {command.motion.speed_bound():.6g} m/s) is too fast '
-                        f'for the running drop: {refusal(error, self._values())}',
-                        throttle_duration_sec=1.0)
+        except InputError as error:   # the drop's own limits (the depth check, gravity)
+            why = refusal(error, self._values())
+            if error.field in ('stiffness', 'damping'):
+                why = ('the commanded motion (points[].velocities, peak plate speed '
+                       f'{command.motion.speed_bound():.6g} m/s) is too fast for the running '
+                       f'drop: {why}')
+            log.warning(f'~/plate_command refused: {why}', throttle_duration_sec=1.0)
             return
         self._commanded = True
 

@@ -110,7 +110,8 @@ PARAMETERS = (
     Spec('plate_amplitude', 0.0,
          'Amplitude a of the vibrating table, p(t) = a sin(2 pi f t + phi), t the simulated '
          'time since the last ~/reset [m]; 0 = the fixed plate; takes effect at once (a C1 '
-         'bridge over one period, see README); > 0 takes the plate over from ~/plate_command',
+         'bridge over one period or longer, see README); > 0 (with plate_frequency > 0) takes '
+         'the plate over from ~/plate_command',
          (0.0, TABLE_AMPLITUDE_MAX),
          constraints=f'0 <= plate_amplitude <= {TABLE_AMPLITUDE_MAX:g}, and plate_amplitude '
                      f'(2 pi plate_frequency)^2 <= {TABLE_ACCELERATION_MAX:g} m/s^2'),
@@ -308,15 +309,18 @@ def build_model(values):
                          f'physically sensible magnitudes') from None
 
 
-def check_running(sim, model, values, previous=None):
+def check_running(sim, model, values, previous):
     """Check ``model`` against the running drop ``sim`` (its initial conditions bound the energy
-    until the next ~/reset): its contact, as ``sim.set_contact`` will, and a change of the table
-    from ``previous`` (the Model running), as ``sim.set_plate`` will take it (``table_motion``,
-    bridge included); ValueError as build_model."""
+    until the next ~/reset), ``previous`` being the Model running: the new contact over the plate
+    as it will move (``table_motion``, bridge included, if the table changes), as
+    ``sim.set_contact`` will take it, and a changed table with the contacts the drop has now, as
+    ``sim.set_plate`` will; ValueError as build_model."""
     try:
-        sim.check(model.contact)
-        if previous is not None and model.table != previous.table:
-            sim.check_plate(table_motion(sim, previous.table, model.table))
+        changed = model.table != previous.table
+        plate = table_motion(sim, previous.table, model.table) if changed else sim.plate
+        sim.check(model.contact, plate=plate)
+        if changed:
+            sim.check_plate(plate)
     except InputError as error:
         raise ValueError('the running drop (until ~/reset) refuses it: '
                          f'{refusal(error, values)}') from None
