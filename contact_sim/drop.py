@@ -507,7 +507,10 @@ class DropSimulation:
                       max([mode.peak] + [pt[3] for pt in kept]),
                       max([mode.depth] + [pt[1] for pt in kept]))
             self.plate = new
+            # the same contact phase goes on: a contact waiting for the next one still waits
+            pending, self._pending_contact = self._pending_contact, None
             self._begin_contact(t, z, zdot, resumed=mode.resumed)
+            self._pending_contact = pending
             fresh = self._mode
             fresh.first_point, fresh.peak, fresh.depth = record
             return

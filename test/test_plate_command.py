@@ -177,6 +177,12 @@ def test_a_contact_and_a_table_changed_together_are_checked_together():
     bouncing.set_contact(cs.Contact(cs.LINEAR, 3000.0, 1.0))   # waits for the lift-off
     with pytest.raises(InputError, match='stiffness = 3000'):
         bouncing.check_plate(plate.vibrating_table(0.005, 10.0, 0.0))
+    # a plate changed during the bounce: the bounce goes on with its contact, the waiting one
+    # takes over at the next contact phase
+    stiff = bouncing.contact
+    bouncing.set_plate(plate.command_motion(bouncing.time, 0.0, 0.0, [bouncing.time + 1.0],
+                                            [0.0], [0.0]).motion)
+    assert bouncing.contact == stiff and bouncing.in_contact
 
 
 def test_a_table_change_far_from_the_plate_is_bridged_no_harder_than_a_table_may_shake():
