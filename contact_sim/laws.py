@@ -55,9 +55,10 @@ class ContactLaw:
     def force(self, z, zdot, k, damping):
         """Clamped normal force in N for arrays of z (m) and ż (m/s) of any broadcastable shape.
 
-        The same operations as ``force_at``, element by element, so both agree to the last bit
-        (``np.power`` with an array exponent calls the C library's pow, as Python's ``**``
-        does; numpy's scalar-exponent fast paths, x**0.5 -> sqrt, round differently)."""
+        The same operations as ``force_at``, element by element, so both agree to round-off,
+        bit for bit where numpy's pow is the C library's (``np.power`` with an array exponent
+        calls it, as Python's ``**`` does, except for numpy's AVX-512 code on CPUs that have it;
+        numpy's scalar-exponent fast paths, x**0.5 -> sqrt, round differently)."""
         z, zdot = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(zdot, dtype=float))
         inside = z > 0.0
         zz = np.where(inside, z, 1.0)

@@ -190,9 +190,9 @@ def test_input_error_renders_every_field_it_mentions():
 
 @pytest.mark.parametrize('law', list(cs.LAWS.values()), ids=lambda law: law.name)
 def test_the_scalar_force_equals_the_array_force(law):
-    """force_at (one state, plain floats: the engine's state once a tick) gives the same numbers,
-    bit for bit, as the array path force() (one state or many at once), at the clamp, at touch,
-    for NaN and infinities, and at random."""
+    """force_at (one state, plain floats: the engine's state once a tick) gives the same numbers
+    as the array path force() (one state or many at once), at the clamp, at touch, for NaN and
+    infinities, and at random."""
     import itertools
     import warnings
     edges = itertools.product([-1e-6, 0.0, 1e-9, 3e-6, math.nan, math.inf, -math.inf],
@@ -209,5 +209,6 @@ def test_the_scalar_force_equals_the_array_force(law):
             warnings.simplefilter('ignore', RuntimeWarning)
             array = float(law.force(np.array(z), np.array(zdot), 1e10, 1e5))
         assert type(scalar) is float
-        for value in (array, whole):   # the same bits, not just close
-            assert scalar == value or (math.isnan(scalar) and math.isnan(value)), (z, zdot)
+        for value in (array, whole):   # the same operations: equal to round-off (bit for bit
+            # here; numpy's AVX-512 pow, where a CPU has it, may differ in the last bit)
+            assert scalar == pytest.approx(value, rel=1e-14, abs=0.0, nan_ok=True), (z, zdot)
