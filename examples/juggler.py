@@ -84,18 +84,23 @@ class Juggler(Node):
         self.strokes = 0
 
     def _ask_simulator(self):
-        """Ask the simulator for sphere_radius and gravity until it answers."""
+        """Ask the simulator for sphere_radius and gravity: every 0.2 s until it answers, then
+        every 2 s (a change of them takes effect at its next ~/reset)."""
         if self._asking is None and self._ask.service_is_ready():
             self._asking = self._ask.call_async(
                 GetParameters.Request(names=['sphere_radius', 'gravity']))
         elif self._asking is not None and self._asking.done():
             values = [v.double_value for v in self._asking.result().values]
-            if len(values) == 2 and values[0] > 0.0 and values[1] > 0.0:
+            self._asking = None
+            if len(values) == 2 and values[0] > 0.0 and values[1] > 0.0 \
+                    and values != [self.radius, self.g]:
+                first = self.g is None
                 self.radius, self.g = values
-                self._ask_timer.cancel()
                 self.get_logger().info(f'simulator: sphere_radius {self.radius:g} m, gravity '
                                        f'{self.g:g} m/s^2')
-            self._asking = None
+                if first:
+                    self._ask_timer.cancel()
+                    self._ask_timer = self.create_timer(2.0, self._ask_simulator)
 
     def _on_plate(self, msg):
         self.plate = msg.pose.position.z
