@@ -545,10 +545,14 @@ class DropSimulation:
 
     @property
     def state(self):
-        z, zdot = self._state_at(self.time)
-        p, pv = self.plate.state(self.time)[:2] if self.plate is not None else (0.0, 0.0)
-        return DropState(float(self.time), float(z), float(zdot),
-                         self.contact.force_at(z, zdot), float(p), float(pv))
+        return DropState(*self._state_row(self.time))
+
+    def _state_row(self, t):
+        """(t, z, ż, F, p, ṗ) at a time t of the current mode, as floats."""
+        z, zdot = self._state_at(t)
+        p, pv = self.plate.state(t)[:2] if self.plate is not None else (0.0, 0.0)
+        return (float(t), float(z), float(zdot), self.contact.force_at(z, zdot), float(p),
+                float(pv))
 
     @property
     def in_contact(self):
@@ -676,9 +680,7 @@ class DropSimulation:
             apexes.extend(advance.apex_heights)
             if not reached:
                 break
-            state = self.state
-            ends[:, i] = (state.time, state.penetration, state.penetration_rate, state.force,
-                          state.plate_position, state.plate_velocity)
+            ends[:, i] = self._state_row(self.time)
             i += 1
         points = np.concatenate(pieces, axis=1) if pieces else np.empty((4, 0))
         return TickBatch(i, *(ends[k, :i] for k in range(6)), Samples(*points),
@@ -717,9 +719,7 @@ class DropSimulation:
             out[3] = self.contact.force(out[1], out[2])
             return
         for k, tk in enumerate(t.tolist()):
-            z, zdot = self._state_at(tk)
-            p, pv = self.plate.state(tk)[:2] if self.plate is not None else (0.0, 0.0)
-            out[:, k] = (tk, z, zdot, self.contact.force_at(z, zdot), p, pv)
+            out[:, k] = self._state_row(tk)
 
     @property
     def total_steps(self):

@@ -418,11 +418,7 @@ class ContactSimNode(Node):
             columns = [batch.time, batch.penetration, batch.penetration_rate, batch.force]
         ns, z, zdot, force, skipped = sample_columns(*columns, offset, self._last_sample_ns)
         if ns:
-            self._last_sample_ns = ns[-1]
-            self._publish_many('wrench', ns, force)
-            flags = [1.0 if f > 0.0 else 0.0 for f in force]
-            self._publish_many('contact', ns, z, zdot, flags)
-            self._publish_many('plate_wrench', ns, [-f for f in force])
+            self._publish_samples(ns, z, zdot, force)
         for record in batch.impacts:
             message = impact_msg(record, offset)
             if impact_ok(message):
@@ -437,21 +433,12 @@ class ContactSimNode(Node):
             if not keep.all() or np.any(end_ns[1:] <= end_ns[:-1]):
                 keep = self._increasing(end_ns, keep)
             if keep.any():
-                end_ns = end_ns[keep]
-                self._last_state_ns = int(end_ns[-1])
-                stamps = end_ns.tolist()
                 p, pv = batch.plate_position[keep], batch.plate_velocity[keep]
                 height, velocity = sphere_motion(self._model.radius, batch.penetration[keep],
                                                  batch.penetration_rate[keep], p, pv)
-                self._publish_many('pose', stamps, height.tolist())
-                self._publish_many('twist', stamps, velocity.tolist())
-                self._publish_many('plate_pose', stamps, p.tolist())
-                self._publish_many('plate_twist', stamps, pv.tolist())
-                if 'clock' in self._encode:
-                    self._publish_many('clock', stamps)
-        if skipped:
-            self.get_logger().warning(f'skipped {skipped} non-finite values',
-                                      throttle_duration_sec=5.0)
+                self._publish_states(end_ns[keep].tolist(), height.tolist(), velocity.tolist(),
+                                     p.tolist(), pv.tolist())
+        self._warn_skipped(skipped)
 
     def _publish_few(self, batch):
         """``_publish_batch`` of a few ticks without contact points (flight, rest), element by
@@ -459,11 +446,7 @@ class ContactSimNode(Node):
         offset = self._offset
         samples, skipped = contact_samples(batch, offset, self._last_sample_ns)
         if samples:
-            self._last_sample_ns = samples[-1][0]
-            ns, z, zdot, force = zip(*samples)
-            self._publish_many('wrench', ns, force)
-            self._publish_many('contact', ns, z, zdot, [1.0 if f > 0.0 else 0.0 for f in force])
-            self._publish_many('plate_wrench', ns, [-f for f in force])
+            self._publish_samples(*zip(*samples))
         states, last, radius = [], self._last_state_ns, self._model.radius
         for t, z, zdot, p, pv in zip(batch.time.tolist(), batch.penetration.tolist(),
                                      batch.penetration_rate.tolist(),
@@ -474,14 +457,29 @@ class ContactSimNode(Node):
                     states.append((ns, *sphere_motion(radius, z, zdot, p, pv), p, pv))
                     last = ns
         if states:
-            self._last_state_ns = last
-            ns, height, rate, p, pv = zip(*states)
-            self._publish_many('pose', ns, height)
-            self._publish_many('twist', ns, rate)
-            self._publish_many('plate_pose', ns, p)
-            self._publish_many('plate_twist', ns, pv)
-            if 'clock' in self._encode:
-                self._publish_many('clock', ns)
+            self._publish_states(*zip(*states))
+        self._warn_skipped(skipped)
+
+    def _publish_samples(self, ns, z, zdot, force):
+        """Contact samples (stamps ns increasing past the last published; z, zdot, F) on
+        ~/wrench, ~/contact and ~/plate_wrench (the reaction -F)."""
+        self._last_sample_ns = ns[-1]
+        self._publish_many('wrench', ns, force)
+        self._publish_many('contact', ns, z, zdot, [1.0 if f > 0.0 else 0.0 for f in force])
+        self._publish_many('plate_wrench', ns, [-f for f in force])
+
+    def _publish_states(self, ns, height, velocity, plate_position, plate_velocity):
+        """Tick ends (stamps ns increasing past the last published): the sphere's absolute
+        height and velocity, the plate's, and /clock."""
+        self._last_state_ns = ns[-1]
+        self._publish_many('pose', ns, height)
+        self._publish_many('twist', ns, velocity)
+        self._publish_many('plate_pose', ns, plate_position)
+        self._publish_many('plate_twist', ns, plate_velocity)
+        if 'clock' in self._encode:
+            self._publish_many('clock', ns)
+
+    def _warn_skipped(self, skipped):
         if skipped:
             self.get_logger().warning(f'skipped {skipped} non-finite values',
                                       throttle_duration_sec=5.0)
