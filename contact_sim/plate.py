@@ -172,24 +172,10 @@ class CommandedPlate(PlateMotion):
     velocities: tuple
 
     def __post_init__(self):
-        arrays = {}
-        for name in ('times', 'positions', 'velocities'):
-            try:
-                arr = np.asarray(getattr(self, name), dtype=float).ravel()
-            except (TypeError, ValueError):
-                raise ValueError(f'{name} = {getattr(self, name)!r} is invalid: allowed a '
-                                 'sequence of finite numbers') from None
-            if arr.size == 0 or not np.all(np.isfinite(arr)):
-                raise ValueError(f'{name} is out of range: allowed a non-empty sequence of '
-                                 'finite numbers')
-            arrays[name] = arr
-        n = arrays['times'].size
-        for name in ('positions', 'velocities'):
-            if arrays[name].size != n:
-                raise ValueError(f'{name} has {arrays[name].size} values: allowed as many as '
-                                 f'times ({n})')
-        if n > 1 and not np.all(np.diff(arrays['times']) > 0.0):
-            raise ValueError('times is out of range: allowed strictly increasing times')
+        times = _set_point_times(self.times)
+        n = times.size
+        arrays = {'times': times, 'positions': _finite_array('positions', self.positions, n),
+                  'velocities': _finite_array('velocities', self.velocities, n)}
         for name, arr in arrays.items():
             object.__setattr__(self, name, tuple(arr.tolist()))
         t, p, v = arrays['times'], arrays['positions'], arrays['velocities']
@@ -419,6 +405,18 @@ def _finite_array(name, values, count=None):
     return arr
 
 
+def _set_point_times(times):
+    """Set-point times (s) as an array: at least one, finite, strictly increasing."""
+    t = _finite_array('times', times)
+    if t.size == 0:
+        raise InputError('times', times, '{n[times]} is empty: allowed at least one point',
+                         value='[]')
+    if np.any(np.diff(t) <= 0.0):
+        raise InputError('times', times, '{n[times]} = {value} is out of range: allowed strictly '
+                         'increasing times', value=repr(t.tolist()))
+    return t
+
+
 def _require_magnitude(name, arr, bound, unit, where=''):
     worst = float(np.max(np.abs(arr))) if arr.size else 0.0
     if worst > bound:
@@ -450,13 +448,7 @@ def command_motion(now, position, velocity, times, positions, velocities=None):
     """
     now = require_real('now', now)
     position, velocity = require_real('position', position), require_real('velocity', velocity)
-    t = _finite_array('times', times)
-    if t.size == 0:
-        raise InputError('times', times, '{n[times]} is empty: allowed at least one point',
-                         value='[]')
-    if np.any(np.diff(t) <= 0.0):
-        raise InputError('times', times, '{n[times]} = {value} is out of range: allowed strictly '
-                         'increasing times', value=repr(t.tolist()))
+    t = _set_point_times(times)
     p = _finite_array('positions', positions, t.size)
     _require_magnitude('positions', p, COMMAND_POSITION_MAX, 'm')
     v = None if velocities is None else _finite_array('velocities', velocities, t.size)
