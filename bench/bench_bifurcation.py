@@ -16,7 +16,7 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'examples'))
 from bifurcation import tables  # noqa: E402
 
-from contact_sim.sweep import bifurcation_diagram  # noqa: E402
+from contact_sim.drop.sweep import bifurcation_diagram  # noqa: E402
 
 
 def main():

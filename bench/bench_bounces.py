@@ -14,9 +14,9 @@ import time
 import numpy as np
 
 import contact_sim as cs
-from contact_sim.bounce_fit import fit_bounces
-from contact_sim.flight import AirDrag
-from contact_sim.recordings import ImpactTimes
+from contact_sim.calibration.bounce_fit import fit_bounces
+from contact_sim.flight.drag import AirDrag
+from contact_sim.calibration.recordings import ImpactTimes
 
 
 def main():

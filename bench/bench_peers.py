@@ -127,13 +127,13 @@ def flight_share(contact):
 
 
 def compile_times():
-    """Seconds to import contact_sim.compiled with an empty cache and with the cache written."""
+    """Seconds to import contact_sim.phase.compiled with an empty cache and with the cache written."""
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache)
         out = []
         for _ in range(2):
             start = time.perf_counter()
-            subprocess.run([sys.executable, '-c', 'import contact_sim.compiled'], env=env,
+            subprocess.run([sys.executable, '-c', 'import contact_sim.phase.compiled'], env=env,
                            check=True)
             out.append(time.perf_counter() - start)
     return out
@@ -183,7 +183,7 @@ def main():
         run_engine('scipy', max(1, min(args.repeat, 2)))
     if args.compile_time:
         cold, warm = compile_times()
-        print(f'\na new process running "import contact_sim.compiled" (Python, numpy, scipy, '
+        print(f'\na new process running "import contact_sim.phase.compiled" (Python, numpy, scipy, '
               f'numba and the kernels): {cold:.1f} s with an empty numba cache (compiling), '
               f'{warm:.2f} s with the cache written (loading)')
 

@@ -4,20 +4,20 @@ The core library imports neither rclpy nor any ROS package; only the ``contact_s
 subpackage (the node, the recorder) does.
 SI units throughout; z > 0 is penetration and ż > 0 is approach.
 """
-from .bounce_fit import fit_bounces
-from .bounces import predict_bounces
-from .contact import Contact, build_contact, build_mass, require_contact
-from .drop import (Advance, DropResult, DropSimulation, DropState, ImpactRecord, Samples,
+from contact_sim.calibration.bounce_fit import fit_bounces
+from contact_sim.calibration.bounces import predict_bounces
+from contact_sim.model.contact import Contact, build_contact, build_mass, require_contact
+from contact_sim.drop.engine import (Advance, DropResult, DropSimulation, DropState, ImpactRecord, Samples,
                    TickBatch, check_drop, simulate_drop)
-from .flight import AirDrag, FlightPath
-from .fitting import DampingFit, compare_laws, damping_for_restitution, fit_damping
-from .hertz import effective_modulus, equivalent_radius, hertz_stiffness, reduced_mass, sphere_mass
-from .laws import AZAD_FEATHERSTONE, HUNT_CROSSLEY, LAWS, LEE_WANG, LINEAR, ContactLaw, get_law
-from .impact import ImpactResult, simulate_impact
-from .materials import MATERIALS, Material, get_material
-from .restitution import (contact_duration, damping_group, max_penetration, peak_force,
+from contact_sim.flight.drag import AirDrag, FlightPath
+from contact_sim.impact.damping_fit import DampingFit, compare_laws, damping_for_restitution, fit_damping
+from contact_sim.model.hertz import effective_modulus, equivalent_radius, hertz_stiffness, reduced_mass, sphere_mass
+from contact_sim.model.laws import AZAD_FEATHERSTONE, HUNT_CROSSLEY, LAWS, LEE_WANG, LINEAR, ContactLaw, get_law
+from contact_sim.impact.simulate import ImpactResult, simulate_impact
+from contact_sim.model.materials import MATERIALS, Material, get_material
+from contact_sim.impact.restitution import (contact_duration, damping_group, max_penetration, peak_force,
                           restitution)
-from .validation import InputError
+from contact_sim.validation import InputError
 
 __version__ = '0.1.0'
 

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from contact_sim import LAWS
-from contact_sim.restitution import (QUANTITIES, TABLE_FILE, _exact_dimensionless,
+from contact_sim.impact.restitution import (QUANTITIES, TABLE_FILE, _exact_dimensionless,
                                      hunt_crossley_duration, linear_restitution_and_duration)
 
 HC_QUADRATURE_FROM = 0.1   # ζ from which the Hunt-Crossley duration comes from its first integral

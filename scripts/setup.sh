@@ -72,5 +72,5 @@ export AMENT_PREFIX_PATH PATH
 HOOK
 fi
 # compile the contact engine's numba kernels once (10-20 s): they are cached in contact_sim/__pycache__
-.venv/bin/python -c 'import contact_sim.compiled'
+.venv/bin/python -c 'import contact_sim.phase.compiled'
 echo "contact_sim is set up: source .venv/bin/activate"

@@ -122,7 +122,7 @@ def test_the_checkout_builds_and_tests_with_plain_colcon_in_a_ros_workspace(tmp_
                                 capture_output=True, text=True)
         return run.returncode, result.stdout
     # (a part of the suite: the whole of it runs here already; colcon runs it with pytest)
-    code, result = colcon_test('test/test_core.py', 'test/test_packaging.py')
+    code, result = colcon_test('test/model/test_core.py', 'test/test_packaging.py')
     assert code == 0, result
     match = re.search(r'Summary: (\d+) tests?, (\d+) errors?, (\d+) failures?, (\d+) skipped',
                       result)

@@ -1,0 +1,398 @@
+"""A bounce sequence in O(1) per bounce: the touch times of a sphere bouncing on a plate.
+
+Between two touches of the plate (the clicks a microphone hears) the sphere
+
+1. is in contact: the restitution fast path (``restitution``) gives the rebound speed e(v) v and
+   the contact duration τc(v) of an impact at speed v *without gravity*;
+2. flies, in closed form with air drag (``flight``), from the plate back to the plate.
+
+Gravity during the contact is what the fast path leaves out.  Its effect is first order in the
+dimensionless gravity G = g T / v (T = Z / v the impact's time scale, see ``restitution``):
+the sphere leaves the plate (crosses z = 0 going up) at
+
+    u = v (e(ζ) - G a(ζ)),   a time   τ = T (τc(ζ) + x_l(ζ) / e(ζ) + G b(ζ))   after the touch,
+
+where x_l = z_lift / Z is the depth at which the force vanished (> 0 for the Azad-Featherstone,
+Lee-Wang and linear laws: the last part of the way up to the surface is flight), and a(ζ), b(ζ)
+are the first-order gravity coefficients.  x_l, a and b are tabulated per law on 97 points
+uniform in ln ζ (from 1e-5 to the ζ of e = 0.02) by exact contact integration
+(``phase.PhaseIntegrator``; ``scripts/build_bounce_tables.py`` writes ``data/bounce_tables.npz``,
+about 20 s; a law without a shipped table is tabulated once per process) and interpolated by
+cubic splines.  Drag acts on the short flight from the lift-off depth to the surface (to first
+order); during the contact it is neglected, as in the engine (``flight.
+contact_drag_impulse_ratio``).  The remainder is O(G²): the touch times agree with
+``simulate_drop`` to about 1 µs per bounce while G < 2e-3 (test/test_bounces.py), and the model
+stops being valid in the final micro-bounces, where the flight is no longer long against the
+contact (G -> 1: errors of 0.1-2 ms per bounce at G ~ 0.3-0.9) and the sphere ends in permanent
+contact; ``BounceSequence.gravity_group`` reports G for each bounce, and the prediction stops at
+the first bounce whose rebound speed is not positive.  ``bounce_fit`` leaves out clicks past
+G = 0.01.
+Units: SI; times in s from the first touch unless an offset is given.
+"""
+import math
+from dataclasses import dataclass
+from functools import lru_cache, cache
+
+from importlib import resources
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from contact_sim.model.contact import Contact
+from contact_sim.flight.drag import AirDrag, fall_time, flight_to_plate
+from contact_sim.model.laws import get_law
+from contact_sim.phase.integrator import PhaseIntegrator
+from contact_sim.impact.restitution import _group, dimensionless, impact_scales
+from contact_sim.validation import require_int, require_positive, require_real
+
+TABLE_FILE = 'bounce_tables.npz'
+TABLE_POINTS = 97           # table grid, uniform in ln ζ from 1e-5 to the ζ of e = 0.02
+LOWEST_RESTITUTION = 0.02    # below it (ζ beyond the table) the end values are held
+_G_STEP = 1e-4                                            # dimensionless gravity for a, b
+VALID_GRAVITY_GROUP = 2e-3    # above this G the first-order gravity correction is not trusted
+MAX_BOUNCES = 1_000_000       # impacts one predict_bounces call computes at most
+
+
+def _unit_contact(law, zeta, gravity):
+    """(τ_lift, x_lift, u_lift, τ_cross, u_cross) of the unit impact k = m = v = 1, damping ζ."""
+    phase = PhaseIntegrator(Contact(law, 1.0, zeta), 1.0, gravity, 0.0, 0.0, 1.0,
+                            rtol=1e-12, atol=1e-14)
+    while not phase.lifted_off:
+        phase.step()
+        if phase.steps > 100000:
+            raise RuntimeError(f'unit impact of law {law.name} at zeta = {zeta:g} did not end')
+    t, x, u = phase.end
+    u = -u   # upward speed at lift-off
+    if x <= 0.0:
+        return t, 0.0, u, t, u
+    # flight from the lift-off depth to the surface under the (dimensionless) gravity
+    u_cross = math.sqrt(max(u * u - 2.0 * gravity * x, 0.0))
+    return t, x, u, t + 2.0 * x / (u + u_cross), u_cross
+
+
+def build_contact_table(law, points=TABLE_POINTS):
+    """(ln ζ grid, x_l, a, b) of ``law`` by exact integration (module doc); a few seconds.
+
+    a = -∂e_cross/∂G and b = ∂τ_cross/∂G by Richardson extrapolation of steps G and 2G.
+    """
+    from contact_sim.impact.damping_fit import _group_for_restitution
+    law = get_law(law)
+    grid = np.linspace(math.log(1e-5), math.log(_group_for_restitution(law, LOWEST_RESTITUTION)),
+                       points)
+    x_l, a, b = (np.empty(grid.size) for _ in range(3))
+    for i, s in enumerate(grid):
+        zeta = math.exp(s)
+        _, x0, _, tau0, u0 = _unit_contact(law, zeta, 0.0)
+        _, _, _, tau1, u1 = _unit_contact(law, zeta, _G_STEP)
+        _, _, _, tau2, u2 = _unit_contact(law, zeta, 2.0 * _G_STEP)
+        x_l[i] = x0
+        a[i] = -(4.0 * u1 - u2 - 3.0 * u0) / (2.0 * _G_STEP)
+        b[i] = (4.0 * tau1 - tau2 - 3.0 * tau0) / (2.0 * _G_STEP)
+    return grid, x_l, a, b
+
+
+@lru_cache(maxsize=1)
+def _shipped_tables():
+    path = resources.files('contact_sim') / 'data' / TABLE_FILE
+    out = {}
+    try:
+        with resources.as_file(path) as real_path, np.load(real_path) as data:
+            for name in data['laws']:
+                name = str(name)
+                out[tuple(float(v) for v in data[f'{name}/key'])] = tuple(
+                    data[f'{name}/{q}'] for q in ('log_zeta', 'x_lift', 'a', 'b'))
+    except FileNotFoundError:
+        pass
+    return out
+
+
+@cache
+def contact_table(law):
+    """Per law: cubic splines in ln ζ of x_l, a and b (module doc), from the shipped table
+    (``scripts/build_bounce_tables.py``) or, for another law, computed once per process."""
+    law = get_law(law)
+    key = (float(law.n), float(law.p), float(law.q))
+    grid, *values = _shipped_tables().get(key) or build_contact_table(law)
+    return (float(grid[0]), float(grid[-1])), tuple(CubicSpline(grid, v) for v in values)
+
+
+@dataclass(frozen=True)
+class _Tables:
+    """Piecewise-cubic coefficients on uniform grids in s = ln ζ: (e, τc) from the master curve
+    and (x_l, a, b) from ``contact_table``, evaluated together (the bounce loop's hot path)."""
+
+    s0: float
+    h: float
+    master: np.ndarray        # (4, N, 2): e, τc
+    t0: float
+    th: float
+    corrections: np.ndarray   # (4, M, 3): x_l, a, b
+
+
+@cache
+def _tables(law):
+    from contact_sim.impact.restitution import master_curve
+    curve = master_curve(law)
+    if curve is None:
+        return None
+    master = np.stack([curve.coefficients['restitution'], curve.coefficients['duration']],
+                      axis=-1)
+    (lo, hi), splines = contact_table(law)
+    corrections = np.stack([sp.c for sp in splines], axis=-1)
+    return _Tables(curve.s0, curve.h, master, lo, (hi - lo) / corrections.shape[1], corrections)
+
+
+def _piecewise(coefficients, s0, h, s):
+    n = coefficients.shape[1]
+    x = np.clip((s - s0) / h, 0.0, n)
+    i = np.minimum(x.astype(int), n - 1)
+    ds = ((x - i) * h)[:, None]
+    c = coefficients[:, i]
+    return ((c[0] * ds + c[1]) * ds + c[2]) * ds + c[3]
+
+
+def _contact_values(law, zeta):
+    """(e, τc, x_l, a, b) at the groups ``zeta`` (1-d array), from the shipped tables when the
+    law has them: below the master curve's ζ range (e > 0.99998) e and τc are continued
+    linearly in ζ (error O(ζ²) < 1e-9), above it (e < 1e-3, no bounce worth timing) the end
+    values are held, so an optimiser's trial values never fall back on exact integration."""
+    tables = _tables(law)
+    if tables is None:
+        (lo, hi), splines = contact_table(law)
+        s = np.clip(np.log(zeta), lo, hi)
+        return (dimensionless('restitution', law, zeta), dimensionless('duration', law, zeta),
+                *(f(s) for f in splines))
+    s = np.log(np.maximum(zeta, 1e-300))
+    master = _piecewise(tables.master, tables.s0, tables.h, s)
+    below = s < tables.s0
+    if np.any(below):     # d/dζ = (d/ds) / ζ at the first node
+        lo = math.exp(tables.s0)
+        c = tables.master[:, 0]
+        master = np.where(below[:, None], c[3] + (zeta - lo)[:, None] * c[2] / lo, master)
+    corr = _piecewise(tables.corrections, tables.t0, tables.th, s)
+    return master[:, 0], master[:, 1], corr[:, 0], corr[:, 1], corr[:, 2]
+
+
+def contact_map(law, stiffness, damping, mass, gravity, speed, kappa=0.0, beta=0.0):
+    """Rebound speed u (m/s) at the surface and time τ (s) from touch to that crossing, for
+    impacts at ``speed`` (array, m/s); also the gravity group G.  Vectorised; see module doc.
+
+    Drag (κ, β) acts on the short flight from the lift-off depth z_l up to the surface, to first
+    order: u is lowered by (κ u + β) z_l."""
+    law = get_law(law)
+    v = np.atleast_1d(np.asarray(speed, dtype=float))
+    length, time = impact_scales(law, stiffness, mass, v)
+    zeta = np.broadcast_to(_group(law, length, v, damping, mass), v.shape)
+    e0, tau0, xl, aa, bb = _contact_values(law, np.ascontiguousarray(zeta))
+    g_group = gravity * time / v
+    u = v * (e0 - g_group * aa)
+    u = u - (kappa * u + beta) * xl * length
+    tau = time * (tau0 + xl / np.maximum(e0, 1e-300) + g_group * bb)
+    if np.ndim(speed) == 0:
+        return float(u[0]), float(tau[0]), float(g_group[0])
+    return u, tau, g_group
+
+
+@cache
+def _scalar_rows(law):
+    """The tables of ``_tables`` as Python tuples, for the one-sequence loop."""
+    tables = _tables(law)
+    master = [tuple(tables.master[:, i, :].ravel().tolist())
+              for i in range(tables.master.shape[1])]
+    corr = [tuple(tables.corrections[:, i, :].ravel().tolist())
+            for i in range(tables.corrections.shape[1])]
+    return tables, master, corr
+
+
+def _sequence_scalar(law, stiffness, damping, mass, gravity, v, count, kappa):
+    """``impact_sequence`` for one sequence in plain Python floats (β = 0, tabulated law):
+    the same formulas, about 5 µs per bounce."""
+    tables, master, corr = _scalar_rows(law)
+    n1, p1, q2 = 1.0 / (law.n + 1.0), law.p + 1.0, law.q - 2.0
+    s0, h, t0, th = tables.s0, tables.h, tables.t0, tables.th
+    nm, nc = len(master), len(corr)
+    lo = math.exp(s0)
+    vt = math.sqrt(gravity / kappa) if kappa > 0.0 else math.inf
+    nan = math.nan
+    times, speeds, rebounds, groups = [0.0], [v], [], []
+    t = 0.0
+    for i in range(count):
+        if not v > 0.0:
+            break
+        length = (mass * v * v / stiffness) ** n1
+        time = length / v
+        zeta = damping * length ** p1 * v ** q2 / mass
+        s = math.log(zeta) if zeta > 0.0 else -745.0
+        x = min(max((s - s0) / h, 0.0), nm)
+        j = min(int(x), nm - 1)
+        ds = (x - j) * h
+        a0, a1, b0, b1, c0, c1, d0, d1 = master[j]
+        if s < s0:
+            e0 = d0 + (zeta - lo) * c0 / lo
+            tau0 = d1 + (zeta - lo) * c1 / lo
+        else:
+            e0 = ((a0 * ds + b0) * ds + c0) * ds + d0
+            tau0 = ((a1 * ds + b1) * ds + c1) * ds + d1
+        x = min(max((s - t0) / th, 0.0), nc)
+        j = min(int(x), nc - 1)
+        ds = (x - j) * th
+        r = corr[j]
+        xl = ((r[0] * ds + r[3]) * ds + r[6]) * ds + r[9]
+        aa = ((r[1] * ds + r[4]) * ds + r[7]) * ds + r[10]
+        bb = ((r[2] * ds + r[5]) * ds + r[8]) * ds + r[11]
+        g_group = gravity * time / v
+        u = v * (e0 - g_group * aa)
+        u -= kappa * u * xl * length
+        if not u > 0.0:
+            rebounds.append(nan)
+            groups.append(nan)
+            break
+        rebounds.append(u)
+        groups.append(g_group)
+        if i + 1 == count:
+            break
+        tau = time * (tau0 + xl / max(e0, 1e-300) + g_group * bb)
+        if kappa > 0.0:     # (atan w + asinh w) vt / g, arrival u / √(1 + w²): flight.py
+            w = u / vt
+            flight = (math.atan(w) + math.asinh(w)) * vt / gravity
+            v = u / math.sqrt(1.0 + w * w)
+        else:
+            flight, v = 2.0 * u / gravity, u
+        t += tau + flight
+        times.append(t)
+        speeds.append(v)
+    out = []
+    for values in (times, speeds, rebounds, groups):
+        row = np.full(count, np.nan)
+        row[:len(values)] = values
+        out.append(row[None, :])
+    return tuple(out)
+
+
+def impact_sequence(law, stiffness, damping, mass, gravity, first_speed, count, kappa=0.0,
+                    beta=0.0):
+    """Touch times (from the first touch), impact speeds, rebound speeds and gravity groups of
+    ``count`` impacts starting at ``first_speed`` (array of S sequences): arrays of shape (S,
+    count), NaN after the sphere stops bouncing.  O(1) work per bounce, vectorised over S
+    (``damping`` may be an array of S values too); a few sequences go through a plain-float
+    loop with the same formulas (numpy's per-call overhead dominates for small arrays)."""
+    v = np.atleast_1d(np.asarray(first_speed, dtype=float))
+    lam = np.broadcast_to(np.asarray(damping, dtype=float), v.shape)
+    law = get_law(law)
+    if v.size <= 8 and beta == 0.0 and _tables(law) is not None:
+        rows = [_sequence_scalar(law, stiffness, float(lam[i]), mass, gravity, float(v[i]),
+                                 count, kappa) for i in range(v.size)]
+        return tuple(np.concatenate([r[q] for r in rows]) for q in range(4))
+    damping = lam
+    shape = (v.size, count)
+    times, speeds, rebounds, groups = (np.full(shape, np.nan) for _ in range(4))
+    times[:, 0], speeds[:, 0] = 0.0, v
+    t = np.zeros(v.size)
+    for i in range(count):
+        ok = np.isfinite(v) & (v > 0.0)
+        vv = np.where(ok, v, 1.0)
+        u, tau, g_group = contact_map(law, stiffness, damping, mass, gravity, vv, kappa, beta)
+        ok &= u > 0.0
+        u = np.where(ok, u, np.nan)
+        rebounds[:, i], groups[:, i] = u, np.where(ok, g_group, np.nan)
+        if i + 1 == count:
+            break
+        flight, v_next = flight_to_plate(np.where(ok, u, 1.0), gravity, kappa, beta)
+        t = t + tau + flight
+        v = np.where(ok, v_next, np.nan)
+        times[:, i + 1] = np.where(ok, t, np.nan)
+        speeds[:, i + 1] = v
+    return times, speeds, rebounds, groups
+
+
+def release_speed(height, gravity, kappa=0.0, beta=0.0):
+    """Speed (m/s) at the plate after a release from rest at ``height`` (m), with drag."""
+    return fall_time(np.asarray(height, dtype=float), 0.0, gravity, kappa, beta)[1]
+
+
+def release_height(speed, gravity, kappa=0.0, beta=0.0):
+    """Height (m) of a release from rest that reaches the plate at ``speed``: the inverse of
+    ``release_speed`` in closed form (inf at or beyond the terminal speed)."""
+    s = np.asarray(speed, dtype=float)
+    with np.errstate(divide='ignore', invalid='ignore'):
+        if kappa > 0.0:
+            r = math.sqrt(beta * beta + 4.0 * kappa * gravity)
+            s_plus = 2.0 * gravity / (beta + r)
+            s_minus = s_plus + beta / kappa
+            h = (s_plus * np.log1p(s / (s_plus - s)) - s_minus * np.log1p(s / s_minus)) / r
+            return np.where(s < s_plus, h, np.inf)
+        if beta > 0.0:
+            x = beta * s / gravity
+            h = -(s / beta) - gravity / beta ** 2 * np.log1p(-x)
+            return np.where(x < 1.0, h, np.inf)
+    return s * s / (2.0 * gravity)
+
+
+@dataclass(frozen=True)
+class BounceSequence:
+    """Predicted bounces: per impact its touch time (s), impact and rebound speeds (m/s), the
+    restitution u / v at the surface (gravity during contact included to first order), and the
+    gravity group G (the model is trusted while G < ``VALID_GRAVITY_GROUP``)."""
+
+    times: np.ndarray
+    impact_speeds: np.ndarray
+    rebound_speeds: np.ndarray
+    gravity_group: np.ndarray
+
+    @property
+    def restitutions(self):
+        return self.rebound_speeds / self.impact_speeds
+
+    @property
+    def valid(self):
+        return self.gravity_group < VALID_GRAVITY_GROUP
+
+
+def predict_bounces(contact, mass, height=None, first_flight=None, count=10, gravity=9.81,
+                    drag=None, start_time=0.0):
+    """Touch times of a sphere (``mass`` kg, ``Contact``) released from rest at ``height`` (m)
+    above the plate, or, with ``first_flight`` (s), whose first bounce flight lasts that long
+    (touch to touch): ``count`` impacts, the first at ``start_time`` (s; for a release, the
+    release is at ``start_time`` and the first touch after the fall).  ``drag`` is an
+    ``AirDrag`` (``None``: vacuum)."""
+    mass = require_positive('mass', mass)
+    gravity = require_positive('gravity', gravity)
+    count = require_int('count', count, 1, MAX_BOUNCES)
+    start = require_real('start_time', start_time)
+    kappa, beta = drag.rates(mass, gravity) if drag is not None else (0.0, 0.0)
+    law, k, lam = contact.law, contact.stiffness, contact.damping
+    if (height is None) == (first_flight is None):
+        raise ValueError('release is missing: give exactly one of height (m) and first_flight (s)')
+    if height is not None:
+        h = require_positive('height', height)
+        v1 = float(release_speed(h, gravity, kappa, beta))
+        start += float(fall_time(h, 0.0, gravity, kappa, beta)[0])
+    else:
+        v1 = first_speed_for_flight(law, k, lam, mass, gravity,
+                                    require_positive('first_flight', first_flight), kappa, beta)
+    times, speeds, rebounds, groups = impact_sequence(law, k, lam, mass, gravity, v1, count,
+                                                      kappa, beta)
+    return BounceSequence(times[0] + start, speeds[0], rebounds[0], groups[0])
+
+
+def first_speed_for_flight(law, stiffness, damping, mass, gravity, flight, kappa=0.0, beta=0.0):
+    """Impact speed v (m/s) whose bounce (contact + flight, touch to touch) lasts ``flight`` s."""
+    from scipy.optimize import brentq
+
+    def interval(v):
+        t = impact_sequence(law, stiffness, damping, mass, gravity, v, 2, kappa, beta)[0]
+        return float(t[0, 1]) if np.isfinite(t[0, 1]) else 0.0
+
+    # the rebound speed is at least g T / 2 (drag only shortens the flight) and v >= u
+    lo, hi = 0.25 * gravity * flight, gravity * flight
+    while interval(hi) < flight:
+        lo, hi = hi, 2.0 * hi
+        if hi > 1e6:
+            raise ValueError(f'first_flight = {flight!r} is out of range: no bounce of this '
+                             'contact lasts that long')
+    return brentq(lambda v: interval(v) - flight, lo, hi, xtol=1e-14, rtol=1e-14)
+
+
+__all__ = ['AirDrag', 'BounceSequence', 'VALID_GRAVITY_GROUP', 'contact_map', 'contact_table',
+           'first_speed_for_flight', 'impact_sequence', 'predict_bounces', 'release_height',
+           'release_speed']

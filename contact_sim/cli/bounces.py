@@ -1,0 +1,283 @@
+"""`contact-sim bounces`: calibrate a contact from recorded bounce sequences (impact times or
+audio), registered by ``cli.build_parser`` through ``add_parser(sub)``; ``run(args)`` does it."""
+import argparse
+import math
+import sys
+
+import numpy as np
+
+from contact_sim.calibration.bounce_fit import corrected_restitution_table, fit_bounces, restitution_curve
+from contact_sim.model.contact import build_contact, build_mass
+from contact_sim.impact.damping_fit import LOSSES
+from contact_sim.flight.drag import AIR_DENSITY, SPHERE_DRAG_COEFFICIENT, AirDrag
+from contact_sim.model.laws import LAWS
+from contact_sim.calibration.recordings import ImpactTimes, read_impact_times
+from contact_sim.validation import require_positive
+
+NOTES = """
+
+data: CSV files of impact times (s), one column per sequence (several runs side by side are
+fine), or phyphox "Acoustic Stopwatch" exports read as they are (the CSV of the All sheet, any
+separator and decimal comma, or the zip of the CSV export), or WAV recordings of the bounces
+(the clicks are found by contact_sim.calibration.audio).  A release height in a column header or file name
+(h=0.8, 80cm) is used; --height overrides it, once per sequence in order.
+
+what is fitted: for every law, lambda (k fixed: --stiffness or Hertz), per sequence its start
+time and first impact speed, and with --fit-drag the drag coefficient, by robust least squares
+on the click times (soft-L1 scaled to three times the timing noise).  Air drag
+1/2 rho C_d pi R1^2 v^2 acts in flight when --radius is given (C_d 0.47 unless
+--drag-coefficient; 0 turns it off).
+The constant-restitution law is the linear law (its k is derived unless --stiffness is given).
+
+example:
+  contact-sim bounces golf_80cm.csv --sphere steel --plate steel --radius 0.0214 \\
+      --mass 0.0459 --stiffness 2e8 --fit-drag --save-params golf.yaml
+"""
+
+
+def _float_list(text):
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f'invalid value {text!r}: allowed a number') from None
+
+
+def add_parser(sub):
+    from contact_sim.cli.app import CONTACT_HELP, EXIT_HELP, _contact_options
+    p = sub.add_parser(
+        'bounces', parents=[_contact_options(damping=False)],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        help='calibrate lambda (and drag) from recorded bounce times or audio',
+        description='Fit each law to recorded bounce sequences by least squares on the impact\n'
+                    'times (cs.bounce_fit.fit_bounces), with drag and contact duration in the\n'
+                    'model, detector glitches named, and the laws ranked.',
+        epilog=CONTACT_HELP + NOTES + EXIT_HELP)
+    p.add_argument('data', nargs='+', help='CSV / phyphox export (.csv, .zip) or .wav files')
+    p.add_argument('--law', action='append', choices=list(LAWS),
+                   help='force law, repeatable (default: all four)')
+    p.add_argument('--height', action='append', type=_float_list, metavar='H',
+                   help='release height in m of each sequence, in order (repeatable)')
+    p.add_argument('--height-error', type=float, default=0.01, metavar='DH',
+                   help='uncertainty of a measured release height in m (default 0.01)')
+    p.add_argument('--gravity', type=float, default=9.81, help='m/s^2 (default 9.81)')
+    p.add_argument('--air-density', type=float, default=AIR_DENSITY, metavar='RHO',
+                   help=f'kg/m^3 (default {AIR_DENSITY})')
+    p.add_argument('--drag-coefficient', type=float, default=None, metavar='CD',
+                   help=f'C_d of the sphere (default {SPHERE_DRAG_COEFFICIENT} with --radius; '
+                        '0 = no drag)')
+    p.add_argument('--fit-drag', action='store_true',
+                   help='fit C_d too (needs --radius); its interval is printed')
+    p.add_argument('--timing-resolution', type=float, default=1.0 / 48000.0, metavar='S',
+                   help='clock resolution in s (default 1/48000, a phone)')
+    p.add_argument('--loss', choices=LOSSES, default='soft_l1',
+                   help='least-squares loss (default soft_l1: robust against outliers)')
+    p.add_argument('--confidence', type=float, default=0.95,
+                   help='confidence level of the intervals, 0 < C < 1 (default 0.95)')
+    p.add_argument('--plot', metavar='OUT.png',
+                   help='also draw e vs speed with each law and the timing residuals')
+    p.add_argument('--save-params', metavar='FILE.yaml',
+                   help="write the best law as a node parameter file (contact_sim_node "
+                        "--ros-args --params-file FILE.yaml)")
+    p.set_defaults(run=run)
+    return p
+
+
+def _sequences(args):
+    sequences = []
+    for path in args.data:
+        if str(path).lower().endswith('.wav'):
+            from contact_sim.calibration.audio import bounce_times_from_audio
+            onsets = bounce_times_from_audio(path)
+            from contact_sim.calibration.recordings import height_from_label
+            sequences.append(ImpactTimes(onsets.times, height_from_label(
+                str(path).rsplit('/', 1)[-1]), f'{path} (audio)'))
+        else:
+            sequences.extend(read_impact_times(path))
+    if args.height:
+        if len(args.height) != len(sequences):
+            raise ValueError(f'height is given {len(args.height)} time(s) for '
+                             f'{len(sequences)} sequence(s): allowed one --height per sequence')
+        sequences = [ImpactTimes(s.times, require_positive('height', h), s.name)
+                     for s, h in zip(sequences, args.height)]
+    return sequences
+
+
+def _stiffness(args, laws, mass):
+    """k per law: --stiffness, or the Hertz k by the core's one rule (laws with n = 1.5 only)."""
+    if args.stiffness is not None:
+        k = require_positive('stiffness', args.stiffness)
+        return {name: k for name in laws}, 'given'
+    from contact_sim.cli.app import material
+    sphere, plate = material(args, 'sphere'), material(args, 'plate')
+    ks = {}
+    for name in laws:
+        law = LAWS[name]
+        if law.n != 1.5 and None not in (sphere, plate, args.radius):
+            continue     # no Hertz stiffness for this law: it is left out of the ranking
+        ks[name] = build_contact(law, sphere=sphere, plate=plate, radius=args.radius,
+                                 plate_radius=args.plate_radius, damping=0.0).stiffness
+    return ks, 'Hertz'
+
+
+def _mass(args):
+    from contact_sim.cli.app import _has_density, material
+    sphere = material(args, 'sphere') if _has_density(args) else None
+    return build_mass(args.mass, sphere, args.radius)
+
+
+def _drag(args):
+    if args.radius is None:
+        if args.fit_drag or (args.drag_coefficient or 0.0) > 0.0:
+            raise ValueError('radius is missing: drag needs the sphere radius --radius R1 (m)')
+        return None
+    cd = SPHERE_DRAG_COEFFICIENT if args.drag_coefficient is None else args.drag_coefficient
+    drag = AirDrag(args.air_density, cd, args.radius)
+    if not drag.active and not args.fit_drag:
+        return None
+    return drag
+
+
+def run(args):
+    laws = list(dict.fromkeys(args.law or LAWS))
+    mass = _mass(args)
+    drag = _drag(args)
+    ks, k_source = _stiffness(args, laws, mass)
+    sequences = _sequences(args)
+    fit = fit_bounces(sequences, mass, ks, laws=laws, gravity=args.gravity, drag=drag,
+                      fit_drag=args.fit_drag, timing_resolution=args.timing_resolution,
+                      height_error=args.height_error, loss=args.loss, confidence=args.confidence)
+    table = corrected_restitution_table(fit)
+    print_report(fit, sequences, args, k_source, table)
+    if args.plot:
+        _plot(args, fit, table)
+    if args.save_params:
+        write_params(args.save_params, fit, args)
+        print(f'# node parameters written to {args.save_params}')
+    return 0
+
+
+def print_report(fit, sequences, args, k_source, table):
+    level = f'{100 * fit.confidence:g}%'
+    clicks = sum(s.times.size for s in sequences)
+    print(f'# bounce fit: {len(sequences)} sequence(s), {clicks} clicks; m = {fit.mass:.6g} kg, '
+          f'g = {fit.gravity:g} m/s^2, k {k_source}')
+    if fit.drag is None:
+        print('# drag: none (vacuum flights)')
+    else:
+        what = 'fitted, start' if fit.fit_drag else 'fixed'
+        print(f'# drag: rho = {fit.drag.air_density:g} kg/m^3, R1 = {fit.drag.radius:g} m, '
+              f'C_d {what} {fit.drag.drag_coefficient:g}')
+    for j, s in enumerate(sequences):
+        h = f'released from {s.height:g} m' if s.height is not None else 'release height unknown'
+        print(f'# sequence {j + 1}: {s.name}, {s.times.size} clicks, {h}')
+    named = [g for g in fit.glitches if g.kind != 'outlier']
+    print(f'# glitches: {len(named) or "none"}')
+    for g in named:
+        print(f'#   {g.describe()}')
+    if not any(s.height is not None for s in sequences):
+        print('#   (without a release height a late start cannot be told from a lower release)')
+    print(f'# laws ranked by weighted rms timing residual (equal parameter counts: '
+          f'{fit.best.parameters} each); AIC = N ln(SSE/N) + 2P')
+    for f in fit.fits:
+        low, high = f.damping_interval
+        print(f'{f.law.name}: lambda = {f.damping:.6e} [{low:.6e}, {high:.6e}] ({level}), '
+              f'k = {f.stiffness:.6e}, rms = {f.rms * 1e3:.4f} ms, AIC = {f.aic:.2f}')
+        if fit.fit_drag:
+            lo, hi = f.drag_interval
+            if 1.001e-3 < f.drag_coefficient < 9.99:
+                print(f'  drag coefficient C_d = {f.drag_coefficient:.4f} [{lo:.4f}, {hi:.4f}]')
+            else:
+                print(f'  drag coefficient C_d = {f.drag_coefficient:.4f} (at its bound: this law '
+                      'needs an implausible drag)')
+    if math.isfinite(fit.delta_aic):
+        verdict = 'supported' if fit.speed_dependent else 'NOT supported'
+        print(f'speed-dependent restitution: {verdict} (constant-restitution AIC minus the best '
+              f'speed-dependent law\'s: {fit.delta_aic:.2f}; needs > 10)')
+    best = fit.best
+    print(f'timing noise (robust estimate): {best.noise * 1e3:.4f} ms')
+    down = fit.downweighted()
+    print(f'down-weighted clicks (robust weight < 0.5): {len(down) or "none"}')
+    for j, t, r, w in down:
+        print(f'  sequence {j + 1}: t = {t:.6f} s, residual {r * 1e3:+.3f} ms, weight {w:.2f}')
+    print(f'# drag- and duration-corrected restitution ({best.law.name}); e from each flight')
+    print(f'# {"seq":>3} {"speed (m/s)":>12} {"e":>9} {"sigma_e":>9} {"e model":>9}')
+    for j, v, e, se in table:
+        model = float(restitution_curve(best, fit.mass, v))
+        print(f'  {j + 1:3d} {v:12.5f} {e:9.5f} {se:9.5f} {model:9.5f}')
+    print(f'# predicted vs measured click times ({best.law.name})')
+    print(f'# {"seq":>3} {"bounce":>6} {"measured (s)":>13} {"predicted (s)":>13} '
+          f'{"residual (ms)":>13} {"weight":>6}')
+    for j, (s, r, w) in enumerate(zip(fit.sequences, best.residuals, best.weights)):
+        for n, t, ri, wi in zip(s.index, s.times, r, w):
+            print(f'  {j + 1:3d} {n + 1:6d} {t:13.6f} {t + ri:13.6f} {ri * 1e3:13.4f} {wi:6.2f}')
+    print(f'rms predicted - measured: {best.rms * 1e3:.4f} ms')
+
+
+def write_params(path, fit, args):
+    """A ROS 2 parameter file for contact_sim_node (names from its PARAMETERS)."""
+    best = fit.best
+    heights = [s.height for s in fit.sequences if s.height is not None]
+    lines = ['# contact calibrated by `contact-sim bounces` from ' + ', '.join(args.data),
+             f'# {best.law.name}: rms timing residual {best.rms * 1e3:.4f} ms; lambda '
+             f'{fit.confidence * 100:g}% interval [{best.damping_interval[0]:.6e}, '
+             f'{best.damping_interval[1]:.6e}]',
+             'contact_sim:', '  ros__parameters:',
+             f'    contact_law: {best.law.name}',
+             f'    stiffness: {best.stiffness!r}',
+             f'    damping: {best.damping!r}',
+             f'    sphere_mass: {fit.mass!r}',
+             f'    gravity: {fit.gravity!r}']
+    if args.radius is not None:
+        lines.append(f'    sphere_radius: {float(args.radius)!r}')
+    from contact_sim.cli.app import material
+    for body in ('sphere', 'plate'):      # library materials only (k and lambda are given)
+        chosen = material(args, body)
+        if chosen is not None and chosen.name == getattr(args, body):
+            lines.append(f'    {body}_material: {chosen.name}')
+    if heights:
+        lines.append(f'    initial_height: {float(heights[0])!r}')
+    if fit.drag is not None:
+        lines.append(f'    air_density: {fit.drag.air_density!r}')
+        lines.append(f'    drag_coefficient: {float(best.drag_coefficient)!r}')
+    else:
+        lines.append('    drag_coefficient: 0.0')
+    try:
+        with open(path, 'w', encoding='utf-8') as f:
+            f.write('\n'.join(lines) + '\n')
+    except OSError as error:
+        raise ValueError(f'save_params = {path!r} cannot be written: {error.strerror}') from None
+
+
+def _plot(args, fit, table):
+    from contact_sim.cli import plotting
+    pyplot = plotting.load_pyplot()
+    fig, (ax_e, ax_r) = pyplot.subplots(2, 1, figsize=(8.0, 7.0), layout='constrained')
+    if table:
+        _, v, e, se = (np.array(c) for c in zip(*table))
+        ax_e.errorbar(v, e, yerr=se, fmt='o', color='k', ms=4, label='measured (corrected)')
+        dense = np.geomspace(v.min() * 0.8, v.max() * 1.2, 200)
+        for f in fit.fits:
+            ax_e.plot(dense, restitution_curve(f, fit.mass, dense),
+                      label=f'{f.law.name}: rms {f.rms * 1e3:.3g} ms')
+    ax_e.set_xlabel('impact speed (m/s)')
+    ax_e.set_ylabel('coefficient of restitution e')
+    ax_e.legend(fontsize=8)
+    ax_e.grid(True, alpha=0.4)
+    best = fit.best
+    for j, (s, r) in enumerate(zip(fit.sequences, best.residuals)):
+        ax_r.plot(s.times - s.times[0], r * 1e3, 'o-', ms=3, label=f'sequence {j + 1}')
+    ax_r.axhline(0.0, color='k', lw=0.8)
+    ax_r.set_xlabel('time since the first click (s)')
+    ax_r.set_ylabel(f'predicted - measured (ms), {best.law.name}')
+    ax_r.grid(True, alpha=0.4)
+    if len(fit.sequences) <= 10:
+        ax_r.legend(fontsize=8)
+    fig.suptitle(f'Bounce calibration: {", ".join(str(d) for d in args.data)}', fontsize=10)
+    plotting._save(fig, args.plot)
+    print(f'# plot written to {args.plot}')
+    return fig
+
+
+def main(argv=None):   # pragma: no cover - convenience for `python -m contact_sim.cli_bounces`
+    from contact_sim.cli.app import main as cli_main
+    return cli_main(['bounces'] + list(argv if argv is not None else sys.argv[1:]))

@@ -1,0 +1,259 @@
+"""Damping from restitution: the inverse of ``restitution``, and least-squares fits to data.
+
+As in the paper's Fig. 5: k comes from Hertz theory, and λ is tuned so that the model's
+restitution e(v) best matches measured (speed, restitution) points, all points weighted equally.
+Units: SI (stiffness N/m^n, mass kg, speeds m/s, damping λ N·s^q/m^(p+q)).
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq, minimize_scalar
+
+from contact_sim.model.contact import Contact
+from contact_sim.model.laws import LAWS, ContactLaw, get_law
+from contact_sim.impact.restitution import (ZETA_MAX, checked_scales, damping_from_group, dimensionless,
+                          master_curve, restitution)
+from contact_sim.validation import InputError, require_positive, require_range
+
+
+def _group_for_restitution(law, target):
+    """ζ with e(ζ) = target (e decreases monotonically in ζ)."""
+    def residual(log_zeta):
+        return float(dimensionless('restitution', law, np.array(math.exp(log_zeta)))) - target
+
+    curve = master_curve(law)
+    lo, hi = (math.log(z) for z in curve.zeta_range) if curve else (math.log(1e-5),
+                                                                        math.log(1e3))
+    while residual(lo) < 0.0:
+        lo -= 2.0
+    while residual(hi) > 0.0:
+        hi += 2.0
+    return math.exp(brentq(residual, lo, hi, xtol=1e-14, rtol=1e-14))
+
+
+def damping_for_restitution(law, stiffness, mass, restitution, speed):
+    """λ that gives exactly ``restitution`` for an impact at ``speed`` (m/s), no gravity."""
+    law = get_law(law)
+    stiffness = require_positive('stiffness', stiffness)
+    mass = require_positive('mass', mass)
+    checked_scales(law, stiffness, mass, speed)     # Z, T finite: else an InputError on speed
+    e = require_range('restitution', restitution, 0.0, 1.0, low_open=True)
+    if e == 1.0:
+        return 0.0
+    e_min = _lowest_restitution(law)
+    if e < e_min:   # λ would give a damping group beyond what restitution() answers
+        raise InputError('restitution', e, '{n[restitution]} = {value} is out of range for law '
+                         '%s: allowed %.12g <= {n[restitution]} <= 1 (damping group zeta <= %g)'
+                         % (law.name, e_min * (1.0 + 1e-9), ZETA_MAX))
+    zeta = _group_for_restitution(law, e)
+    lam = float(damping_from_group(law, stiffness, mass, speed, zeta))
+    if not 0.0 < lam < math.inf:
+        raise InputError('speed', speed, '{n[speed]} = {value} is out of range for this contact: '
+                         'the damping lambda = %r is not a finite positive number' % lam)
+    return lam
+
+
+def _lowest_restitution(law):
+    """e at the largest damping group ``restitution`` accepts, ζ = ZETA_MAX."""
+    return float(dimensionless('restitution', law, np.array(ZETA_MAX)))
+
+
+@dataclass(frozen=True)
+class DampingFit:
+    """Least-squares damping for one law, with diagnostics.
+
+    ``pointwise_damping`` is the λ that would match each point alone: a law that describes the
+    data gives nearly constant values (their spread, ``pointwise_spread``, is max/min).
+    ``flagged`` lists the points with e >= 1 (measurement noise near e = 1: kept in the fit,
+    but no λ matches them alone, so their pointwise λ is 0 for e = 1 and nan above); ``loss``
+    is the least-squares loss used and ``weights`` the robust weight of each point (1 = full).
+    """
+
+    law: ContactLaw
+    stiffness: float
+    damping: float
+    rms_residual: float
+    residuals: np.ndarray
+    pointwise_damping: np.ndarray
+    confidence_interval: tuple
+    confidence_level: float
+    flagged: tuple = ()
+    loss: str = 'linear'
+    weights: np.ndarray = None
+
+    @property
+    def pointwise_spread(self):
+        lam = self.pointwise_damping[np.isfinite(self.pointwise_damping)
+                                     & (self.pointwise_damping > 0.0)]
+        return float(np.max(lam) / np.min(lam)) if lam.size else math.nan
+
+    def contact(self):
+        return Contact(self.law, self.stiffness, self.damping)
+
+
+def _check_data(speeds, restitutions):
+    v = np.asarray(speeds, dtype=float).ravel()
+    e = np.asarray(restitutions, dtype=float).ravel()
+    if v.size != e.size:
+        raise ValueError(f'speeds and restitutions have {v.size} and {e.size} values: '
+                         'allowed equal lengths')
+    if v.size < 1:
+        raise ValueError('speeds is empty: allowed at least one (speed, restitution) point')
+    for name, arr, ok, rng in (('speeds', v, np.isfinite(v) & (v > 0), '0 < speed < inf'),
+                               ('restitutions', e, np.isfinite(e) & (e > 0),
+                                '0 < restitution < inf (e >= 1 is kept and flagged)')):
+        if not np.all(ok):
+            i = int(np.flatnonzero(~ok)[0])
+            raise ValueError(f'{name}[{i}] = {float(arr[i])!r} is out of range: allowed {rng}')
+    return v, e
+
+
+LOSSES = ('linear', 'soft_l1', 'huber', 'cauchy', 'arctan')   # scipy.optimize.least_squares
+LOWER_BOUND_WIDENINGS = 12   # x 3 in ln λ (e^-36): how far points at e >= 1 may pull λ down
+
+
+def require_fit_options(confidence, loss):
+    """The checked (confidence, loss) of a fit: 0 < confidence < 1, a loss of ``LOSSES``."""
+    confidence = require_range('confidence', confidence, 0.0, 1.0, low_open=True,
+                               high_open=True)
+    if loss not in LOSSES:
+        raise InputError('loss', loss, '{n[loss]} = {value} is unknown: allowed one of %s'
+                         % ', '.join(LOSSES), value=repr(loss))
+    return confidence, loss
+
+
+def _robust_weights(loss, z2):
+    """IRLS weight ρ'(z²) of each point for a least_squares loss (1 = full weight)."""
+    if loss == 'soft_l1':
+        return 1.0 / np.sqrt(1.0 + z2)
+    if loss == 'huber':
+        return np.where(z2 <= 1.0, 1.0, 1.0 / np.sqrt(np.maximum(z2, 1e-300)))
+    if loss == 'cauchy':
+        return 1.0 / (1.0 + z2)
+    if loss == 'arctan':
+        return 1.0 / (1.0 + z2 * z2)
+    return np.ones_like(z2)
+
+
+def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, loss='linear',
+                uncertainties=None):
+    """Fit λ to measured (speed, restitution) points by least squares in e; see ``DampingFit``.
+
+    The confidence interval is linearised in ln λ: λ exp(± t σ / |J|), with J = ∂e/∂ln λ at the
+    optimum and σ² the residual variance (N - 1 degrees of freedom); one point leaves no
+    residual variance, and the interval is (nan, nan).
+    Points with e >= 1 (noise near e = 1) are kept in the fit and listed in ``flagged``.
+    ``uncertainties`` (σ_e per point, > 0) weight each residual by 1/σ_e.  ``loss`` (one of
+    ``LOSSES``, as in ``scipy.optimize.least_squares``) makes the fit robust: its scale is one
+    σ_e when uncertainties are given, else 1.4826 × the median absolute residual of the plain fit;
+    ``weights`` reports how much each point still counts.
+    """
+    law = get_law(law)
+    stiffness = require_positive('stiffness', stiffness)
+    mass = require_positive('mass', mass)
+    confidence, loss = require_fit_options(confidence, loss)
+    v, e = _check_data(speeds, restitutions)
+    if uncertainties is None:
+        sigma = np.ones(v.size)
+    else:
+        sigma = np.asarray(uncertainties, dtype=float).ravel()
+        if sigma.size != v.size:
+            raise ValueError(f'uncertainties has {sigma.size} values for {v.size} points: '
+                             'allowed one per point')
+        bad = ~(np.isfinite(sigma) & (sigma > 0.0))
+        if np.any(bad):
+            i = int(np.flatnonzero(bad)[0])
+            raise ValueError(f'uncertainties[{i}] = {float(sigma[i])!r} is out of range: '
+                             'allowed 0 < uncertainty < inf')
+    flagged = tuple(int(i) for i in np.flatnonzero(e >= 1.0))
+    pointwise = np.full(v.size, math.nan)      # nan where e > 1: no damping gives it
+    for i, (vi, ei) in enumerate(zip(v, e)):
+        try:     # (e > 1: the speed is checked all the same, and the point has no λ)
+            lam_i = damping_for_restitution(law, stiffness, mass, min(ei, 1.0), vi)
+            pointwise[i] = lam_i if ei <= 1.0 else math.nan
+        except InputError as error:    # name the data point it came from
+            which = {'speed': 'speeds', 'restitution': 'restitutions'}[error.field]
+            template = error.template.replace('{n[%s]}' % error.field,
+                                              '{n[%s]}[%d]' % (which, i))
+            raise InputError(which, error.value, template, **error.params) from None
+
+    def model(lam):
+        return restitution(Contact(law, stiffness, lam), mass, v)
+
+    def sse(log_lam):
+        return float(np.sum(((model(math.exp(log_lam)) - e) / sigma) ** 2))
+
+    usable = pointwise[np.isfinite(pointwise) & (pointwise > 0.0)]
+    weights = np.ones(v.size)
+    if usable.size == 0:
+        lam = 0.0          # every point at e >= 1: the elastic contact fits best
+    else:
+        lo, hi = math.log(usable.min()), math.log(usable.max())
+        if hi - lo < 1e-12 and not flagged:
+            lam = float(usable[0])
+        else:
+            # points at e >= 1 pull λ below every pointwise value: widen the search downwards
+            # for as long as its optimum sits on the lower bound (e is monotone in λ)
+            for _ in range(LOWER_BOUND_WIDENINGS if flagged else 1):
+                if flagged:
+                    lo -= 3.0
+                best = minimize_scalar(sse, bounds=(lo, hi), method='bounded',
+                                       options={'xatol': 1e-10})
+                if best.x > lo + 1e-3:
+                    break
+            lam = math.exp(best.x)
+        if loss != 'linear':
+            from scipy.optimize import least_squares
+            r0 = (model(lam) - e) / sigma
+            scale = 1.0 if uncertainties is not None else max(
+                1.4826 * float(np.median(np.abs(r0))), 1e-12)
+            robust = least_squares(lambda x: (model(math.exp(x[0])) - e) / sigma,
+                                   [math.log(lam)], loss=loss, f_scale=scale,
+                                   xtol=1e-12, ftol=1e-12)
+            lam = math.exp(float(robust.x[0]))
+            weights = _robust_weights(loss, (((model(lam) - e) / sigma) / scale) ** 2)
+    residuals = model(lam) - e
+    rms = float(np.sqrt(np.mean(residuals ** 2)))
+    # linearised in ln λ, so the interval stays positive: ln λ ± t σ / |∂e/∂ln λ|
+    h = 1e-6
+    jac = (model(lam * math.exp(h)) - model(lam * math.exp(-h))) / (2 * h) if lam > 0.0 \
+        else np.zeros(v.size)
+    dof = v.size - 1
+    if dof == 0:        # one point: no residual variance to estimate a spread from
+        return DampingFit(law, stiffness, lam, rms, residuals, pointwise, (math.nan, math.nan),
+                          confidence, flagged, loss, weights)
+    if np.any(jac != 0.0):
+        from scipy.stats import t as student_t  # slow to import: only when needed
+        w = weights / sigma ** 2
+        scale2 = float(np.sum(w * residuals ** 2)) / dof
+        half = float(student_t.ppf(0.5 + confidence / 2, dof) * math.sqrt(scale2)
+                     / np.sqrt(np.sum(w * jac ** 2)))
+    else:
+        half = 0.0
+    return DampingFit(law, stiffness, lam, rms, residuals, pointwise,
+                      (lam * math.exp(-half), lam * math.exp(half)), confidence, flagged,
+                      loss, weights)
+
+
+def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.95,
+                 loss='linear', uncertainties=None):
+    """Fit each law to the same data and rank them, best (lowest rms residual) first.
+
+    ``stiffness`` is one value for every law or a mapping law name -> stiffness (the linear
+    law's k has other units than the Hertz k; its fitted restitution does not depend on k).
+    """
+    chosen = [get_law(name) for name in (laws if laws is not None else LAWS)]
+    if isinstance(stiffness, dict):
+        missing = [law.name for law in chosen if law.name not in stiffness]
+        if missing:
+            raise InputError('stiffness', stiffness, '{n[stiffness]} has no value for %s: '
+                             'allowed one stiffness for every law, or a mapping with an entry '
+                             'for each law fitted (%s)' % (', '.join(missing),
+                                                          ', '.join(law.name for law in chosen)))
+    fits = []
+    for law in chosen:
+        k = stiffness[law.name] if isinstance(stiffness, dict) else stiffness
+        fits.append(fit_damping(law, k, mass, speeds, restitutions, confidence, loss,
+                                uncertainties))
+    return sorted(fits, key=lambda fit: fit.rms_residual)

@@ -1,0 +1,122 @@
+"""Contact normal-force laws of the family F = k z^n + λ z^p ż^q (Azad & Featherstone 2014, eq. 1).
+
+Units are SI throughout: penetration z in m, penetration rate ż in m/s (z > 0 is penetration,
+ż > 0 is approach), stiffness k in N/m^n, damping λ in N·s^q/m^(p+q), force in N.
+"""
+from dataclasses import dataclass
+
+import math
+
+import numpy as np
+
+from contact_sim.validation import InputError, require_positive, require_range
+
+
+@dataclass(frozen=True)
+class ContactLaw:
+    """One member of the family F = k z^n + λ z^p ż|ż|^(q-1), clamped as in eq. 11.
+
+    ``force`` is zero where z <= 0 and ``max(0, k z^n + λ z^p ż|ż|^(q-1))`` elsewhere: the
+    contact can push but never pull.
+    """
+
+    name: str
+    n: float
+    p: float
+    q: float
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError(f'name = {self.name!r} is invalid: allowed a non-empty string')
+        object.__setattr__(self, 'n', require_positive('n', self.n))
+        # p <= n keeps the force divided by z^p finite at touch (it is the lift-off test)
+        object.__setattr__(self, 'p', require_range('p', self.p, 0.0, self.n))
+        object.__setattr__(self, 'q', require_positive('q', self.q))
+
+    # -- what the law can do: the one place where its exponents are read -------------------
+    @property
+    def hertz(self):
+        """True if the Hertz stiffness k = (4/3) E* √R (eqs. 5, 6, 10) applies: n = 3/2."""
+        return self.n == 1.5
+
+    @property
+    def linear_in_rate(self):
+        """True if the damping is linear in the rate (q = 1): small motions about rest are a
+        linear damped oscillator, so the rest closed form and the creep proof apply."""
+        return self.q == 1.0
+
+    @property
+    def damps_at_touch(self):
+        """True if the damping term acts at z = 0 (p = 0): at the first touch with approach the
+        force is λ ż^q > 0 at once."""
+        return self.p == 0.0
+
+    @property
+    def constant_restitution(self):
+        """True if the restitution does not depend on the impact speed (the linear
+        spring-damper, n = q = 1, p = 0: its damping group ζ has no speed in it)."""
+        return self.n == 1.0 and self.p == 0.0 and self.q == 1.0
+
+    @property
+    def kernel(self):
+        """The compiled contact phase's short form for these exponents (``phase.compiled``:
+        1 Azad-Featherstone, 2 Hunt-Crossley, 3 Lee-Wang, 4 linear), 0 for the general power law."""
+        return _KERNELS.get((self.n, self.p, self.q), 0)
+
+    def reduced_force(self, z, zdot, k, damping):
+        """φ = k z^(n-p) + λ ż|ż|^(q-1), so that the unclamped force is z^p φ (z > 0).
+
+        φ is smooth where the force is not (at z = 0), which makes it the right lift-off test.
+        """
+        z = np.asarray(z, dtype=float)
+        zdot = np.asarray(zdot, dtype=float)
+        zp = np.maximum(z, 0.0)
+        return k * zp ** (self.n - self.p) + damping * np.sign(zdot) * np.abs(zdot) ** self.q
+
+    def force_at(self, z, zdot, k, damping):
+        """``force`` at one state (floats in, a float out): the same numbers without the array
+        overhead, for the engine's once-a-tick state (eq. 11)."""
+        if not z > 0.0:
+            return 0.0
+        rate = math.copysign(abs(zdot) ** self.q, zdot) if zdot != 0.0 else 0.0
+        unclamped = k * z ** self.n + damping * z ** self.p * rate
+        return 0.0 if unclamped < 0.0 else unclamped     # NaN stays NaN, as np.maximum
+
+    def force(self, z, zdot, k, damping):
+        """Clamped normal force in N for arrays of z (m) and ż (m/s) of any broadcastable shape.
+
+        The same operations as ``force_at``, element by element, so both agree to round-off,
+        bit for bit where numpy's pow is the C library's (``np.power`` with an array exponent
+        calls it, as Python's ``**`` does, except for numpy's AVX-512 code on CPUs that have it;
+        numpy's scalar-exponent fast paths, x**0.5 -> sqrt, round differently)."""
+        z, zdot = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(zdot, dtype=float))
+        inside = z > 0.0
+        zz = np.where(inside, z, 1.0)
+        speed = np.abs(zdot)
+        rate = np.where(zdot != 0.0,
+                        np.copysign(np.power(speed, np.full_like(speed, self.q)), zdot), 0.0)
+        unclamped = k * np.power(zz, np.full_like(zz, self.n)) + damping * np.power(
+            zz, np.full_like(zz, self.p)) * rate
+        return np.where(inside, np.where(unclamped < 0.0, 0.0, unclamped), 0.0)
+
+
+# the compiled kernels' short forms, by exponents (n, p, q): ``ContactLaw.kernel``
+_KERNELS = {(1.5, 0.5, 1.0): 1, (1.5, 1.5, 1.0): 2, (1.5, 1.0, 1.0): 3, (1.0, 0.0, 1.0): 4}
+
+AZAD_FEATHERSTONE = ContactLaw('azad_featherstone', 1.5, 0.5, 1.0)  # eq. 8
+HUNT_CROSSLEY = ContactLaw('hunt_crossley', 1.5, 1.5, 1.0)  # eq. 2
+LEE_WANG = ContactLaw('lee_wang', 1.5, 1.0, 1.0)
+LINEAR = ContactLaw('linear', 1.0, 0.0, 1.0)  # spring-damper: n = q = 1, p = 0
+
+LAWS = {law.name: law for law in (AZAD_FEATHERSTONE, HUNT_CROSSLEY, LEE_WANG, LINEAR)}
+
+
+def get_law(name):
+    """Return the named law, or raise ``ValueError`` listing the known names."""
+    if isinstance(name, ContactLaw):
+        return name
+    try:
+        return LAWS[name]
+    except (KeyError, TypeError):
+        raise InputError('law', name, '{n[law]} = {value} is unknown: allowed one of %s'
+                         % ', '.join(sorted(LAWS)), value=repr(name)) from None

@@ -1,0 +1,59 @@
+"""Elastic materials: Young's modulus E (Pa), Poisson ratio ν (-), density ρ (kg/m³).
+
+Every library value carries its source. Handbook values are typical room-temperature figures;
+real batches vary by several per cent (cast iron and cork by much more), so calibrate damping
+against measured restitution for the pair you simulate.
+"""
+from dataclasses import dataclass
+
+from contact_sim.validation import InputError, require_positive, require_range
+
+_HANDBOOK = 'W. D. Callister, Materials Science and Engineering: An Introduction, Appendix B'
+
+
+@dataclass(frozen=True)
+class Material:
+    """An isotropic linear-elastic material (SI units)."""
+
+    name: str
+    youngs_modulus: float
+    poisson_ratio: float
+    density: float
+    source: str = 'user supplied'
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError(f'name = {self.name!r} is invalid: allowed a non-empty string')
+        object.__setattr__(self, 'youngs_modulus',
+                           require_positive('youngs_modulus', self.youngs_modulus))
+        object.__setattr__(self, 'poisson_ratio',
+                           require_range('poisson_ratio', self.poisson_ratio, -1.0, 0.5,
+                                         low_open=True, high_open=True))
+        object.__setattr__(self, 'density', require_positive('density', self.density))
+
+
+MATERIALS = {m.name: m for m in (
+    Material('steel', 207e9, 0.30, 7850.0, _HANDBOOK + ' (plain carbon steel 1020)'),
+    Material('cast_iron', 100e9, 0.26, 7300.0,
+             _HANDBOOK + ' (gray cast iron, E mid-range of the grades listed)'),
+    Material('brass', 110e9, 0.35, 8530.0, _HANDBOOK + ' (cartridge brass 70Cu-30Zn)'),
+    Material('lead', 13.5e9, 0.44, 11350.0, _HANDBOOK + ' (commercially pure lead)'),
+    Material('aluminium', 69e9, 0.33, 2710.0, _HANDBOOK + ' (aluminium alloy 1100)'),
+    Material('glass', 69e9, 0.23, 2500.0, _HANDBOOK + ' (soda-lime glass)'),
+    Material('nylon', 2.8e9, 0.39, 1140.0, _HANDBOOK + ' (nylon 6,6, E mid-range)'),
+    Material('cork', 20e6, 0.0, 170.0,
+             'L. J. Gibson and M. F. Ashby, Cellular Solids, 2nd ed. (1997), ch. 12: cork, '
+             'E about 13-50 MPa, near-zero Poisson ratio, density 120-240 kg/m3'),
+)}
+
+
+def get_material(name):
+    """Return the named library material, or raise ``ValueError`` listing the known names."""
+    if isinstance(name, Material):
+        return name
+    try:
+        return MATERIALS[name]
+    except (KeyError, TypeError):
+        raise InputError('material', name, '{n[material]} = {value} is unknown: allowed one of '
+                         '%s or a custom Material(name, youngs_modulus, poisson_ratio, density)'
+                         % ', '.join(sorted(MATERIALS)), value=repr(name)) from None

@@ -1,0 +1,75 @@
+"""Click onsets from WAV recordings the package synthesises from its own bounce model."""
+import numpy as np
+import pytest
+
+import contact_sim as cs
+from contact_sim import cli
+from contact_sim.calibration import audio
+from contact_sim.calibration import bounces
+
+
+def recording_times():
+    """Touch times of a golf-like ball dropped from 0.8 m (the bounce model), and click
+    amplitudes proportional to the impact speed, the tenth bounce almost silent."""
+    contact = cs.Contact('azad_featherstone', 2e8, 4500.0)
+    seq = bounces.predict_bounces(contact, 0.046, height=0.8, count=16)
+    times = seq.times + 0.3
+    amplitudes = 0.6 * seq.impact_speeds / seq.impact_speeds[0]
+    amplitudes[9] = 0.002                       # a quiet bounce, below the room noise
+    return times, amplitudes
+
+
+@pytest.mark.parametrize('rate', [44100, 48000])
+@pytest.mark.parametrize('bits, stereo', [(16, False), (24, True), (32, False),
+                                          ('float', True)])
+def test_every_onset_within_0_2_ms(tmp_path, rate, bits, stereo):
+    times, amplitudes = recording_times()
+    x = audio.synthesize_recording(times, amplitudes, rate=rate, seed=rate)
+    if stereo:
+        x = np.stack([x, 0.5 * x], axis=1)
+    path = tmp_path / f'bounces_{rate}_{bits}.wav'
+    audio.write_wav(path, x, rate, bits)
+    onsets = audio.bounce_times_from_audio(path)
+    expected = np.delete(times, 9)              # the quiet bounce is not heard
+    assert onsets.times.size == expected.size   # and no echo is taken for a bounce
+    assert np.max(np.abs(onsets.times - expected)) < 2e-4
+    assert onsets.sample_rate == rate
+    assert np.all((onsets.confidence >= 0.0) & (onsets.confidence <= 1.0))
+    assert onsets.confidence[0] > 0.8           # a loud click is a confident one
+
+
+def test_echo_is_gated_but_a_close_real_bounce_is_not():
+    rate = 48000
+    # two clicks 20 ms apart of nearly equal loudness (final bounces), then one with an echo
+    times = np.array([0.1, 0.12, 0.5])
+    x = audio.synthesize_recording(times, [0.5, 0.45, 0.5], rate=rate, echo_gain=0.0, seed=3)
+    onsets = audio.detect_onsets(x, rate)
+    assert np.max(np.abs(onsets.times - times)) < 2e-4
+    x = audio.synthesize_recording(times[:1], [0.5], rate=rate, echo_gain=0.45,
+                                   echo_delay=0.012, seed=4)
+    assert audio.detect_onsets(x, rate).times.size == 1
+
+
+def test_wav_into_the_bounce_fit(tmp_path, capsys):
+    times, amplitudes = recording_times()
+    path = tmp_path / 'golf_80cm.wav'
+    audio.write_wav(path, audio.synthesize_recording(times, amplitudes, rate=48000), 48000, 16)
+    code = cli.main(['bounces', str(path), '--mass', '0.046', '--stiffness', '2e8',
+                     '--law', 'azad_featherstone', '--law', 'linear'])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert 'released from 0.8 m' in out           # the height from the file name
+    assert 'missed bounce' in out                 # the quiet tenth bounce
+    line = next(ln for ln in out.splitlines() if ln.startswith('azad_featherstone: lambda'))
+    assert float(line.split()[3]) == pytest.approx(4500.0, rel=0.01)
+
+
+def test_bad_audio_is_named(tmp_path):
+    path = tmp_path / 'not.wav'
+    path.write_text('hello')
+    with pytest.raises(ValueError, match='audio = .* cannot be read as WAV'):
+        audio.bounce_times_from_audio(path)
+    with pytest.raises(ValueError, match='highpass = 30000.0 is out of range'):
+        audio.detect_onsets(np.zeros(1000), 48000, highpass=30000.0)
+    with pytest.raises(ValueError, match='bits = 12 is unknown'):
+        audio.write_wav(tmp_path / 'x.wav', np.zeros(10), 48000, 12)

@@ -1,0 +1,65 @@
+"""The sweep API: order, executors (processes, threads, a local Dask cluster), named errors."""
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import pytest
+
+from contact_sim.model.contact import Contact
+from contact_sim.drop.sweep import bifurcation_diagram, sweep
+from contact_sim.drop.table import VibratingTable, period_one_threshold, period_doubling_threshold
+
+TABLE = VibratingTable(Contact('linear', 1e9, 715.0), 0.01, 20.0, bounces=30, transient=150,
+                       restitution_guess=0.7177)
+
+
+def _square(x):
+    return x * x
+
+
+def test_sweep_keeps_order_on_processes_and_threads():
+    assert sweep(_square, range(7), max_workers=2) == [x * x for x in range(7)]
+    with ThreadPoolExecutor(2) as pool:
+        assert sweep(_square, [3, 1, 2], executor=pool) == [9, 1, 4]
+
+
+def test_sweep_errors_are_named():
+    with pytest.raises(ValueError, match='executor'):
+        sweep(_square, [1], executor='local')
+    with pytest.raises(ValueError, match='max_workers'):
+        sweep(_square, [1], max_workers=0)
+
+
+def test_bifurcation_diagram_period_one_then_two():
+    g1, g2 = period_one_threshold(0.7177), period_doubling_threshold(0.7177)
+    gammas = [0.5 * (g1 + g2), 1.1 * g2]
+    x, phases = bifurcation_diagram(TABLE, gammas, max_workers=2)
+    one, two = phases[x == gammas[0]], phases[x == gammas[1]]
+    assert len(one) == len(two) == 30
+    assert np.ptp(one) < 1e-6                       # one phase: period 1
+    assert np.ptp(two[::2]) < 1e-6 and np.ptp(two[1::2]) < 1e-6 and np.ptp(two) > 1e-2
+
+
+def test_sweep_on_a_local_dask_cluster():
+    distributed = pytest.importorskip('distributed', reason='optional extra: dask[distributed]')
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        executor = client.get_executor()
+        local = sweep(TABLE, [1.2], max_workers=1)
+        remote = sweep(TABLE, [1.2], executor=executor)
+        np.testing.assert_array_equal(local[0], remote[0])
+        assert sweep(_square, [2, 5], executor=executor) == [4, 25]
+
+
+def test_bifurcation_example_runs_as_a_script(tmp_path):
+    import subprocess
+    import sys
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[2]
+    out = subprocess.run([sys.executable, str(root / 'examples' / 'bifurcation.py'),
+                          '--points', '3', '--bounces', '10', '--transient', '10',
+                          '--workers', '1', '--gamma', '0.8', '1.5',
+                          '--out', str(tmp_path / 'b.png')],
+                         capture_output=True, text=True, check=True)
+    assert 'azad_featherstone' in out.stdout and 'linear' in out.stdout
+    assert (tmp_path / 'b.png').read_bytes()[:4] == b'\x89PNG'
