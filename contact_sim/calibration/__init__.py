@@ -5,7 +5,9 @@ from contact_sim.calibration.bounce_fit import BounceFit, LawFit, fit_bounces
 from contact_sim.calibration.bounces import BounceSequence, predict_bounces
 from contact_sim.calibration.recordings import (ImpactTimes, height_from_label,
                                                 parse_impact_times, read_impact_times)
+from contact_sim.calibration.bounce_fit import corrected_restitution_table, restitution_curve
 
 __all__ = ['AudioOnsets', 'BounceFit', 'BounceSequence', 'ImpactTimes', 'LawFit',
-           'bounce_times_from_audio', 'detect_onsets', 'fit_bounces', 'height_from_label',
-           'parse_impact_times', 'predict_bounces', 'read_impact_times']
+           'bounce_times_from_audio', 'corrected_restitution_table', 'detect_onsets',
+           'fit_bounces', 'height_from_label', 'parse_impact_times', 'predict_bounces',
+           'read_impact_times', 'restitution_curve']

@@ -39,12 +39,12 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from contact_sim.calibration.bounces import contact_map, impact_sequence, release_height, release_speed
-from contact_sim.model.contact import Contact
-from contact_sim.impact.damping_fit import _robust_weights, damping_for_restitution, require_fit_options
-from contact_sim.flight.drag import AirDrag, flight_to_plate
-from contact_sim.model.laws import LAWS, get_law
+from contact_sim.model import Contact
+from contact_sim.impact import robust_weights, damping_for_restitution, require_fit_options
+from contact_sim.flight import AirDrag, flight_to_plate
+from contact_sim.model import LAWS, get_law
 from contact_sim.calibration.recordings import ImpactTimes
-from contact_sim.impact.restitution import elastic_limits, impact_scales, restitution
+from contact_sim.impact import elastic_limits, impact_scales, restitution
 from contact_sim.validation import InputError, require_positive
 
 MICRO_BOUNCE_GROUP = 1e-2    # impacts with G = gT/v above this are left out (bounces doc)
@@ -350,7 +350,7 @@ def _damping_guess(law, stiffness, mass, e, speed):
     """λ giving restitution ``e`` at ``speed``: read off the master curve's nodes (a start
     value, no root finding); the exact inverse for a law without a master curve."""
     from contact_sim.calibration.bounces import _tables
-    from contact_sim.impact.restitution import damping_from_group
+    from contact_sim.impact import damping_from_group
     tables = _tables(law)
     if tables is None:
         return damping_for_restitution(law, stiffness, mass, e, speed)
@@ -425,7 +425,7 @@ def _fit_law(law, k, problem, x0, loss, confidence):
     x = result.x
     n_obs, n_par = result.fun.size, x.size
     dof = max(n_obs - n_par, 1)
-    weights = _robust_weights(loss, (result.fun / scale) ** 2)
+    weights = robust_weights(loss, (result.fun / scale) ** 2)
     weighted_sse = float(np.sum(weights * result.fun ** 2)) * res_unit ** 2
     s2 = float(np.sum(weights * result.fun ** 2)) / dof
     jac = result.jac.toarray() if hasattr(result.jac, 'toarray') else np.asarray(result.jac)

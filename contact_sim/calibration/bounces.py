@@ -38,11 +38,11 @@ from importlib import resources
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from contact_sim.model.contact import Contact
-from contact_sim.flight.drag import AirDrag, fall_time, flight_to_plate
-from contact_sim.model.laws import get_law
-from contact_sim.phase.integrator import PhaseIntegrator
-from contact_sim.impact.restitution import _group, dimensionless, impact_scales
+from contact_sim.model import Contact
+from contact_sim.flight import AirDrag, fall_time, flight_to_plate
+from contact_sim.model import get_law
+from contact_sim.phase import PhaseIntegrator
+from contact_sim.impact import damping_group_of, dimensionless, impact_scales
 from contact_sim.validation import require_int, require_positive, require_real
 
 TABLE_FILE = 'bounce_tables.npz'
@@ -75,9 +75,9 @@ def build_contact_table(law, points=TABLE_POINTS):
 
     a = -∂e_cross/∂G and b = ∂τ_cross/∂G by Richardson extrapolation of steps G and 2G.
     """
-    from contact_sim.impact.damping_fit import _group_for_restitution
+    from contact_sim.impact import group_for_restitution
     law = get_law(law)
-    grid = np.linspace(math.log(1e-5), math.log(_group_for_restitution(law, LOWEST_RESTITUTION)),
+    grid = np.linspace(math.log(1e-5), math.log(group_for_restitution(law, LOWEST_RESTITUTION)),
                        points)
     x_l, a, b = (np.empty(grid.size) for _ in range(3))
     for i, s in enumerate(grid):
@@ -131,7 +131,7 @@ class _Tables:
 
 @cache
 def _tables(law):
-    from contact_sim.impact.restitution import master_curve
+    from contact_sim.impact import master_curve
     curve = master_curve(law)
     if curve is None:
         return None
@@ -182,7 +182,7 @@ def contact_map(law, stiffness, damping, mass, gravity, speed, kappa=0.0, beta=0
     law = get_law(law)
     v = np.atleast_1d(np.asarray(speed, dtype=float))
     length, time = impact_scales(law, stiffness, mass, v)
-    zeta = np.broadcast_to(_group(law, length, v, damping, mass), v.shape)
+    zeta = np.broadcast_to(damping_group_of(law, length, v, damping, mass), v.shape)
     e0, tau0, xl, aa, bb = _contact_values(law, np.ascontiguousarray(zeta))
     g_group = gravity * time / v
     u = v * (e0 - g_group * aa)

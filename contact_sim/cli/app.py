@@ -13,13 +13,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from contact_sim.cli import plotting
-from contact_sim.model.contact import build_contact, build_mass
-from contact_sim.drop.engine import simulate_drop
-from contact_sim.impact.damping_fit import compare_laws, fit_damping
-from contact_sim.model.hertz import equivalent_radius
-from contact_sim.model.laws import AZAD_FEATHERSTONE, LAWS, get_law
-from contact_sim.model.materials import MATERIALS
-from contact_sim.impact.restitution import restitution
+from contact_sim.model import build_contact, build_mass
+from contact_sim.drop import simulate_drop
+from contact_sim.impact import compare_laws, fit_damping
+from contact_sim.model import equivalent_radius
+from contact_sim.model import AZAD_FEATHERSTONE, LAWS, get_law
+from contact_sim.model import MATERIALS
+from contact_sim.impact import restitution
 from contact_sim.validation import InputError, require_int, require_range
 
 MAX_POINTS = 1_000_000   # --points: the table is printed, one line a speed
@@ -90,7 +90,7 @@ def material(args, body):
     """The ``body`` ('sphere' or 'plate') material: the library one named by --sphere/--plate,
     with any of --BODY-modulus, --BODY-poisson, --BODY-density replacing its values; without a
     library name, a custom material from those three (``None`` if nothing is given)."""
-    from contact_sim.model.materials import Material
+    from contact_sim.model import Material
     name = getattr(args, body)
     options = (('youngs_modulus', 'modulus'), ('poisson_ratio', 'poisson'), ('density', 'density'))
     given = {field_: getattr(args, f'{body}_{option}', None) for field_, option in options}

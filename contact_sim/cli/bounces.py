@@ -6,12 +6,12 @@ import sys
 
 import numpy as np
 
-from contact_sim.calibration.bounce_fit import corrected_restitution_table, fit_bounces, restitution_curve
-from contact_sim.model.contact import build_contact, build_mass
-from contact_sim.impact.damping_fit import LOSSES
-from contact_sim.flight.drag import AIR_DENSITY, SPHERE_DRAG_COEFFICIENT, AirDrag
-from contact_sim.model.laws import LAWS
-from contact_sim.calibration.recordings import ImpactTimes, read_impact_times
+from contact_sim.calibration import corrected_restitution_table, fit_bounces, restitution_curve
+from contact_sim.model import build_contact, build_mass
+from contact_sim.impact import LOSSES
+from contact_sim.flight import AIR_DENSITY, SPHERE_DRAG_COEFFICIENT, AirDrag
+from contact_sim.model import LAWS
+from contact_sim.calibration import ImpactTimes, read_impact_times
 from contact_sim.validation import require_positive
 
 NOTES = """
@@ -86,9 +86,9 @@ def _sequences(args):
     sequences = []
     for path in args.data:
         if str(path).lower().endswith('.wav'):
-            from contact_sim.calibration.audio import bounce_times_from_audio
+            from contact_sim.calibration import bounce_times_from_audio
             onsets = bounce_times_from_audio(path)
-            from contact_sim.calibration.recordings import height_from_label
+            from contact_sim.calibration import height_from_label
             sequences.append(ImpactTimes(onsets.times, height_from_label(
                 str(path).rsplit('/', 1)[-1]), f'{path} (audio)'))
         else:

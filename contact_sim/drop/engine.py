@@ -21,9 +21,9 @@ import numpy as np
 from scipy.optimize import brentq
 
 from contact_sim.drop import plate as plate_motion
-from contact_sim.model.contact import require_contact
-from contact_sim.flight.drag import FlightPath
-from contact_sim.phase.integrator import PhaseIntegrator, contact_phase, lift_off_energy, phase_scales
+from contact_sim.model import require_contact
+from contact_sim.flight import FlightPath
+from contact_sim.phase import PhaseIntegrator, contact_phase, lift_off_energy, phase_scales
 from contact_sim.validation import (InputError, require_int, require_positive, require_range, require_real,
                          require_rtol)
 

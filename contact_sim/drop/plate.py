@@ -43,7 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contact_sim.phase.integrator import Forcing
+from contact_sim.phase import Forcing
 from contact_sim.validation import InputError, require_nonnegative, require_range, require_real
 
 

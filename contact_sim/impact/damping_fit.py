@@ -10,14 +10,14 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from contact_sim.model.contact import Contact
-from contact_sim.model.laws import LAWS, ContactLaw, get_law
+from contact_sim.model import Contact
+from contact_sim.model import LAWS, ContactLaw, get_law
 from contact_sim.impact.restitution import (ZETA_MAX, checked_scales, damping_from_group, dimensionless,
                           master_curve, restitution)
 from contact_sim.validation import InputError, require_positive, require_range
 
 
-def _group_for_restitution(law, target):
+def group_for_restitution(law, target):
     """ζ with e(ζ) = target (e decreases monotonically in ζ)."""
     def residual(log_zeta):
         return float(dimensionless('restitution', law, np.array(math.exp(log_zeta)))) - target
@@ -46,7 +46,7 @@ def damping_for_restitution(law, stiffness, mass, restitution, speed):
         raise InputError('restitution', e, '{n[restitution]} = {value} is out of range for law '
                          '%s: allowed %.12g <= {n[restitution]} <= 1 (damping group zeta <= %g)'
                          % (law.name, e_min * (1.0 + 1e-9), ZETA_MAX))
-    zeta = _group_for_restitution(law, e)
+    zeta = group_for_restitution(law, e)
     lam = float(damping_from_group(law, stiffness, mass, speed, zeta))
     if not 0.0 < lam < math.inf:
         raise InputError('speed', speed, '{n[speed]} = {value} is out of range for this contact: '
@@ -123,7 +123,7 @@ def require_fit_options(confidence, loss):
     return confidence, loss
 
 
-def _robust_weights(loss, z2):
+def robust_weights(loss, z2):
     """IRLS weight ρ'(z²) of each point for a least_squares loss (1 = full weight)."""
     if loss == 'soft_l1':
         return 1.0 / np.sqrt(1.0 + z2)
@@ -212,7 +212,7 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
                                    [math.log(lam)], loss=loss, f_scale=scale,
                                    xtol=1e-12, ftol=1e-12)
             lam = math.exp(float(robust.x[0]))
-            weights = _robust_weights(loss, (((model(lam) - e) / sigma) / scale) ** 2)
+            weights = robust_weights(loss, (((model(lam) - e) / sigma) / scale) ** 2)
     residuals = model(lam) - e
     rms = float(np.sqrt(np.mean(residuals ** 2)))
     # linearised in ln λ, so the interval stays positive: ln λ ± t σ / |∂e/∂ln λ|

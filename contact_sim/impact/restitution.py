@@ -37,9 +37,9 @@ from scipy.integrate import quad
 from scipy.interpolate import CubicSpline
 from scipy.special import beta, lambertw
 
-from contact_sim.model.contact import require_contact
+from contact_sim.model import require_contact
 from contact_sim.impact.simulate import simulate_impact
-from contact_sim.model.laws import HUNT_CROSSLEY, LINEAR, ContactLaw
+from contact_sim.model import HUNT_CROSSLEY, LINEAR, ContactLaw
 from contact_sim.validation import InputError, require_positive
 
 QUANTITIES = ('restitution', 'duration', 'peak_force', 'max_penetration')
@@ -64,7 +64,7 @@ def require_speeds(speed, name='speed'):
     return v
 
 
-def _group(law, length, speed, damping, mass):
+def damping_group_of(law, length, speed, damping, mass):
     """ζ = λ Z^(p+1) v^(q-2) / m at the impact length scale Z (m) and speed v (m/s): arrays or
     floats."""
     return damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
@@ -76,7 +76,7 @@ def checked_scales(law, stiffness, mass, speed, damping=0.0, name='speed'):
     v = require_speeds(speed, name)
     with np.errstate(all='ignore'):
         length, time = impact_scales(law, stiffness, mass, v)
-        zeta = _group(law, length, v, damping, mass)
+        zeta = damping_group_of(law, length, v, damping, mass)
     ok = (length > 0.0) & np.isfinite(length) & (time > 0.0) & np.isfinite(time) \
         & (zeta <= ZETA_MAX)
     if not np.all(ok):
@@ -91,7 +91,7 @@ def damping_group(law, stiffness, mass, speed, damping):
     """ζ = λ Z^(p+1) v^(q-2) / m, the one group the restitution depends on (see module doc)."""
     v = require_speeds(speed)
     length, _ = impact_scales(law, stiffness, mass, v)
-    return _group(law, length, v, damping, mass)
+    return damping_group_of(law, length, v, damping, mass)
 
 
 def damping_from_group(law, stiffness, mass, speed, zeta):
@@ -446,7 +446,7 @@ def master_curve(law):
 # -- the public fast path -----------------------------------------------------------------
 def _exact_dimensionless(law, zeta):
     """(e, τc, F̂, x̂) of the unit problem, by ``simulate_impact`` (the slow path)."""
-    from contact_sim.model.contact import Contact
+    from contact_sim.model import Contact
     r = simulate_impact(Contact(law, 1.0, float(zeta)), 1.0, 1.0)
     return {'restitution': r.restitution, 'duration': r.contact_duration,
             'peak_force': r.peak_force, 'max_penetration': r.max_penetration}
@@ -510,7 +510,7 @@ def _scalar_restitution(contact, mass, speed):
     contact = require_contact(contact)
     law = contact.law
     length = (mass * speed * speed / contact.stiffness) ** (1.0 / (law.n + 1.0))
-    zeta = _group(law, length, speed, contact.damping, mass)
+    zeta = damping_group_of(law, length, speed, contact.damping, mass)
     if not (zeta <= ZETA_MAX and 0.0 < length < math.inf):
         return _dimensional('restitution', contact, mass, speed)   # raises, naming the speed
     closed = CLOSED_FORMS.get(law)

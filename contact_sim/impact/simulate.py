@@ -7,8 +7,8 @@ law that happens while z > 0).  See ``phase`` for the formulation.  Units: SI.
 import math
 from dataclasses import dataclass
 
-from contact_sim.model.contact import require_contact
-from contact_sim.phase.integrator import DEFAULT_RTOL, contact_phase, lift_off_energy
+from contact_sim.model import require_contact
+from contact_sim.phase import DEFAULT_RTOL, contact_phase, lift_off_energy
 from contact_sim.validation import require_int, require_nonnegative, require_positive, require_rtol
 
 

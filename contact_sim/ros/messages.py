@@ -22,7 +22,7 @@ from rclpy.serialization import deserialize_message, serialize_message
 from rosgraph_msgs.msg import Clock as ClockMsg
 from std_msgs.msg import Float64MultiArray, MultiArrayDimension, MultiArrayLayout
 
-from contact_sim.drop.plate import sphere_motion
+from contact_sim.drop import sphere_motion
 
 IMPACT_FIELDS = ('time', 'impact_speed', 'rebound_speed', 'restitution', 'contact_duration',
                  'peak_force', 'max_penetration')

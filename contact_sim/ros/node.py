@@ -71,7 +71,7 @@ from rclpy.serialization import serialize_message
 from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory
 
-from contact_sim.drop.plate import command_motion, sphere_motion
+from contact_sim.drop import command_motion, sphere_motion
 from contact_sim.validation import InputError
 
 from .messages import PROGRESS, TOPICS, contact_samples, impact_msg, impact_ok, sample_columns, \

@@ -20,9 +20,9 @@ from dataclasses import dataclass
 from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 
 import contact_sim as cs
-from contact_sim.drop.engine import GRAVITY_MAX, HEIGHT_MAX, VELOCITY_MAX
-from contact_sim.flight.drag import AIR_DENSITY
-from contact_sim.drop.plate import (TABLE_ACCELERATION_MAX, TABLE_AMPLITUDE_MAX, TABLE_FREQUENCY_MAX,
+from contact_sim.drop import GRAVITY_MAX, HEIGHT_MAX, VELOCITY_MAX
+from contact_sim.flight import AIR_DENSITY
+from contact_sim.drop import (TABLE_ACCELERATION_MAX, TABLE_AMPLITUDE_MAX, TABLE_FREQUENCY_MAX,
                                TABLE_PHASE_MAX, table_transition, vibrating_table)
 from contact_sim.validation import InputError, require_positive, require_range
 

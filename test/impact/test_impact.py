@@ -106,8 +106,8 @@ def _random_points(law, count, seed):
 
 
 def _zeta_for(law, e):
-    from contact_sim.impact.damping_fit import _group_for_restitution
-    return _group_for_restitution(law, e)
+    from contact_sim.impact.damping_fit import group_for_restitution
+    return group_for_restitution(law, e)
 
 
 @pytest.mark.parametrize('law', LAWS, ids=IDS)

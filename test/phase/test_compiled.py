@@ -25,9 +25,9 @@ PAPER = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5)
 
 def _random_impacts(law, count, seed):
     """Random physical (k, m, v, λ) whose restitution (no gravity) lies in [0.01, 0.999]."""
-    from contact_sim.impact.damping_fit import _group_for_restitution
+    from contact_sim.impact.damping_fit import group_for_restitution
     rng = np.random.default_rng(seed)
-    lo, hi = _group_for_restitution(law, 0.999), _group_for_restitution(law, 0.01)
+    lo, hi = group_for_restitution(law, 0.999), group_for_restitution(law, 0.01)
     zeta = np.exp(rng.uniform(math.log(lo), math.log(hi), count))
     k = 10 ** rng.uniform(5, 11, count)
     m = 10 ** rng.uniform(-3, 1, count)
