@@ -10,10 +10,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from contact_sim.model import Contact
-from contact_sim.model import LAWS, ContactLaw, get_law
-from contact_sim.impact.restitution import (ZETA_MAX, checked_scales, damping_from_group, dimensionless,
-                          master_curve, restitution)
+from contact_sim.impact.dimensionless import dimensionless
+from contact_sim.impact.restitution import damping_from_group, restitution
+from contact_sim.impact.scales import ZETA_MAX, checked_scales
+from contact_sim.model import LAWS, Contact, ContactLaw, get_law
 from contact_sim.validation import InputError, require_positive, require_range
 
 
@@ -22,7 +22,7 @@ def group_for_restitution(law, target):
     def residual(log_zeta):
         return float(dimensionless('restitution', law, np.array(math.exp(log_zeta)))) - target
 
-    curve = master_curve(law)
+    curve = law.master_curve
     lo, hi = (math.log(z) for z in curve.zeta_range) if curve else (math.log(1e-5),
                                                                         math.log(1e3))
     while residual(lo) < 0.0:
