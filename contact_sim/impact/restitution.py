@@ -57,7 +57,7 @@ def _dimensional(quantity, contact, mass, speeds):
     mass = require_positive('mass', mass)
     scalar = np.ndim(speeds) == 0
     k = contact.stiffness
-    length, time, zeta = checked_scales(law, k, mass, speeds, contact.damping)
+    length, time, zeta = checked_scales(contact, mass, speeds)
     value = dimensionless(quantity, law, zeta)
     scale = {'restitution': 1.0, 'duration': time, 'peak_force': k * length ** law.n,
              'max_penetration': length}[quantity]

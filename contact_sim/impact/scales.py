@@ -33,13 +33,15 @@ def damping_group_of(law, length, speed, damping, mass):
     return damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
 
 
-def checked_scales(law, stiffness, mass, speed, damping=0.0, name='speed'):
-    """(Z, T, ζ) of impacts at ``speed`` (arrays), refused with ``InputError`` on ``name`` when
-    Z or T is not a finite positive number or ζ exceeds ``ZETA_MAX``."""
+def checked_scales(contact, mass, speed, name='speed'):
+    """(Z, T, ζ) of impacts of ``contact`` (a ``Contact``) with the mass ``mass`` (kg) at
+    ``speed`` (m/s, arrays), refused with ``InputError`` on ``name`` when Z or T is not a finite
+    positive number or ζ exceeds ``ZETA_MAX``."""
+    law = contact.law
     v = require_speeds(speed, name)
     with np.errstate(all='ignore'):
-        length, time = impact_scales(law, stiffness, mass, v)
-        zeta = damping_group_of(law, length, v, damping, mass)
+        length, time = impact_scales(law, contact.stiffness, mass, v)
+        zeta = damping_group_of(law, length, v, contact.damping, mass)
     ok = (length > 0.0) & np.isfinite(length) & (time > 0.0) & np.isfinite(time) \
         & (zeta <= ZETA_MAX)
     if not np.all(ok):

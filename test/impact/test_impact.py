@@ -8,7 +8,8 @@ import pytest
 
 import contact_sim as cs
 from contact_sim.impact import dimensionless, master_curve
-from contact_sim.model.closed_forms import hunt_crossley_restitution, linear_restitution_and_duration
+from contact_sim.model.closed_forms import (hunt_crossley_restitution,
+                                            linear_restitution_and_duration)
 
 ROOT = Path(__file__).resolve().parents[2]
 LAWS = list(cs.LAWS.values())
