@@ -15,9 +15,19 @@ from contact_sim.model import Contact
 
 
 def master_curve(law):
-    """The shipped master curve of ``law`` (a ``ContactLaw``: ``law.master_curve``), or ``None``:
-    registered per law (its name and exponents), so a custom law is integrated even where its
-    exponents equal a named law's."""
+    """The shipped master curve of a law.
+
+    Parameters
+    ----------
+    law : ContactLaw
+        The law.
+
+    Returns
+    -------
+    MasterCurve or None
+        ``law.master_curve``: registered per law (its name and exponents), so a custom law has
+        none even where its exponents equal a named law's, and is integrated.
+    """
     return law.master_curve
 
 

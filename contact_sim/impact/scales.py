@@ -34,9 +34,30 @@ def damping_group_of(law, length, speed, damping, mass):
 
 
 def checked_scales(contact, mass, speed, name='speed'):
-    """(Z, T, ζ) of impacts of ``contact`` (a ``Contact``) with the mass ``mass`` (kg) at
-    ``speed`` (m/s, arrays), refused with ``InputError`` on ``name`` when Z or T is not a finite
-    positive number or ζ exceeds ``ZETA_MAX``."""
+    """The scales of impacts of one contact at the given speeds.
+
+    Parameters
+    ----------
+    contact : Contact
+        The law with its stiffness k (N/m^n) and damping λ (N·s^q/m^(p+q)).
+    mass : float
+        The (reduced) mass in kg.
+    speed : float or array_like
+        Impact speeds in m/s.
+    name : str, optional
+        The field an ``InputError`` names.
+
+    Returns
+    -------
+    tuple of ndarray
+        (Z in m, T in s, ζ dimensionless), of the shape of ``speed``.
+
+    Raises
+    ------
+    InputError
+        On ``name``: a speed not finite and positive, or whose Z or T is not a finite positive
+        number, or whose ζ exceeds ``ZETA_MAX``.
+    """
     law = contact.law
     v = require_speeds(speed, name)
     with np.errstate(all='ignore'):

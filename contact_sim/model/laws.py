@@ -1,18 +1,18 @@
-"""Contact normal-force laws of the family F = k z^n + λ z^p ż^q (Azad & Featherstone 2014, eq. 1),
-and the registry of what each law can do.
+"""Contact normal-force laws of the family F = k z^n + λ z^p ż^q (Azad & Featherstone 2014,
+eq. 1), and the registry of what each law can do.
 
 Units are SI throughout: penetration z in m, penetration rate ż in m/s (z > 0 is penetration,
 ż > 0 is approach), stiffness k in N/m^n, damping λ in N·s^q/m^(p+q), force in N.
 
-A ``ContactLaw`` carries its abilities, and this module is the one place that reads its
+A ``ContactLaw`` carries its abilities, and this module is the one place that compares its
 exponents or its name to decide them: ``hertz``, ``linear_in_rate``, ``damps_at_touch``,
 ``constant_restitution``, ``kernel`` (the compiled kernel's short form), ``closed_form`` (its
 exact dimensionless results, ``closed_forms``) and ``master_curve`` (its shipped table,
 ``master_curves``).  Every other layer asks the law.
 
 Why the closed forms and the master curves are model-level facts: both are pure functions of
-the law and the damping group ζ (the closed forms need numpy and scipy.special, the curves
-numpy and the shipped ``data/master_curves.npz``), with no time stepping and nothing of the
+the law and the damping group ζ (the closed forms need numpy and scipy's special functions
+and quadrature, the curves numpy and the shipped ``data/master_curves.npz``), with no time stepping and nothing of the
 impact layer in them.  Kept here, the law can answer for them without an upward import (model
 never imports impact) and without a cycle (``closed_forms`` and ``master_curves`` import
 nothing of the package); the impact layer derives ζ, the tails and the dimensional results
@@ -148,9 +148,21 @@ CLOSED_FORMS = {HUNT_CROSSLEY: HUNT_CROSSLEY_FORM, LINEAR: LINEAR_FORM}   # Cont
 
 
 def register_closed_form(law, vector, scalar=None, table_duration=None):
-    """Use the exact functions ``vector`` (quantity -> f(ζ array)), ``scalar`` (e(ζ) for one
-    float) and ``table_duration`` ((ζ0, τc(ζ))) for ``law``, a ``ContactLaw``: keyed by the law
-    itself (its name and exponents), not by its exponents."""
+    """Give ``law`` exact dimensionless results: keyed by the law itself (its name and
+    exponents), not by its exponents, so ``law.closed_form`` answers them from now on.
+
+    Parameters
+    ----------
+    law : ContactLaw
+        The law.
+    vector : mapping
+        Quantity ('restitution', 'duration', 'peak_force', 'max_penetration') -> function of
+        an array of damping groups ζ > 0 (dimensionless) giving e, τc (units of T), F̂ or x̂.
+    scalar : callable, optional
+        e(ζ) for one float ζ > 0, in plain Python.
+    table_duration : tuple, optional
+        (ζ0, τc): the exact duration τc(ζ) for one float ζ >= ζ0, used to build a master curve.
+    """
     CLOSED_FORMS[law] = ClosedForm(dict(vector), scalar, table_duration)
 
 

@@ -79,6 +79,19 @@ def _load_tables():
 
 
 def curve_for(name, exponents):
-    """The shipped master curve of the law ``name`` with ``exponents`` (n, p, q), or ``None``:
-    a custom law is integrated even where its exponents equal a named law's."""
+    """The shipped master curve of one law (``ContactLaw.master_curve`` asks it).
+
+    Parameters
+    ----------
+    name : str
+        The law's name.
+    exponents : tuple of float
+        Its (n, p, q).
+
+    Returns
+    -------
+    MasterCurve or None
+        The table of the law with this name and these exponents, or ``None``: a custom law is
+        integrated even where its exponents equal a named law's.
+    """
     return _load_tables().get((name, tuple(exponents)))

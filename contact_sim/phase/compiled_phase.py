@@ -1,4 +1,4 @@
-"""One contact phase integrated in compiled code: the ``compiled`` kernels behind the phase interface.
+"""One contact phase in compiled code: the ``compiled`` kernels behind the phase interface.
 
 The same mathematics as the reference (``reference.PhaseIntegrator``): DOP853 with scipy's step
 control, the 7th-order dense output and Brent event location, all in numba, so that ``run``

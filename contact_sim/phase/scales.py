@@ -43,9 +43,23 @@ def phase_scales(contact, mass, gravity, penetration, penetration_rate):
 
 
 def start_peak_force(contact, penetration, penetration_rate, force):
-    """The largest force (N) of a phase at its start (z, ż): ``force``, the force there, or at
-    the touch of a law that damps at touch (p = 0, z <= 0, ż > 0) the limit λ ż^q as z -> 0+
-    if that is larger (the force jumps to it at once)."""
+    """The largest force of a phase at its start.
+
+    Parameters
+    ----------
+    contact : Contact
+        The contact.
+    penetration, penetration_rate : float
+        z (m) and ż (m/s) at the start.
+    force : float
+        The force at (z, ż) in N, as the engine evaluates it.
+
+    Returns
+    -------
+    float
+        ``force``, or at the touch (z <= 0, ż > 0) of a law that damps at touch (p = 0) the
+        limit λ ż^q (N) as z -> 0+ if that is larger: the force jumps to it at once.
+    """
     law = contact.law
     if penetration <= 0.0 and law.damps_at_touch and penetration_rate > 0.0:
         return max(force, contact.damping * penetration_rate ** law.q)
