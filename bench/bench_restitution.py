@@ -62,7 +62,7 @@ def zeta_sweep():
         contacts = [cs.Contact(law, 1.0, z) for z in zetas[:2000]]
         # vectorised over ζ at one speed: speeds v give ζ ∝ v^(2(p+1)/(n+1)+q-2); the work is
         # the same per element, so time the dimensionless evaluation the speeds reduce to
-        from contact_sim.impact.restitution import dimensionless
+        from contact_sim.impact import dimensionless
         dimensionless('restitution', law, zetas[:10])
         vector = best_time(lambda lw=law: dimensionless('restitution', lw, zetas), repeat=3)
         scalar = best_time(lambda: [cs.restitution(c, 1.0, 1.0) for c in contacts]) \

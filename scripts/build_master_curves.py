@@ -4,7 +4,7 @@ law on a uniform grid in ln ζ, each point computed by the package's own exact `
 
     python scripts/build_master_curves.py [--step 0.02] [--zeta-min 1e-5] [--zeta-max 1e3]
 
-Reproducibility (test/test_impact.py checks it at sampled grid points): every e to 1e-10
+Reproducibility (test/impact/test_impact.py checks it at sampled grid points): every e to 1e-10
 absolute, τc, F̂, x̂ to 1e-8 relative.  The Hunt-Crossley duration from ζ = 0.1 on is the
 quadrature of its first integral and the linear law's its closed form: integrating those impacts
 locates a lift-off that moves with the tolerance where e < 0.05 (the force fades long before it
@@ -18,23 +18,22 @@ from pathlib import Path
 
 import numpy as np
 
-from contact_sim import LAWS
-from contact_sim.impact.restitution import (QUANTITIES, TABLE_FILE, _exact_dimensionless,
-                                     hunt_crossley_duration, linear_restitution_and_duration)
-
-HC_QUADRATURE_FROM = 0.1   # ζ from which the Hunt-Crossley duration comes from its first integral
+from contact_sim.impact.dimensionless import _exact_dimensionless
+from contact_sim.model import LAWS, QUANTITIES
+from contact_sim.model.master_curves import TABLE_FILE
 
 
 def _row(args):
     name, zeta = args
-    result = _exact_dimensionless(LAWS[name], zeta)
+    law = LAWS[name]
+    result = _exact_dimensionless(law, zeta)
     # Where the force fades long before it is exactly zero (e < 0.05) the located lift-off of
-    # the integration is ill-conditioned: the Hunt-Crossley duration comes from the quadrature
-    # of its first integral, the linear law's from its closed form (both exact).
-    if name == 'hunt_crossley' and zeta >= HC_QUADRATURE_FROM:
-        result['duration'] = hunt_crossley_duration(zeta)
-    elif name == 'linear':
-        result['duration'] = float(linear_restitution_and_duration(zeta)[1])
+    # the integration is ill-conditioned: a law with an exact duration (its closed form's
+    # table_duration: the Hunt-Crossley quadrature of its first integral from zeta = 0.1, the
+    # linear law's closed form everywhere) takes that one.
+    exact = law.closed_form.table_duration if law.closed_form is not None else None
+    if exact is not None and zeta >= exact[0]:
+        result['duration'] = exact[1](zeta)
     return [result[q] for q in QUANTITIES]
 
 

@@ -1,5 +1,11 @@
 """One impact: ``simulate_impact``; restitution, duration, peak force and depth for any speed
-(closed forms and master curves, exact where they do not reach); fits of the damping λ."""
+(closed forms and master curves, exact where they do not reach); fits of the damping λ.
+
+``simulate`` (the exact reference path), ``scales`` (Z, T and the damping group ζ),
+``tails`` (asymptotics beyond a master curve), ``dimensionless`` (e, τc, F̂, x̂ of ζ from the
+best source the law has), ``restitution`` (the dimensional results), ``damping_fit`` (λ from
+restitution, fits to data).
+"""
 from contact_sim.impact.damping_fit import (DampingFit, compare_laws, damping_for_restitution,
                                             fit_damping)
 from contact_sim.impact.restitution import (contact_duration, damping_from_group, damping_group,
@@ -7,8 +13,9 @@ from contact_sim.impact.restitution import (contact_duration, damping_from_group
 from contact_sim.impact.simulate import ImpactResult, simulate_impact
 from contact_sim.impact.damping_fit import (LOSSES, group_for_restitution, require_fit_options,
                                             robust_weights)
-from contact_sim.impact.restitution import (damping_group_of, dimensionless, elastic_limits,
-                                            impact_scales, master_curve)
+from contact_sim.impact.dimensionless import dimensionless, master_curve
+from contact_sim.impact.scales import damping_group_of, impact_scales
+from contact_sim.impact.tails import elastic_limits
 
 __all__ = ['DampingFit', 'ImpactResult', 'LOSSES', 'compare_laws', 'contact_duration',
            'damping_for_restitution', 'damping_from_group', 'damping_group', 'damping_group_of',

@@ -10,10 +10,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from contact_sim.model import Contact
-from contact_sim.model import LAWS, ContactLaw, get_law
-from contact_sim.impact.restitution import (ZETA_MAX, checked_scales, damping_from_group, dimensionless,
-                          master_curve, restitution)
+from contact_sim.impact.dimensionless import dimensionless
+from contact_sim.impact.restitution import damping_from_group, restitution
+from contact_sim.impact.scales import ZETA_MAX, checked_scales
+from contact_sim.model import LAWS, Contact, ContactLaw, get_law
 from contact_sim.validation import InputError, require_positive, require_range
 
 
@@ -22,7 +22,7 @@ def group_for_restitution(law, target):
     def residual(log_zeta):
         return float(dimensionless('restitution', law, np.array(math.exp(log_zeta)))) - target
 
-    curve = master_curve(law)
+    curve = law.master_curve
     lo, hi = (math.log(z) for z in curve.zeta_range) if curve else (math.log(1e-5),
                                                                         math.log(1e3))
     while residual(lo) < 0.0:
@@ -33,11 +33,40 @@ def group_for_restitution(law, target):
 
 
 def damping_for_restitution(law, stiffness, mass, restitution, speed):
-    """λ that gives exactly ``restitution`` for an impact at ``speed`` (m/s), no gravity."""
-    law = get_law(law)
-    stiffness = require_positive('stiffness', stiffness)
-    mass = require_positive('mass', mass)
-    checked_scales(law, stiffness, mass, speed)     # Z, T finite: else an InputError on speed
+    """λ that gives exactly ``restitution`` for an impact at ``speed`` (m/s), no gravity.
+
+    Parameters
+    ----------
+    law : ContactLaw or str
+        The law, or its name in ``LAWS``.
+    stiffness : float
+        k in N/m^n.
+    mass : float
+        The (reduced) mass in kg.
+    restitution : float
+        The target e, 0 < e <= 1.
+    speed : float
+        The impact speed in m/s.
+
+    Returns
+    -------
+    float
+        λ in N·s^q/m^(p+q) (0 for e = 1).
+
+    Raises
+    ------
+    InputError
+        Keyed ``law``, ``stiffness``, ``mass``, ``restitution`` or ``speed``: an unknown law, a
+        value out of range, or an e below what the largest damping group gives.
+    """
+    return _damping_for_restitution(get_law(law), require_positive('stiffness', stiffness),
+                                    require_positive('mass', mass), restitution, speed)
+
+
+def _damping_for_restitution(law, stiffness, mass, restitution, speed):
+    """``damping_for_restitution`` for a ``ContactLaw`` and checked k, m."""
+    # Z, T of the undamped contact finite: else an InputError on speed
+    checked_scales(Contact(law, stiffness, 0.0), mass, speed)
     e = require_range('restitution', restitution, 0.0, 1.0, low_open=True)
     if e == 1.0:
         return 0.0
@@ -170,7 +199,7 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     pointwise = np.full(v.size, math.nan)      # nan where e > 1: no damping gives it
     for i, (vi, ei) in enumerate(zip(v, e)):
         try:     # (e > 1: the speed is checked all the same, and the point has no λ)
-            lam_i = damping_for_restitution(law, stiffness, mass, min(ei, 1.0), vi)
+            lam_i = _damping_for_restitution(law, stiffness, mass, min(ei, 1.0), vi)
             pointwise[i] = lam_i if ei <= 1.0 else math.nan
         except InputError as error:    # name the data point it came from
             which = {'speed': 'speeds', 'restitution': 'restitutions'}[error.field]

@@ -53,7 +53,7 @@ class Contact:
         N·s/m² for the Azad-Featherstone law (the default 0 is a purely elastic contact).
         """
         law = get_law(law)
-        if law.n != 1.5:
+        if not law.hertz:
             raise ValueError(f'law = {law.name!r} has n = {law.n:g}: Hertz stiffness needs n = 1.5 '
                              '(allowed: azad_featherstone, hunt_crossley, lee_wang or a custom '
                              'law with n = 1.5)')
@@ -89,7 +89,7 @@ def build_contact(law, *, stiffness=None, damping=None, damping_factor=None, sph
             raise InputError('stiffness', None, '{n[stiffness]} is missing: give {n[stiffness]} '
                              '(N/m^n), or {n[sphere]}, {n[plate]} and {n[radius]} for the Hertz '
                              'stiffness')
-        if law.n != 1.5:
+        if not law.hertz:
             raise InputError('stiffness', None, '{n[stiffness]} is missing: {n[law]} = %r has '
                              'n = %g and the Hertz stiffness needs n = 1.5; give {n[stiffness]} '
                              '(N/m^n)' % (law.name, law.n))

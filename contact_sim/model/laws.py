@@ -1,7 +1,27 @@
-"""Contact normal-force laws of the family F = k z^n + λ z^p ż^q (Azad & Featherstone 2014, eq. 1).
+"""Contact normal-force laws of the family F = k z^n + λ z^p ż^q (Azad & Featherstone 2014,
+eq. 1), and the registry of what each law can do.
 
 Units are SI throughout: penetration z in m, penetration rate ż in m/s (z > 0 is penetration,
 ż > 0 is approach), stiffness k in N/m^n, damping λ in N·s^q/m^(p+q), force in N.
+
+A ``ContactLaw`` carries its abilities, and this module is the one place that compares its
+exponents or its name to decide them: ``hertz``, ``linear_in_rate``, ``damps_at_touch``,
+``constant_restitution``, ``kernel`` (the compiled kernel's short form), ``closed_form`` (its
+exact dimensionless results, ``closed_forms``) and ``master_curve`` (its shipped table,
+``master_curves``).  Every other layer asks the law.
+
+Why the closed forms and the master curves are model-level facts: both are pure functions of
+the law and the damping group ζ (the closed forms need numpy and scipy's special functions
+and quadrature, the curves numpy and the shipped ``data/master_curves.npz``), with no time stepping and nothing of the
+impact layer in them.  Kept here, the law can answer for them without an upward import (model
+never imports impact) and without a cycle (``closed_forms`` and ``master_curves`` import
+nothing of the package); the impact layer derives ζ, the tails and the dimensional results
+from what the law answers.
+
+How a law is recognised: the closed forms and the curves belong to a registered law, its name
+and exponents together (the dataclass's equality), so a custom law whose exponents equal a
+named law's is integrated (``impact`` warns once); the compiled kernel is a statement about the
+exponents alone (which pow() calls it avoids), so any law with a named law's exponents gets it.
 """
 from dataclasses import dataclass
 
@@ -9,6 +29,8 @@ import math
 
 import numpy as np
 
+from contact_sim.model.closed_forms import HUNT_CROSSLEY_FORM, LINEAR_FORM, ClosedForm
+from contact_sim.model.master_curves import curve_for
 from contact_sim.validation import InputError, require_positive, require_range
 
 
@@ -63,6 +85,18 @@ class ContactLaw:
         1 Azad-Featherstone, 2 Hunt-Crossley, 3 Lee-Wang, 4 linear), 0 for the general power law."""
         return _KERNELS.get((self.n, self.p, self.q), 0)
 
+    @property
+    def closed_form(self):
+        """The law's ``ClosedForm`` (exact e, τc as functions of ζ), or ``None``: registered per
+        law (``register_closed_form``), never found by exponents."""
+        return CLOSED_FORMS.get(self)
+
+    @property
+    def master_curve(self):
+        """The law's shipped ``MasterCurve`` (e, τc, F̂, x̂ against ζ), or ``None``: a table
+        belongs to a named law, its name and exponents (loaded on first use)."""
+        return curve_for(self.name, (self.n, self.p, self.q))
+
     def reduced_force(self, z, zdot, k, damping):
         """φ = k z^(n-p) + λ ż|ż|^(q-1), so that the unclamped force is z^p φ (z > 0).
 
@@ -109,6 +143,27 @@ LEE_WANG = ContactLaw('lee_wang', 1.5, 1.0, 1.0)
 LINEAR = ContactLaw('linear', 1.0, 0.0, 1.0)  # spring-damper: n = q = 1, p = 0
 
 LAWS = {law.name: law for law in (AZAD_FEATHERSTONE, HUNT_CROSSLEY, LEE_WANG, LINEAR)}
+
+CLOSED_FORMS = {HUNT_CROSSLEY: HUNT_CROSSLEY_FORM, LINEAR: LINEAR_FORM}   # ContactLaw -> ClosedForm
+
+
+def register_closed_form(law, vector, scalar=None, table_duration=None):
+    """Give ``law`` exact dimensionless results: keyed by the law itself (its name and
+    exponents), not by its exponents, so ``law.closed_form`` answers them from now on.
+
+    Parameters
+    ----------
+    law : ContactLaw
+        The law.
+    vector : mapping
+        Quantity ('restitution', 'duration', 'peak_force', 'max_penetration') -> function of
+        an array of damping groups ζ > 0 (dimensionless) giving e, τc (units of T), F̂ or x̂.
+    scalar : callable, optional
+        e(ζ) for one float ζ > 0, in plain Python.
+    table_duration : tuple, optional
+        (ζ0, τc): the exact duration τc(ζ) for one float ζ >= ζ0, used to build a master curve.
+    """
+    CLOSED_FORMS[law] = ClosedForm(dict(vector), scalar, table_duration)
 
 
 def get_law(name):

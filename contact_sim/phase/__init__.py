@@ -1,14 +1,36 @@
-"""One contact phase: from touch to lift-off (or rest), integrated exactly.
+"""One contact phase, integrated exactly: from the instant the force switches on to lift-off.
 
-``integrator`` holds the phase's time scales, the plate forcing, the scipy reference integrator,
-the compiled phase and the engine switch; ``compiled`` the numba kernels (DOP853 with dense
-output and located events); ``_dop853_coefficients`` the generated tableau.
+The phase is solved in dimensionless form.  With a length scale Z and a time scale T,
+x = z / Z and τ = t / T turn  m z̈ = m g - k zⁿ - λ zᵖ ż|ż|^(q-1)  into
+
+    x'' = γ - xⁿ - ζ xᵖ x'|x'|^(q-1),    γ = g T² / Z,   ζ = λ Z^(p+q-1) T^(2-q) / m,
+
+with T = √(m Z^(1-n) / k) so that the spring term has unit coefficient.  Z is the penetration at
+which the spring would store the phase's kinetic energy (or the static deflection under gravity,
+whichever is larger), so x and x' are of order one and tolerances mean the same at every speed.
+
+√z is not smooth in t at touch (z ≈ v t, so the damping force of the new law grows like √t and z
+carries a t^(5/2) term): a high-order integrator loses its order there.  Integrating in σ = √τ
+instead makes every term a power series in σ (z ≈ v σ², σ⁵, σ⁷, ...), so DOP853 keeps its 8th
+order from the first step.  Lift-off is the first instant the clamped force returns to zero:
+x = 0 or φ = x^(n-p) + ζ x'|x'|^(q-1) = 0 (the force is xᵖ φ and φ is smooth where the force
+is not); both are located on the dense output to machine precision.
+
+Modules, one job each: ``scales`` (Z, T, γ, ζ of a phase, the tolerances, the force at its
+start), ``forcing`` (plate motion and drag beyond gravity), ``energy`` (the energy above rest and
+the lift-off bound), ``reference`` (``PhaseIntegrator``: scipy's DOP853 or Radau stepped from
+Python, the reference path), ``compiled_phase`` (``CompiledPhase``, the default engine) over
+``compiled`` (the numba kernels: DOP853 with dense output and located events) and
+``_dop853_coefficients`` (the generated tableau), ``engines`` (the engine switch and
+``contact_phase``, which picks one).
 """
-from contact_sim.phase.integrator import (COMPILED_STIFF_DAMPING, DEFAULT_ATOL, DEFAULT_RTOL,
-                                          ENGINES, STIFF_DAMPING, CompiledPhase, Forcing,
-                                          PhaseIntegrator, PhaseScales, contact_phase,
-                                          energy_above_rest, get_engine, lift_off_energy,
-                                          phase_scales, set_engine, use_engine)
+from contact_sim.phase.compiled_phase import CompiledPhase
+from contact_sim.phase.energy import energy_above_rest, lift_off_energy
+from contact_sim.phase.engines import (COMPILED_STIFF_DAMPING, ENGINES, contact_phase, get_engine,
+                                       set_engine, use_engine)
+from contact_sim.phase.forcing import Forcing
+from contact_sim.phase.reference import STIFF_DAMPING, PhaseIntegrator
+from contact_sim.phase.scales import DEFAULT_ATOL, DEFAULT_RTOL, PhaseScales, phase_scales
 
 __all__ = ['COMPILED_STIFF_DAMPING', 'DEFAULT_ATOL', 'DEFAULT_RTOL', 'ENGINES', 'STIFF_DAMPING',
            'CompiledPhase', 'Forcing', 'PhaseIntegrator', 'PhaseScales', 'contact_phase',

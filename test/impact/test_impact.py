@@ -7,8 +7,9 @@ import numpy as np
 import pytest
 
 import contact_sim as cs
-from contact_sim.impact.restitution import (dimensionless, hunt_crossley_restitution,
-                                     linear_restitution_and_duration, master_curve)
+from contact_sim.impact import dimensionless, master_curve
+from contact_sim.model.closed_forms import (hunt_crossley_restitution,
+                                            linear_restitution_and_duration)
 
 ROOT = Path(__file__).resolve().parents[2]
 LAWS = list(cs.LAWS.values())
@@ -42,7 +43,7 @@ def test_simulate_impact_is_converged_to_1e9(law, zeta):
 
 def test_new_law_lifts_off_with_positive_penetration_and_no_pull():
     contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5)
-    from contact_sim.phase.integrator import PhaseIntegrator
+    from contact_sim.phase import PhaseIntegrator
     phase = PhaseIntegrator(contact, 0.066, 0.0, 0.0, 0.0, 1.0)
     while not phase.lifted_off:
         phase.step()
@@ -187,8 +188,8 @@ def test_bad_speeds_are_rejected_with_the_range(bad):
 
 
 def test_scalar_closed_forms_equal_the_vectorised_ones():
-    from contact_sim.impact.restitution import (hunt_crossley_restitution_scalar,
-                                         linear_restitution_scalar)
+    from contact_sim.model.closed_forms import (hunt_crossley_restitution_scalar,
+                                                linear_restitution_scalar)
     zetas = np.concatenate([[1e-9, 1e-4, 1e-3, 0.5, 1.0, 1.99, 2.0, 2.01], np.geomspace(1e-6, 1e4, 97)])
     for zeta in zetas:
         assert hunt_crossley_restitution_scalar(zeta) == pytest.approx(
@@ -242,7 +243,7 @@ TAIL_ZETAS = [1e-12, 1e-9, 1e-7, 3e-6, 2e3, 1e4, 1e6, 1e8]
 def test_restitution_beyond_the_tables_is_within_1e_8_of_the_exact_path(law, monkeypatch):
     # reproduced: outside the master curves restitution() integrated (19 ms a call)
     exact = np.array([exact_e(law, z) for z in TAIL_ZETAS])
-    fast = importlib.import_module('contact_sim.impact.restitution')   # (cs.restitution is the function)
+    fast = importlib.import_module('contact_sim.impact.dimensionless')   # (it defines the slow path)
 
     def refuse(*_):
         raise AssertionError('the fast path integrated')
@@ -256,7 +257,7 @@ def test_restitution_beyond_the_tables_is_within_1e_8_of_the_exact_path(law, mon
 
 
 def test_the_small_damping_slope_is_the_beta_function_integral():
-    from contact_sim.impact.restitution import elastic_dissipation_integral
+    from contact_sim.impact.tails import elastic_dissipation_integral
     assert elastic_dissipation_integral(cs.HUNT_CROSSLEY) == pytest.approx(2 / 3, rel=1e-14)
     for law in (cs.AZAD_FEATHERSTONE, cs.LEE_WANG):
         zeta = 1e-6
@@ -285,7 +286,7 @@ def test_the_table_script_reproduces_the_shipped_table_within_its_stated_toleran
         import build_master_curves as build
     finally:
         sys.path.pop(0)
-    from contact_sim.impact.restitution import QUANTITIES
+    from contact_sim.model import QUANTITIES
     with resources.as_file(resources.files('contact_sim') / 'data' / 'master_curves.npz') as f, \
             np.load(f) as table:
         for name in cs.LAWS:
@@ -299,7 +300,7 @@ def test_the_table_script_reproduces_the_shipped_table_within_its_stated_toleran
 
 
 def test_closed_forms_are_registered_per_law_not_found_by_exponents():
-    from contact_sim.impact.restitution import CLOSED_FORMS, register_closed_form
+    from contact_sim.model import CLOSED_FORMS, register_closed_form
     twin = cs.ContactLaw('hc_twin', 1.5, 1.5, 1.0)       # Hunt-Crossley's exponents, another law
     assert master_curve(twin) is None and twin not in CLOSED_FORMS
     with pytest.warns(RuntimeWarning, match="'hc_twin' has no master curve"):
@@ -317,7 +318,7 @@ def test_closed_forms_are_registered_per_law_not_found_by_exponents():
 def test_duration_peak_and_depth_below_the_table_follow_the_elastic_limit(law, monkeypatch):
     zetas = np.array([1e-12, 1e-8, 3e-6])
     exact = [cs.simulate_impact(cs.Contact(law, 1.0, z), 1.0, 1.0) for z in zetas]
-    fast = importlib.import_module('contact_sim.impact.restitution')
+    fast = importlib.import_module('contact_sim.impact.dimensionless')
     monkeypatch.setattr(fast, '_exact_dimensionless', lambda *_: 1 / 0)   # must not integrate
     for quantity, attr in (('duration', 'contact_duration'), ('peak_force', 'peak_force'),
                            ('max_penetration', 'max_penetration')):
@@ -330,7 +331,7 @@ def test_duration_peak_and_depth_below_the_table_follow_the_elastic_limit(law, m
 def test_the_hunt_crossley_duration_at_heavy_damping_is_its_first_integrals(zeta, expected):
     # reproduced: the shipped table gave tau_c(46) = 7.37 (and 1.50 at zeta = 1000): integrating
     # the impact located a lift-off where the force only fades; the first integral gives 14.72
-    from contact_sim.impact.restitution import hunt_crossley_duration
+    from contact_sim.model.closed_forms import hunt_crossley_duration
     assert hunt_crossley_duration(zeta) == pytest.approx(expected, rel=1e-9)
     assert float(dimensionless('duration', cs.HUNT_CROSSLEY, np.array(zeta))) == \
         pytest.approx(expected, rel=1e-8)

@@ -85,9 +85,31 @@ def test_simulate_impact_compiled_equals_the_reference_at_random_points(law, gra
             assert abs(fast.steps - ref.steps) <= 2 + 0.01 * ref.steps
 
 
+def _reference_trajectory(law, zeta, s_end):
+    """An independent reference for the unit phase x'' = -xⁿ - ζ xᵖ x'|x'|^(q-1), x(0) = 0,
+    x'(0) = 1 (k = m = 1, no gravity): scipy's ``solve_ivp`` (DOP853, rtol 1e-12, atol 1e-14)
+    in σ = √τ, where every term is smooth from touch on (see ``phase``), up to ``s_end``; the
+    force unclamped past lift-off as in both engines.  Returns the dense output (x, x')(σ)."""
+    from scipy.integrate import solve_ivp
+
+    def rhs(s, y):
+        x, u = y
+        rate = math.copysign(abs(u) ** law.q, u)
+        accel = -x ** law.n - zeta * x ** law.p * rate if x > 0.0 else 0.0
+        return [2.0 * s * u, 2.0 * s * accel]
+
+    sol = solve_ivp(rhs, (0.0, s_end), [0.0, 1.0], method='DOP853', rtol=1e-12, atol=1e-14,
+                    dense_output=True, first_step=0.05)
+    assert sol.success
+    return sol.sol
+
+
 @pytest.mark.parametrize('law', LAWS, ids=IDS)
 @pytest.mark.parametrize('zeta', [1e-3, 0.3, 3.0])
 def test_compiled_phase_records_the_same_points_as_the_reference(law, zeta):
+    # Issue 16: the two engines do the same mathematics with different arithmetic (numba's
+    # and numpy's pow/exp, possibly AVX-512 or another libm), so their step counts and the
+    # last bits of their points may differ; the points are compared as trajectories.
     contact = cs.Contact(law, 1.0, zeta)
     runs = []
     for engine in phase.ENGINES:
@@ -96,15 +118,30 @@ def test_compiled_phase_records_the_same_points_as_the_reference(law, zeta):
             p.step()
         runs.append(p)
     fast, ref = runs
-    assert fast.steps == ref.steps
-    # The step-size controller reads an error estimate with few significant digits, so step
-    # ends drift apart by ~1e-9 relative; the located events and the lift-off do not.
-    a, b = np.array(fast.points), np.array(ref.points)
-    assert a.shape == b.shape
-    assert np.all(np.abs(a - b) <= 1e-6 * np.abs(b).max(axis=0))
+    # A last-bit difference in the error estimate can flip one accept/reject decision of the
+    # step-size controller where the estimate sits near the tolerance; each flip moves the
+    # count by about one step: a couple of steps, or 1 % on long phases (as for whole impacts).
+    assert abs(fast.steps - ref.steps) <= 2 + 0.01 * ref.steps
+    # The located events do not depend on where the steps ended.
     np.testing.assert_allclose(fast.end, ref.end, rtol=1e-9, atol=1e-12)
     assert fast.peak_force == pytest.approx(ref.peak_force, rel=1e-10)
     assert fast.max_penetration == pytest.approx(ref.max_penetration, rel=1e-10)
+    # Every recorded point (t, z, ż, F) lies on the true trajectory: z, ż and F at each
+    # recorded t against the independent reference.  Both engines hold a local error of 1e-12
+    # per step over some tens of steps, and the reference as much: the largest deviation seen
+    # is 5e-12 of a column's largest magnitude, so 1e-9 of it leaves a margin of 200.
+    s_end = math.sqrt(max(fast.end[0], ref.end[0])) * (1.0 + 1e-12)
+    exact = _reference_trajectory(law, zeta, s_end)
+    assert fast.points[0] == ref.points[0]      # the touch, (0, 0, v, F) by construction
+    for run in runs:
+        points = np.array(run.points[1:])
+        t, z, zdot, force = points.T
+        x, u = exact(np.minimum(np.sqrt(t), s_end))
+        want_z, want_zdot = np.maximum(x, 0.0), u
+        want_force = contact.force(want_z, want_zdot)
+        for got, want in ((z, want_z), (zdot, want_zdot), (force, want_force)):
+            scale = np.abs(want).max()
+            assert np.abs(got - want).max() <= 1e-9 * scale
 
 
 def test_paper_drop_is_the_reference_bounce_for_bounce():
@@ -114,7 +151,9 @@ def test_paper_drop_is_the_reference_bounce_for_bounce():
             results[engine] = cs.simulate_drop(PAPER, 0.066, 1.0, gravity=10.0, duration=5.0)
     fast, ref = results['compiled'], results['scipy']
     assert len(fast.impacts) == len(ref.impacts) == 38          # 37 bounces + permanent contact
-    assert fast.steps == ref.steps
+    # step counts differ by the controller's flipped accept/reject decisions (see above), over
+    # 38 phases and their flights: a couple of steps a phase, or 1 % (issue 16)
+    assert abs(fast.steps - ref.steps) <= 2 * len(ref.impacts) + 0.01 * ref.steps
     for a, b in zip(fast.impacts, ref.impacts):
         assert a.time == pytest.approx(b.time, rel=1e-10)
         assert a.impact_speed == pytest.approx(b.impact_speed, rel=1e-9, abs=1e-12)

@@ -1,0 +1,202 @@
+"""Closed forms of the dimensionless impact: exact results of two laws as functions of ζ alone.
+
+Without gravity an impact reduces to x'' = -xⁿ - ζ xᵖ x'|x'|^(q-1), x(0) = 0, x'(0) = 1, with
+the one damping group ζ (``impact`` derives it).  Two laws have exact solutions:
+
+* Hunt-Crossley (n = p = 3/2, q = 1) has the first integral v/ζ - ln(1 + ζ v)/ζ² + (2/5) x^(5/2)
+  = const, so u = 1 - ζ e solves u - ln u = 1 + ζ - ln(1 + ζ): u = -W₀(-exp(-1 - ζ + ln(1 + ζ)))
+  (Lambert W), polished by Newton's method on the well-conditioned form; its duration is a
+  quadrature of the same integral.
+* The clamped linear law separates when x + ζ x' = 0, which gives e = exp(-ζ τc / 2) with
+  τc = atan2(ζ ω, ζ²/2 - 1) / ω, ω = √(1 - ζ²/4), and past critical damping (ζ > 2)
+  τc = ln(ζ²/2 - 1 + ζκ) / κ, κ = √(ζ²/4 - 1).
+
+These are facts of the model (pure functions of ζ, no time stepping), so they live beside the
+laws: ``laws`` attaches each ``ClosedForm`` to its law, and ``impact`` asks the law for it.
+"""
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import quad
+from scipy.special import lambertw
+
+HC_QUADRATURE_FROM = 0.1   # ζ from which the Hunt-Crossley duration comes from its first integral
+
+
+@dataclass(frozen=True)
+class ClosedForm:
+    """Exact dimensionless results of one law.
+
+    ``vector`` maps a quantity ('restitution', 'duration', ...) to a function of an array of
+    ζ > 0; ``scalar`` is e(ζ) for one float ζ > 0 in plain Python (or ``None``);
+    ``table_duration`` is ``(ζ0, τc)``: the exact (slow) duration τc(ζ) for one float ζ >= ζ0,
+    which the master curve is built from where integrating the impact is ill-conditioned (the
+    force fades long before it is exactly zero), or ``None``.
+    """
+
+    vector: dict
+    scalar: object = None
+    table_duration: tuple = None
+
+
+def _minus_s_minus_log1p_minus_s(s):
+    """-s - ln(1 - s) = s²/2 + s³/3 + ..., without cancellation for small s."""
+    small = s < 1e-3
+    t = np.where(small, s, 0.0)
+    series = t * t * (1 / 2 + t * (1 / 3 + t * (1 / 4 + t * (1 / 5 + t / 6))))
+    return np.where(small, series, -s - np.log1p(-np.where(small, 0.0, s)))
+
+
+def hunt_crossley_restitution(zeta):
+    """Exact e(ζ) of the Hunt-Crossley law (n = p = 3/2, q = 1), vectorised, ζ > 0."""
+    zeta = np.asarray(zeta, dtype=float)
+    tiny = zeta < 1e-6           # e = 1 - 2ζ/3 + 4ζ²/9 + O(ζ³): c = ζ²/2 underflows below 1e-154
+    zt = np.where(tiny, zeta, 0.0)
+    return np.where(tiny, 1.0 - zt * (2.0 / 3.0 - zt * 4.0 / 9.0),
+                    _hunt_crossley_restitution(np.where(tiny, 1.0, zeta)))
+
+
+def _hunt_crossley_restitution(zeta):
+    small = zeta < 1e-3
+    zs = np.where(small, zeta, 0.0)
+    series = zs ** 2 / 2 - zs ** 3 / 3 + zs ** 4 / 4 - zs ** 5 / 5 + zs ** 6 / 6 - zs ** 7 / 7
+    c = np.where(small, series, zeta - np.log1p(np.where(small, 1.0, zeta)))
+    u = -lambertw(-np.exp(-1.0 - c), 0).real                # u = 1 - ζ e
+    # Near the branch point (u -> 1, small ζ) W loses digits: there solve for s = 1 - u by
+    # Newton on f(s) = -s - ln(1 - s) - c = s²/2 + s³/3 + ... - c, f'(s) = s / (1 - s), from
+    # s = √(2c), which lies right of the root of this convex f, so the iteration is monotone.
+    near = ~(u <= 0.5)                                       # NaN at the branch point too
+    c_near = np.where(near, c, 0.125)
+    s = np.where(near, np.minimum(np.sqrt(2.0 * c_near), 0.9), 0.5)
+    for _ in range(6):
+        s = s - (_minus_s_minus_log1p_minus_s(s) - c_near) * (1.0 - s) / s
+    s = np.where(near, s, 1.0 - u)
+    return s / zeta
+
+
+def hunt_crossley_restitution_scalar(zeta):
+    """``hunt_crossley_restitution`` for one float in plain Python (a few µs).
+
+    Newton's method on a convex function from the side where it converges monotonically:
+    in s = 1 - u from s = √(2c) when c < 1, in u from u = exp(-1 - c) otherwise.
+    Below ζ = 1e-6 the series 1 - 2ζ/3 + 4ζ²/9 (error O(ζ³) < 1e-18).
+    """
+    if zeta < 1e-6:
+        return 1.0 - zeta * (2.0 / 3.0 - zeta * 4.0 / 9.0)
+    c = (zeta * zeta * (0.5 - zeta * (1 / 3 - zeta * (0.25 - zeta * (0.2 - zeta / 6)))))
+    if zeta >= 1e-3:
+        c = zeta - math.log1p(zeta)
+    if c < 1.0:
+        s = min(math.sqrt(2.0 * c), 0.95)
+        for _ in range(60):
+            f = (s * s * (0.5 + s * (1 / 3 + s * (0.25 + s * (0.2 + s / 6)))) if s < 1e-3
+                 else -s - math.log1p(-s)) - c
+            step = f * (1.0 - s) / s
+            s -= step
+            if abs(step) <= 1e-16 * s:
+                break
+        return s / zeta
+    u = math.exp(-1.0 - c)
+    if u == 0.0:                      # u underflows: e = (1 - u) / ζ = 1 / ζ to the last bit
+        return 1.0 / zeta
+    for _ in range(60):
+        step = (u - math.log(u) - 1.0 - c) / (1.0 - 1.0 / u)
+        u -= step
+        if abs(step) <= 1e-16 * u:
+            break
+    return (1.0 - u) / zeta
+
+
+def hunt_crossley_duration(zeta):
+    """Exact contact duration τc of the Hunt-Crossley law at ζ > 0, by quadrature of its first
+    integral (used to build the master curve where integrating the impact is ill-conditioned).
+
+    With w = ζ x', the first integral reads w - ln(1 + w) = d(x), d = c (1 - (x/x̂)^(5/2)),
+    c = ζ - ln(1 + ζ), x̂ = (c / (0.4 ζ²))^(2/5): w > 0 on the approach, -1 < w < 0 on the
+    return.  The force x^(3/2) (1 + w) stays positive until x = 0, so
+    τc = ζ ∫₀^x̂ (1/w_in - 1/w_out) dx, integrated in s with x = x̂ (1 - s²) (which removes the
+    1/√ at x̂, and gives d = -c expm1(2.5 log1p(-s²)) without cancellation).
+    """
+    c = zeta - math.log1p(zeta) if zeta >= 1e-3 else \
+        zeta * zeta * (0.5 - zeta * (1 / 3 - zeta * (0.25 - zeta / 5)))
+    top = (c / (0.4 * zeta * zeta)) ** 0.4
+
+    def branch(d, w):
+        for _ in range(100):          # Newton on w - ln(1 + w) - d (convex in w)
+            g = w - math.log1p(w) - d if abs(w) > 1e-4 else \
+                w * w * (0.5 - w * (1 / 3 - w * (0.25 - w / 5))) - d
+            step = g * (1.0 + w) / w
+            w_new = w - step
+            if w_new <= -1.0:
+                w_new = 0.5 * (w - 1.0)
+            if abs(w_new - w) <= 1e-15 * abs(w):
+                return w_new
+            w = w_new
+        return w
+
+    def integrand(s):
+        if s == 0.0:
+            s = 1e-300
+        d = -c * math.expm1(2.5 * math.log1p(-s * s))
+        w_in = branch(d, math.sqrt(2.0 * d) if d < 1.0 else d + math.log1p(d))
+        if d < 0.5:
+            w_out = branch(d, -math.sqrt(2.0 * d))
+        else:                                  # in u = 1 + w, which may be tiny: Newton on
+            u = math.exp(-1.0 - d)             # u - ln u - 1 - d from the left (monotone)
+            for _ in range(100):
+                if u == 0.0:
+                    break
+                step = (u - math.log(u) - 1.0 - d) / (1.0 - 1.0 / u)
+                u -= step
+                if abs(step) <= 1e-16 * u:
+                    break
+            w_out = u - 1.0
+        return 2.0 * top * s * zeta * (1.0 / w_in - 1.0 / w_out)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter('ignore')       # quad's round-off notice at the 1e-12 request
+        value, _ = quad(integrand, 0.0, 1.0, epsabs=0.0, epsrel=1e-12, limit=200)
+    return value
+
+
+def linear_restitution_scalar(zeta):
+    """``linear_restitution_and_duration(ζ)[0]`` for one float in plain Python."""
+    disc = 1.0 - zeta * zeta / 4.0
+    if disc > 0.0:
+        w = math.sqrt(disc)
+        tau = math.atan2(zeta * w, zeta * zeta / 2.0 - 1.0) / w
+    elif disc < 0.0:
+        kappa = math.sqrt(-disc)
+        tau = math.log(zeta * zeta / 2.0 - 1.0 + zeta * kappa) / kappa   # = atanh(ζκ/(ζ²/2-1))/κ
+    else:
+        tau = 2.0
+    return math.exp(-zeta * tau / 2.0)
+
+
+def linear_restitution_and_duration(zeta):
+    """Exact (e, τc) of the clamped linear law for ζ = λ / √(m k) > 0; τc in units √(m/k)."""
+    zeta = np.asarray(zeta, dtype=float)
+    disc = 1.0 - zeta ** 2 / 4.0
+    under = disc > 0.0
+    over = disc < 0.0
+    w = np.sqrt(np.where(under, disc, 1.0))
+    kappa = np.sqrt(np.where(over, -disc, 1.0))
+    tau_under = np.arctan2(zeta * w, zeta ** 2 / 2.0 - 1.0) / w
+    # atanh(ζκ / (ζ²/2 - 1)) = ln(ζ²/2 - 1 + ζκ), since (ζ²/2 - 1)² - (ζκ)² = 1
+    tau_over = np.log(np.where(over, zeta ** 2 / 2.0 - 1.0 + zeta * kappa, 1.0)) / kappa
+    tau = np.where(under, tau_under, np.where(over, tau_over, 2.0))
+    return np.exp(-zeta * tau / 2.0), tau
+
+
+def _linear_duration(zeta):
+    return float(linear_restitution_and_duration(zeta)[1])
+
+
+HUNT_CROSSLEY_FORM = ClosedForm({'restitution': hunt_crossley_restitution},
+                                hunt_crossley_restitution_scalar,
+                                (HC_QUADRATURE_FROM, hunt_crossley_duration))
+LINEAR_FORM = ClosedForm({'restitution': lambda z: linear_restitution_and_duration(z)[0],
+                          'duration': lambda z: linear_restitution_and_duration(z)[1]},
+                         linear_restitution_scalar, (0.0, _linear_duration))

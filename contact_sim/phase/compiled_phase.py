@@ -1,0 +1,124 @@
+"""One contact phase in compiled code: the ``compiled`` kernels behind the phase interface.
+
+The same mathematics as the reference (``reference.PhaseIntegrator``): DOP853 with scipy's step
+control, the 7th-order dense output and Brent event location, all in numba, so that ``run``
+takes any number of steps in one call.
+"""
+import math
+
+import numpy as np
+
+from contact_sim.phase import compiled
+from contact_sim.phase.energy import potential
+from contact_sim.phase.scales import (DEFAULT_ATOL, DEFAULT_RTOL, FIRST_STEP, phase_scales,
+                                      start_peak_force)
+
+
+class CompiledPhase:
+    """One contact phase integrated in compiled code (``compiled``): the same interface and the
+    same mathematics as ``PhaseIntegrator`` (DOP853 with scipy's step control, the 7th-order dense
+    output, Brent event location), but ``run`` takes any number of steps in one call.
+
+    ``points``, ``peak_force``, ``max_penetration``, ``steps``, ``lifted_off`` and ``end`` are
+    plain attributes, brought up to date after every ``step``/``run``.  With
+    ``keep_points=False`` only the first point is kept (a caller that wants the outcome alone).
+    ``forcing`` (a ``Forcing``) adds forcing terms to gravity.
+    """
+
+    def __init__(self, contact, mass, gravity, start_time, penetration, penetration_rate,
+                 rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scales=None, keep_points=True,
+                 forcing=None):
+        self.contact = contact
+        self.mass = mass
+        self.start_time = start_time
+        self.scales = sc = scales if scales is not None else phase_scales(
+            contact, mass, gravity, penetration, penetration_rate)
+        law = contact.law
+        k, mass_g = contact.stiffness, mass * sc.gravity * sc.length / sc.time ** 2
+        g = mass_g / mass                           # as PhaseIntegrator.energy_above_rest
+        z0 = contact.static_penetration(mass_g)
+        rest_potential = float(potential(contact, mass, g, z0))
+        # the layout of compiled.P_*; the forcing: gravity, and the terms of ``forcing``
+        extra = (0.0,) * 5 if forcing is None else forcing.dimensionless(mass, sc, start_time)
+        par = np.array([law.n, law.p, law.q, sc.damping,
+                        sc.gravity, *extra,
+                        start_time, sc.time, sc.length,
+                        k, contact.damping, mass, g, rest_potential, rtol, atol,
+                        float(law.kernel)])
+        self._par = par
+        self._st, self._k, self._f = compiled.new_state(
+            penetration / sc.length, penetration_rate * sc.time / sc.length, FIRST_STEP)
+        self._buffer = np.empty((compiled.POINT_BUFFER, 4))
+        self._keep_points = keep_points
+        # a generous margin on the energy test: the caller's own test has the last word
+        self._energy_margin = 1e-12 * mass * (sc.length / sc.time) ** 2
+        self.lifted_off = False
+        self.steps = 0
+        self.peak_force = start_peak_force(contact, penetration, penetration_rate,
+                                           compiled.contact_force(penetration, penetration_rate,
+                                                                  par))
+        self.max_penetration = penetration
+        self._st[compiled.S_PEAK], self._st[compiled.S_DEPTH] = self.peak_force, penetration
+        self.end = None  # (t, z, ż) at lift-off
+        self.points = [(start_time, penetration, penetration_rate, self.peak_force)]
+
+    def run(self, t_stop=math.inf, max_steps=None, stop_energy=-math.inf):
+        """Step until lift-off, until ``time >= t_stop`` (s), for ``max_steps`` steps, or until a
+        step that did not lift off ends with ``energy_above_rest() < stop_energy`` (J) (the
+        compiled test uses a margin of 1e-12 of the phase's kinetic energy scale, so it may stop
+        a step before the caller's own test agrees, never after).  Returns the steps taken."""
+        budget = compiled.MAX_STEPS if max_steps is None else int(min(max_steps, compiled.MAX_STEPS))
+        stop = (stop_energy + abs(stop_energy) * 1e-9 + self._energy_margin
+                if stop_energy > -math.inf else -math.inf)
+        st, buf = self._st, self._buffer
+        taken = 0
+        while True:
+            reason, npts, n = compiled.run(st, self._k, self._f, self._par, buf, float(t_stop),
+                                           budget - taken, stop)
+            taken += n
+            if npts and self._keep_points:
+                self.points.extend(map(tuple, buf[:npts].tolist()))
+            if reason != compiled.BUFFER_FULL:
+                break
+        values = st.tolist()
+        self.steps = int(values[compiled.S_STEPS])
+        self.peak_force = values[compiled.S_PEAK]
+        self.max_penetration = values[compiled.S_DEPTH]
+        if values[compiled.S_LIFTED]:
+            self.lifted_off = True
+            self.end = (values[compiled.S_END_T], values[compiled.S_END_Z],
+                        values[compiled.S_END_RATE])
+        if reason == compiled.STEP_TOO_SMALL:
+            raise RuntimeError('contact integration failed: Required step size is less than '
+                               'spacing between numbers.')
+        return taken
+
+    def step(self):
+        """Take one integrator step; locate peak, maximum penetration and lift-off in it."""
+        self.run(max_steps=1)
+
+    @property
+    def time(self):
+        """Time (s) reached by the integrator (the end of its last step)."""
+        s = self._st[compiled.S_S]
+        return self.start_time + self.scales.time * s * s
+
+    def _dimensional(self, s, x, u):
+        sc = self.scales
+        return self.start_time + sc.time * s * s, x * sc.length, u * sc.length / sc.time
+
+    @property
+    def state(self):
+        st = self._st
+        return self._dimensional(st[compiled.S_S], st[compiled.S_X], st[compiled.S_U])[1:]
+
+    def state_at(self, t):
+        """(z, ż) at a time t within the last step, from the dense output."""
+        s = math.sqrt(max(t - self.start_time, 0.0) / self.scales.time)
+        x, u = compiled.state_in_last_step(self._st, self._k, self._f, self._par, s)
+        return self._dimensional(s, x, u)[1:]
+
+    def energy_above_rest(self):
+        """Mechanical energy (J) above static equilibrium at the integrator's current state
+        (``energy_above_rest``, evaluated in compiled code)."""
+        return compiled.energy_above_rest(self._st, self._par)
