@@ -21,12 +21,13 @@ about 20 s; a law without a shipped table is tabulated once per process) and int
 cubic splines.  Drag acts on the short flight from the lift-off depth to the surface (to first
 order); during the contact it is neglected, as in the engine (``flight.
 contact_drag_impulse_ratio``).  The remainder is O(G²): the touch times agree with
-``simulate_drop`` to about 1 µs per bounce while G < 2e-3 (test/test_bounces.py), and the model
+``simulate_drop`` to about 1 µs per bounce while G < 2e-3 (test/calibration/test_bounces.py), and the model
 stops being valid in the final micro-bounces, where the flight is no longer long against the
 contact (G -> 1: errors of 0.1-2 ms per bounce at G ~ 0.3-0.9) and the sphere ends in permanent
 contact; ``BounceSequence.gravity_group`` reports G for each bounce, and the prediction stops at
-the first bounce whose rebound speed is not positive.  ``bounce_fit`` leaves out clicks past
+the first bounce whose rebound speed is not positive.  ``glitches`` leaves out clicks past
 G = 0.01.
+Laws are ``ContactLaw`` objects (the front ends resolve names).
 Units: SI; times in s from the first touch unless an offset is given.
 """
 import math
@@ -39,8 +40,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from contact_sim.model import Contact
-from contact_sim.flight import AirDrag, fall_time, flight_to_plate
-from contact_sim.model import get_law
+from contact_sim.flight import fall_time, flight_to_plate
 from contact_sim.phase import PhaseIntegrator
 from contact_sim.impact import damping_group_of, dimensionless, impact_scales
 from contact_sim.validation import require_int, require_positive, require_real
@@ -76,7 +76,6 @@ def build_contact_table(law, points=TABLE_POINTS):
     a = -∂e_cross/∂G and b = ∂τ_cross/∂G by Richardson extrapolation of steps G and 2G.
     """
     from contact_sim.impact import group_for_restitution
-    law = get_law(law)
     grid = np.linspace(math.log(1e-5), math.log(group_for_restitution(law, LOWEST_RESTITUTION)),
                        points)
     x_l, a, b = (np.empty(grid.size) for _ in range(3))
@@ -110,7 +109,6 @@ def _shipped_tables():
 def contact_table(law):
     """Per law: cubic splines in ln ζ of x_l, a and b (module doc), from the shipped table
     (``scripts/build_bounce_tables.py``) or, for another law, computed once per process."""
-    law = get_law(law)
     key = (float(law.n), float(law.p), float(law.q))
     grid, *values = _shipped_tables().get(key) or build_contact_table(law)
     return (float(grid[0]), float(grid[-1])), tuple(CubicSpline(grid, v) for v in values)
@@ -140,6 +138,16 @@ def _tables(law):
     (lo, hi), splines = contact_table(law)
     corrections = np.stack([sp.c for sp in splines], axis=-1)
     return _Tables(curve.s0, curve.h, master, lo, (hi - lo) / corrections.shape[1], corrections)
+
+
+def tabulated_restitution(law):
+    """(ln ζ at the master curve's nodes, e there, decreasing) of ``law``, or ``None`` for a law
+    without a master curve."""
+    tables = _tables(law)
+    if tables is None:
+        return None
+    nodes = tables.master[3, :, 0]
+    return tables.s0 + tables.h * np.arange(nodes.size), nodes
 
 
 def _piecewise(coefficients, s0, h, s):
@@ -179,7 +187,6 @@ def contact_map(law, stiffness, damping, mass, gravity, speed, kappa=0.0, beta=0
 
     Drag (κ, β) acts on the short flight from the lift-off depth z_l up to the surface, to first
     order: u is lowered by (κ u + β) z_l."""
-    law = get_law(law)
     v = np.atleast_1d(np.asarray(speed, dtype=float))
     length, time = impact_scales(law, stiffness, mass, v)
     zeta = np.broadcast_to(damping_group_of(law, length, v, damping, mass), v.shape)
@@ -278,7 +285,6 @@ def impact_sequence(law, stiffness, damping, mass, gravity, first_speed, count, 
     loop with the same formulas (numpy's per-call overhead dominates for small arrays)."""
     v = np.atleast_1d(np.asarray(first_speed, dtype=float))
     lam = np.broadcast_to(np.asarray(damping, dtype=float), v.shape)
-    law = get_law(law)
     if v.size <= 8 and beta == 0.0 and _tables(law) is not None:
         rows = [_sequence_scalar(law, stiffness, float(lam[i]), mass, gravity, float(v[i]),
                                  count, kappa) for i in range(v.size)]
@@ -393,6 +399,6 @@ def first_speed_for_flight(law, stiffness, damping, mass, gravity, flight, kappa
     return brentq(lambda v: interval(v) - flight, lo, hi, xtol=1e-14, rtol=1e-14)
 
 
-__all__ = ['AirDrag', 'BounceSequence', 'VALID_GRAVITY_GROUP', 'contact_map', 'contact_table',
+__all__ = ['BounceSequence', 'VALID_GRAVITY_GROUP', 'contact_map', 'contact_table',
            'first_speed_for_flight', 'impact_sequence', 'predict_bounces', 'release_height',
            'release_speed']

@@ -102,17 +102,18 @@ def _sequences(args):
 
 
 def _stiffness(args, laws):
-    """k per law name: --stiffness, or the Hertz k by the core's one rule (Hertz laws only)."""
+    """k per law (``ContactLaw`` keys): --stiffness, or the Hertz k by the core's one rule
+    (Hertz laws only)."""
     if args.stiffness is not None:
         k = require_positive('stiffness', args.stiffness)
-        return {law.name: k for law in laws}, 'given'
+        return {law: k for law in laws}, 'given'
     sphere, plate = material(args, 'sphere'), material(args, 'plate')
     ks = {}
     for law in laws:
         if lacks_hertz_stiffness(args, law, sphere, plate):
             continue     # it is left out of the ranking
-        ks[law.name] = build_contact(law, sphere=sphere, plate=plate, radius=args.radius,
-                                     plate_radius=args.plate_radius, damping=0.0).stiffness
+        ks[law] = build_contact(law, sphere=sphere, plate=plate, radius=args.radius,
+                                plate_radius=args.plate_radius, damping=0.0).stiffness
     return ks, 'Hertz'
 
 

@@ -107,7 +107,7 @@ def test_vectorised_over_sequences():
 
 
 # -- fit_bounces --------------------------------------------------------------------------------
-from contact_sim.calibration.bounce_fit import fit_bounces, prepare_sequence   # noqa: E402
+from contact_sim.calibration import fit_bounces, prepare_sequence               # noqa: E402
 from contact_sim.calibration.recordings import ImpactTimes                       # noqa: E402
 
 GOLF_MASS, GOLF_K = 0.046, 2e8
