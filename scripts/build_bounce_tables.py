@@ -9,7 +9,7 @@ import time
 
 import numpy as np
 
-from contact_sim.calibration.bounces import TABLE_FILE, build_contact_table
+from contact_sim.calibration.contact_tables import TABLE_FILE, build_contact_table
 from contact_sim.model import LAWS
 
 

@@ -18,8 +18,8 @@ import math
 import numpy as np
 from scipy.optimize import least_squares
 
-from contact_sim.calibration.bounces import (impact_sequence, release_height, release_speed,
-                                             tabulated_restitution)
+from contact_sim.calibration.bounces import impact_sequence, release_height, release_speed
+from contact_sim.calibration.contact_tables import tabulated_restitution
 from contact_sim.calibration.results import LawFit
 from contact_sim.flight import AirDrag
 from contact_sim.impact import damping_for_restitution, damping_from_group, robust_weights
