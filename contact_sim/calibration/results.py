@@ -5,14 +5,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contact_sim.model import Contact
+from contact_sim.model import Contact, ContactLaw
 
 
 @dataclass(frozen=True)
 class LawFit:
     """The fit of one law to all sequences (SI units)."""
 
-    law: object
+    law: ContactLaw
     stiffness: float
     damping: float
     damping_interval: tuple
