@@ -14,9 +14,8 @@ import time
 import numpy as np
 
 import contact_sim as cs
-from contact_sim.calibration.bounce_fit import fit_bounces
-from contact_sim.flight.drag import AirDrag
-from contact_sim.calibration.recordings import ImpactTimes
+from contact_sim.calibration import ImpactTimes, fit_bounces
+from contact_sim.flight import AirDrag
 
 
 def main():

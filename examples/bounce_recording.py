@@ -15,7 +15,7 @@ import numpy as np
 
 import contact_sim as cs
 from contact_sim.calibration import audio
-from contact_sim.flight.drag import AirDrag
+from contact_sim.flight import AirDrag
 
 MASS, RADIUS, STIFFNESS, DRAG_COEFFICIENT = 0.0459, 0.0214, 2e8, 0.25
 

@@ -9,8 +9,8 @@ import time
 
 import numpy as np
 
-from contact_sim.calibration.bounces import TABLE_FILE, build_contact_table
-from contact_sim.model.laws import LAWS
+from contact_sim.calibration.contact_tables import TABLE_FILE, build_contact_table
+from contact_sim.model import LAWS
 
 
 def main():

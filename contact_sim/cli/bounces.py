@@ -1,17 +1,19 @@
 """`contact-sim bounces`: calibrate a contact from recorded bounce sequences (impact times or
-audio), registered by ``cli.build_parser`` through ``add_parser(sub)``; ``run(args)`` does it."""
+audio): the laws fitted by ``calibration.fit_bounces``, ranked, and the best one's report."""
 import argparse
 import math
-import sys
 
 import numpy as np
 
-from contact_sim.calibration import corrected_restitution_table, fit_bounces, restitution_curve
-from contact_sim.model import build_contact, build_mass
-from contact_sim.impact import LOSSES
+from contact_sim.calibration import (ImpactTimes, bounce_times_from_audio,
+                                     corrected_restitution_table, fit_bounces, height_from_label,
+                                     read_impact_times, restitution_curve)
+from contact_sim.cli import plotting
+from contact_sim.cli.contact import lacks_hertz_stiffness, mass_of, material
+from contact_sim.cli.options import LAW_NAMES, contact_command, law_list
 from contact_sim.flight import AIR_DENSITY, SPHERE_DRAG_COEFFICIENT, AirDrag
-from contact_sim.model import LAWS
-from contact_sim.calibration import ImpactTimes, read_impact_times
+from contact_sim.impact import LOSSES
+from contact_sim.model import build_contact
 from contact_sim.validation import require_positive
 
 NOTES = """
@@ -43,17 +45,16 @@ def _float_list(text):
 
 
 def add_parser(sub):
-    from contact_sim.cli.app import CONTACT_HELP, EXIT_HELP, _contact_options
-    p = sub.add_parser(
-        'bounces', parents=[_contact_options(damping=False)],
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+    """Register the subcommand on the subparsers ``sub``."""
+    p = contact_command(
+        sub, 'bounces', damping=False,
         help='calibrate lambda (and drag) from recorded bounce times or audio',
         description='Fit each law to recorded bounce sequences by least squares on the impact\n'
                     'times (cs.bounce_fit.fit_bounces), with drag and contact duration in the\n'
                     'model, detector glitches named, and the laws ranked.',
-        epilog=CONTACT_HELP + NOTES + EXIT_HELP)
+        notes=NOTES)
     p.add_argument('data', nargs='+', help='CSV / phyphox export (.csv, .zip) or .wav files')
-    p.add_argument('--law', action='append', choices=list(LAWS),
+    p.add_argument('--law', action='append', choices=LAW_NAMES,
                    help='force law, repeatable (default: all four)')
     p.add_argument('--height', action='append', type=_float_list, metavar='H',
                    help='release height in m of each sequence, in order (repeatable)')
@@ -86,9 +87,7 @@ def _sequences(args):
     sequences = []
     for path in args.data:
         if str(path).lower().endswith('.wav'):
-            from contact_sim.calibration import bounce_times_from_audio
             onsets = bounce_times_from_audio(path)
-            from contact_sim.calibration import height_from_label
             sequences.append(ImpactTimes(onsets.times, height_from_label(
                 str(path).rsplit('/', 1)[-1]), f'{path} (audio)'))
         else:
@@ -102,27 +101,20 @@ def _sequences(args):
     return sequences
 
 
-def _stiffness(args, laws, mass):
-    """k per law: --stiffness, or the Hertz k by the core's one rule (laws with n = 1.5 only)."""
+def _stiffness(args, laws):
+    """k per law (``ContactLaw`` keys): --stiffness, or the Hertz k by the core's one rule
+    (Hertz laws only)."""
     if args.stiffness is not None:
         k = require_positive('stiffness', args.stiffness)
-        return {name: k for name in laws}, 'given'
-    from contact_sim.cli.app import material
+        return {law: k for law in laws}, 'given'
     sphere, plate = material(args, 'sphere'), material(args, 'plate')
     ks = {}
-    for name in laws:
-        law = LAWS[name]
-        if law.n != 1.5 and None not in (sphere, plate, args.radius):
-            continue     # no Hertz stiffness for this law: it is left out of the ranking
-        ks[name] = build_contact(law, sphere=sphere, plate=plate, radius=args.radius,
-                                 plate_radius=args.plate_radius, damping=0.0).stiffness
+    for law in laws:
+        if lacks_hertz_stiffness(args, law, sphere, plate):
+            continue     # it is left out of the ranking
+        ks[law] = build_contact(law, sphere=sphere, plate=plate, radius=args.radius,
+                                plate_radius=args.plate_radius, damping=0.0).stiffness
     return ks, 'Hertz'
-
-
-def _mass(args):
-    from contact_sim.cli.app import _has_density, material
-    sphere = material(args, 'sphere') if _has_density(args) else None
-    return build_mass(args.mass, sphere, args.radius)
 
 
 def _drag(args):
@@ -138,10 +130,12 @@ def _drag(args):
 
 
 def run(args):
-    laws = list(dict.fromkeys(args.law or LAWS))
-    mass = _mass(args)
+    """Fit the laws to the recordings, print the report (and draw it with --plot, save the
+    node parameters with --save-params); returns the exit status 0."""
+    laws = law_list(args, LAW_NAMES)
+    mass = mass_of(args)
     drag = _drag(args)
-    ks, k_source = _stiffness(args, laws, mass)
+    ks, k_source = _stiffness(args, laws)
     sequences = _sequences(args)
     fit = fit_bounces(sequences, mass, ks, laws=laws, gravity=args.gravity, drag=drag,
                       fit_drag=args.fit_drag, timing_resolution=args.timing_resolution,
@@ -157,6 +151,8 @@ def run(args):
 
 
 def print_report(fit, sequences, args, k_source, table):
+    """The fit's report: the data and drag, the glitches, the laws ranked, the corrected
+    restitution ``table`` and the predicted against the measured click times."""
     level = f'{100 * fit.confidence:g}%'
     clicks = sum(s.times.size for s in sequences)
     print(f'# bounce fit: {len(sequences)} sequence(s), {clicks} clicks; m = {fit.mass:.6g} kg, '
@@ -229,7 +225,6 @@ def write_params(path, fit, args):
              f'    gravity: {fit.gravity!r}']
     if args.radius is not None:
         lines.append(f'    sphere_radius: {float(args.radius)!r}')
-    from contact_sim.cli.app import material
     for body in ('sphere', 'plate'):      # library materials only (k and lambda are given)
         chosen = material(args, body)
         if chosen is not None and chosen.name == getattr(args, body):
@@ -249,7 +244,6 @@ def write_params(path, fit, args):
 
 
 def _plot(args, fit, table):
-    from contact_sim.cli import plotting
     pyplot = plotting.load_pyplot()
     fig, (ax_e, ax_r) = pyplot.subplots(2, 1, figsize=(8.0, 7.0), layout='constrained')
     if table:
@@ -273,11 +267,7 @@ def _plot(args, fit, table):
     if len(fit.sequences) <= 10:
         ax_r.legend(fontsize=8)
     fig.suptitle(f'Bounce calibration: {", ".join(str(d) for d in args.data)}', fontsize=10)
-    plotting._save(fig, args.plot)
+    plotting.save_figure(fig, args.plot)
     print(f'# plot written to {args.plot}')
     return fig
 
-
-def main(argv=None):   # pragma: no cover - convenience for `python -m contact_sim.cli_bounces`
-    from contact_sim.cli.app import main as cli_main
-    return cli_main(['bounces'] + list(argv if argv is not None else sys.argv[1:]))

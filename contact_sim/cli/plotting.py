@@ -34,7 +34,8 @@ def check_output(path):
                          'does not exist')
 
 
-def _save(fig, path):
+def save_figure(fig, path):
+    """Write ``fig`` as a PNG to ``path`` (exactly that name) and close it."""
     pyplot = load_pyplot()
     try:
         fig.savefig(path, dpi=150, format='png')   # the file named, not name + '.png'
@@ -71,7 +72,7 @@ def restitution_figure(path, curves, points, title, subtitle, log_speed):
     ax.set_title(f'{title}\n{subtitle}', fontsize=10)
     ax.legend(title='force law')
     _style(ax)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def restitution_limits(values):
@@ -108,7 +109,7 @@ def drop_figure(path, time, height, force, impacts, title, subtitle):
     bottom.set_ylabel('contact force F (N)')
     for ax in (top, bottom):
         _style(ax)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def fit_figure(path, data, curves, title, subtitle):
@@ -124,7 +125,7 @@ def fit_figure(path, data, curves, title, subtitle):
     ax.set_title(f'{title}\n{subtitle}', fontsize=10)
     ax.legend(title='least-squares fit', fontsize=8)
     _style(ax)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def dense_speeds(speeds, log_speed, count=200):

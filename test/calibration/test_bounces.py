@@ -1,12 +1,14 @@
 """The O(1)-per-bounce sequence model against the drop engine (which integrates every contact
-with gravity), and its validity limit."""
+with gravity), and its validity limit; fit_bounces against recordings synthesised from the
+engine: coverage, the law ranking, the glitches named and the errors."""
 import math
 
 import numpy as np
 import pytest
 
 import contact_sim as cs
-from contact_sim.calibration import bounces
+from contact_sim.calibration import (ImpactTimes, bounces, fit_bounces, prepare_sequence,
+                                     read_impact_times)
 from contact_sim.flight.drag import AirDrag
 
 G = 9.81
@@ -107,9 +109,6 @@ def test_vectorised_over_sequences():
 
 
 # -- fit_bounces --------------------------------------------------------------------------------
-from contact_sim.calibration.bounce_fit import fit_bounces, prepare_sequence   # noqa: E402
-from contact_sim.calibration.recordings import ImpactTimes                       # noqa: E402
-
 GOLF_MASS, GOLF_K = 0.046, 2e8
 HEIGHTS = (0.5, 0.8, 1.0, 1.2)
 
@@ -241,102 +240,6 @@ def test_fit_bounces_errors_name_the_field():
         ImpactTimes([0.0, 1.0])
 
 
-# -- reading recordings and the command line ------------------------------------------------------
-from contact_sim import cli                                   # noqa: E402
-from contact_sim.calibration.recordings import parse_impact_times, read_impact_times   # noqa: E402
-
-
-def test_phyphox_exports_read_as_they_are(tmp_path):
-    # the All sheet, semicolon and decimal comma, two runs pasted side by side, empty cells
-    text = ('"Event time (s) h=80cm";"Interval (s)";"Event time (s) 50 cm";"Interval (s)"\n'
-            '1,250000;0,600000;0,5;0,4\n1,850000;0,500000;0,9;0,3\n2,350000;;1,2;\n'
-            '2,760000;;;\n')
-    a, b = parse_impact_times(text)
-    assert np.allclose(a.times, [1.25, 1.85, 2.35, 2.76]) and a.height == pytest.approx(0.8)
-    assert np.allclose(b.times, [0.5, 0.9, 1.2]) and b.height == pytest.approx(0.5)
-    # comma separated with a decimal point, no header
-    (c,) = parse_impact_times('0.1\n0.7\n1.2 # a comment\n')
-    assert np.allclose(c.times, [0.1, 0.7, 1.2]) and c.height is None
-    # tab separated Multiple sheet: a run of six events per row
-    (d,) = parse_impact_times('"Start (s)"\t"Stop 1 (s)"\t"Stop 2 (s)"\t"Stop 3 (s)"\n'
-                              '0,1\t0,7\t1,2\t1,6\n')
-    assert np.allclose(d.times, [0.1, 0.7, 1.2, 1.6])
-    # the zip of the CSV export: its All file; the height from the file name
-    import zipfile
-    path = tmp_path / 'tennis_ball_120cm.zip'
-    with zipfile.ZipFile(path, 'w') as z:
-        z.writestr('Simple.csv', '"Start (s)","Stop (s)","Difference (s)"\n1,2,1\n')
-        z.writestr('All.csv', '"Event time (s)","Interval (s)"\n1.0,0.5\n1.5,0.4\n1.9,\n')
-    (e,) = read_impact_times(path)
-    assert np.allclose(e.times, [1.0, 1.5, 1.9])
-    assert e.height == pytest.approx(1.2)
-    # sheet files named otherwise: the one holding every event
-    other = tmp_path / 'run.zip'
-    with zipfile.ZipFile(other, 'w') as z:
-        z.writestr('Einfach.csv', '"Start (s)";"Stopp (s)"\n1;2\n')
-        z.writestr('Alle Ereignisse.csv', '"Zeit (s)";"Intervall (s)"\n1,0;0,5\n1,5;0,4\n'
-                                          '1,9;\n2,2;\n')
-    (f,) = read_impact_times(other)
-    assert np.allclose(f.times, [1.0, 1.5, 1.9, 2.2])
-    with pytest.raises(ValueError, match='is a spreadsheet workbook: allowed CSV'):
-        read_impact_times(tmp_path / 'run.xlsx')
-    with pytest.raises(ValueError, match='has no impact times'):
-        parse_impact_times('"a";"b"\n')
-
-
-@pytest.fixture(scope='module')
-def golf_csv(tmp_path_factory, golf_truth):
-    _, truth = golf_truth
-    rng = np.random.default_rng(11)
-    path = tmp_path_factory.mktemp('rec') / 'golf.csv'
-    cols = [np.round((truth[h][:10] + rng.normal(0, 50e-6, 10) + 1.0) * 48000) / 48000
-            for h in (0.8, 1.0)]
-    cols[1] = np.delete(cols[1], 5)                     # a missed bounce
-    lines = ['"Event time (s) h=0.8m","Event time (s) h=1.0m"']
-    for i in range(10):
-        lines.append(','.join(f'{c[i]:.6f}' if i < c.size else '' for c in cols))
-    path.write_text('\n'.join(lines) + '\n')
-    return path
-
-
-@pytest.mark.ros   # the saved file goes through the node's parameter parser
-def test_cli_bounces_report_and_parameter_file(golf_csv, tmp_path, capsys):
-    params = tmp_path / 'golf.yaml'
-    code = cli.main(['bounces', str(golf_csv), '--mass', str(GOLF_MASS), '--stiffness',
-                     str(GOLF_K), '--radius', '0.0214', '--drag-coefficient', '0.3',
-                     '--save-params', str(params)])
-    out = capsys.readouterr().out
-    assert code == 0
-    assert 'missed bounce' in out
-    assert out.index('azad_featherstone: lambda') < out.index('linear: lambda')
-    assert 'speed-dependent restitution: supported' in out
-    assert 'rms predicted - measured:' in out
-    import yaml
-    doc = yaml.safe_load(params.read_text())
-    values = doc['contact_sim']['ros__parameters']
-    from contact_sim.ros.params import DEFAULTS, PARAMETER_NAMES, build_model
-    assert set(values) <= set(PARAMETER_NAMES)
-    model = build_model({**DEFAULTS, **values})     # the node takes the file as it is
-    assert model.drag.drag_coefficient == 0.3 and model.drag.radius == 0.0214
-    assert values['contact_law'] == 'azad_featherstone'
-    assert values['stiffness'] == GOLF_K and values['sphere_mass'] == GOLF_MASS
-    assert values['drag_coefficient'] == 0.3 and values['initial_height'] == 0.8
-    assert cs.Contact(values['contact_law'], values['stiffness'], values['damping'])
-
-
-def test_cli_bounces_bad_input_exits_2_naming_the_field(golf_csv, tmp_path, capsys):
-    base = ['bounces', str(golf_csv), '--mass', '0.046', '--stiffness', '2e8']
-    assert cli.main(base + ['--height', '1.0']) == 2
-    assert 'height is given 1 time(s) for 2 sequence(s)' in capsys.readouterr().err
-    assert cli.main(base + ['--fit-drag']) == 2
-    assert 'radius is missing' in capsys.readouterr().err
-    assert cli.main(base + ['--timing-resolution', '-1']) == 2
-    assert 'timing_resolution = -1.0 is out of range' in capsys.readouterr().err
-    assert cli.main(['bounces', str(tmp_path / 'none.csv'), '--mass', '1', '--stiffness',
-                     '1e8']) == 2
-    assert 'cannot be read' in capsys.readouterr().err
-
-
 def test_example_recording_round_trip(tmp_path):
     """examples/bounce_recording.py (the README's workflow): its CSV and WAV give back λ."""
     import importlib.util
@@ -368,12 +271,3 @@ def test_final_micro_bounces_are_left_out_and_named():
     assert 10 < kept < touches.size
     assert fit.best.law.name == 'azad_featherstone'
     assert fit.best.damping_interval[0] <= 1e5 <= fit.best.damping_interval[1]
-
-
-def test_cli_bounces_without_any_stiffness_names_the_option(golf_csv, capsys):
-    # found in review: the refusal said `stiffness`, not `--stiffness`
-    code = cli.main(['bounces', str(golf_csv), '--sphere', 'steel', '--plate', 'steel',
-                     '--radius', '0.02', '--law', 'linear'])
-    err = capsys.readouterr().err
-    assert code == 2 and err.startswith('contact-sim: error: --stiffness is missing for law '
-                                        'linear') and err.count('\n') == 1, err

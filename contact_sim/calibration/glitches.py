@@ -1,0 +1,182 @@
+"""Detector glitches named before a bounce fit, and the clicks prepared for it.
+
+Glitches are found from the intervals between clicks, which shrink by about the restitution ē
+(the median of the interval ratios) at each bounce:
+
+* a doubled click (an echo or the ball's rattle): an interval far shorter (< 0.4 ×) than the one
+  expected; the later click is left out;
+* a missed bounce: an interval close to (1 + ē) or (1 + ē + ē²) times the one expected; nothing is
+  left out, the following clicks are numbered one or two bounces later;
+* a late start (the first impact was missed): with a release height, a first interval that
+  matches the second bounce's flight rather than the first; the sequence is numbered from 1.
+  Without a release height a late start cannot be told from a lower release;
+* micro-bounces: the final clicks whose impacts have a gravity group G = g T / v above
+  ``MICRO_BOUNCE_GROUP``, beyond the bounce model (``bounces``), are left out.
+
+Units: SI.
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from contact_sim.calibration.bounces import release_speed
+from contact_sim.flight import flight_to_plate
+
+MICRO_BOUNCE_GROUP = 1e-2    # impacts with G = gT/v above this are left out (bounces doc)
+DOUBLED_RATIO = 0.4          # an interval below this fraction of the expected one: doubled click
+
+
+@dataclass(frozen=True)
+class Glitch:
+    """A detector glitch found in sequence ``sequence``: ``kind`` is 'doubled click', 'missed
+    bounce', 'late start' or 'outlier'; ``time`` the click concerned (s); ``left_out`` whether
+    that click was left out of the fit."""
+
+    sequence: int
+    kind: str
+    time: float
+    left_out: bool
+    detail: str
+
+    def describe(self):
+        action = 'left out' if self.left_out else 'kept'
+        return f'sequence {self.sequence + 1}: {self.kind} at t = {self.time:.6f} s ({action}): ' \
+               f'{self.detail}'
+
+
+@dataclass(frozen=True)
+class PreparedSequence:
+    """Clicks kept for the fit and the bounce number (from 0) each one is assigned."""
+
+    times: np.ndarray
+    index: np.ndarray
+    height: float
+    name: str
+    restitution_guess: float
+
+
+def _interval_restitution(dt):
+    ratios = dt[1:] / dt[:-1]
+    good = ratios[(ratios > 0.2) & (ratios < 1.0)]
+    return float(np.clip(np.median(good) if good.size else 0.7, 0.1, 0.995))
+
+
+def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, stiffness=None, mass=None,
+                     law=None):
+    """Find the glitches in one recorded sequence (module doc).
+
+    Parameters
+    ----------
+    number : int
+        The sequence's number (from 0), recorded in each ``Glitch``.
+    seq : ImpactTimes
+        The click times (s) and, if known, the release height (m).
+    gravity : float
+        g in m/s^2.
+    kappa : float
+        The quadratic drag rate c/m in 1/m, used for the late-start test.
+    stiffness, mass : float, optional
+        k of ``law`` (N/m^n) and the mass (kg): with both, the final micro-bounces beyond the
+        model's validity are cut off.
+    law : ContactLaw, optional
+        The law of ``stiffness`` (needed with it).
+
+    Returns
+    -------
+    (PreparedSequence, list of Glitch)
+    """
+    t = np.asarray(seq.times, dtype=float)
+    glitches = []
+    keep = np.ones(t.size, dtype=bool)
+    # doubled clicks: drop the later click of an interval far shorter than both neighbours'
+    # expectation, repeatedly (the expectation comes from the kept clicks)
+    changed = True
+    while changed and keep.sum() >= 4:
+        changed = False
+        kt = t[keep]
+        dt = np.diff(kt)
+        e_bar = _interval_restitution(dt)
+        for i in range(dt.size):
+            prev_dt = dt[i - 1] * e_bar if i > 0 else None
+            next_dt = dt[i + 1] / e_bar if i + 1 < dt.size else None
+            ref = [x for x in (prev_dt, next_dt) if x is not None]
+            if ref and dt[i] < DOUBLED_RATIO * min(ref):
+                # the echo (or rattle) is the later click of the pair
+                j = np.flatnonzero(keep)[i + 1]
+                keep[j] = False
+                glitches.append(Glitch(number, 'doubled click', float(t[j]), True,
+                                       f'{dt[i] * 1e3:.2f} ms after the click before, '
+                                       f'expected about {min(ref) * 1e3:.1f} ms'))
+                changed = True
+                break
+    kt = t[keep]
+    dt = np.diff(kt)
+    # micro-bounces: cut where the gravity group of the impacts exceeds the model's range
+    if stiffness is not None and mass is not None and dt.size > 2:
+        v = gravity * dt / 2.0                       # impact speed at the end of each flight
+        length = (mass * v * v / stiffness) ** (1.0 / (law.n + 1.0))
+        group = gravity * length / (v * v)           # G = g T / v with T = Z / v
+        over = np.flatnonzero(group > MICRO_BOUNCE_GROUP)
+        if over.size and over[0] + 2 < kt.size:
+            cut = int(over[0]) + 2
+            glitches.append(Glitch(number, 'micro-bounces', float(kt[cut]), True,
+                                   f'the last {kt.size - cut} click(s) left out: impacts at '
+                                   f'{v[over[0]]:.3g} m/s and slower have G = gT/v > '
+                                   f'{MICRO_BOUNCE_GROUP:g}, beyond the bounce model'))
+            kt = kt[:cut]
+            dt = np.diff(kt)
+    e_bar = _interval_restitution(dt)
+    index = np.zeros(kt.size, dtype=int)
+    # missed bounces: number the clicks so that each interval is one or more bounce flights
+    last = None     # the last single-bounce flight time
+    for i in range(dt.size):
+        if last is None:
+            # the first interval: compare with the next one (if any)
+            expected = dt[i + 1] / e_bar if i + 1 < dt.size else dt[i]
+            if i + 1 < dt.size and dt[i + 1] > dt[i] * (1.0 + 0.5 * e_bar):
+                expected = dt[i]   # the next interval is the one that holds a miss
+        else:
+            expected = last * e_bar
+        sums = [expected * sum(e_bar ** j for j in range(m + 1)) for m in range(3)]
+        m = int(np.argmin([abs(math.log(dt[i] / s)) for s in sums]))
+        index[i + 1] = index[i] + 1 + m
+        if m:
+            glitches.append(Glitch(number, 'missed bounce', float(kt[i + 1]), False,
+                                   f'interval {dt[i] * 1e3:.1f} ms is about {1 + m} flights of '
+                                   f'{expected * 1e3:.1f} ms, {m} click(s) missing before it'))
+        last = dt[i] * e_bar ** m / sum(e_bar ** j for j in range(m + 1))
+    # late start: the first flight against the fall from the release height, with the
+    # restitution's trend over the first bounces extrapolated back (it can change with speed)
+    if seq.height is not None and dt.size:
+        singles = np.flatnonzero(np.diff(index) == 1)
+        at, est = [], []
+        for a, b in zip(singles[:-1], singles[1:]):
+            if b == a + 1:                  # flights after impacts a and a + 1: e of a + 1
+                at.append(index[b])
+                est.append(dt[b] / dt[a])
+        at, est = np.array(at[:6], dtype=float), np.array(est[:6])
+        if est.size >= 3:
+            slope, offset = np.polyfit(at, est, 1)
+        else:
+            slope, offset = 0.0, e_bar
+
+        def e_at(j):
+            return float(np.clip(offset + slope * j, 0.05, 0.999))
+
+        first = dt[0] if index[1] == 1 else dt[0] / sum(e_bar ** j for j in range(index[1]))
+        options = []
+        released = float(release_speed(seq.height, gravity, kappa))
+        for late in range(3):
+            v = released
+            for j in range(-late, 0):
+                v = float(flight_to_plate(e_at(j) * v, gravity, kappa)[1])
+            options.append(float(flight_to_plate(e_at(0) * v, gravity, kappa)[0]))
+        late = int(np.argmin([abs(math.log(first / s)) for s in options]))
+        if late:
+            index = index + late
+            glitches.append(Glitch(number, 'late start', float(kt[0]), False,
+                                   f'first interval {dt[0] * 1e3:.1f} ms fits bounce {late + 1} '
+                                   f'of a release from {seq.height:g} m, not bounce 1: the first '
+                                   f'{late} impact(s) were not recorded'))
+    return PreparedSequence(kt, index, seq.height, seq.name, e_bar), glitches

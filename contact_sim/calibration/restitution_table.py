@@ -1,0 +1,69 @@
+"""The restitution read back from the recorded flights with a fitted law: corrected for the
+drag in flight and for the contact's duration (``corrected_restitution_table``), and the fitted
+law's own e(v) (``restitution_curve``).  Units: SI."""
+import math
+
+import numpy as np
+
+from contact_sim.calibration.bounces import contact_map, impact_sequence
+from contact_sim.flight import AirDrag, flight_to_plate
+from contact_sim.impact import restitution
+
+
+def _rebound_for_flight(flight, gravity, kappa, beta):
+    """Rebound speed (m/s) whose flight from the plate back to it lasts ``flight`` s: Newton on
+    the closed form (monotone, concave), from the vacuum value 1/2 g T, which lies below."""
+    u = 0.5 * gravity * flight
+    for _ in range(50):
+        t, _ = flight_to_plate(u, gravity, kappa, beta)
+        dt = (float(flight_to_plate(u * (1.0 + 1e-7), gravity, kappa, beta)[0]) - float(t)) \
+            / (1e-7 * u)
+        step = (float(t) - flight) / dt
+        u -= step
+        if abs(step) <= 1e-13 * u:
+            break
+    return u, dt
+
+
+def corrected_restitution_table(fit, law_fit=None):
+    """The drag- and duration-corrected restitution read from the measured flights: a list of
+    (sequence, impact speed v m/s, e, σ_e), one per pair of consecutive single flights.
+
+    A flight (click to click) minus the fitted law's contact time at its impact speed is
+    turned into the rebound speed that gives it under the fitted drag (closed form, inverted by
+    Newton's method); its arrival speed is the next impact speed.  e = u / v, with v from the
+    flight before (or from the fit for the first recorded impact); σ_e propagates the timing
+    noise √2 σ_t of each interval."""
+    lf = law_fit or fit.best
+    law, k, lam, m, g = lf.law, lf.stiffness, lf.damping, fit.mass, fit.gravity
+    kappa, beta = (0.0, 0.0)
+    if fit.drag is not None:
+        kappa, beta = AirDrag(fit.drag.air_density, lf.drag_coefficient, fit.drag.radius,
+                              fit.drag.linear_coefficient).rates(m, g)
+    sigma = math.sqrt(2.0) * lf.noise
+    rows = []
+    for j, (seq, v1) in enumerate(zip(fit.sequences, lf.first_speeds)):
+        predicted = impact_sequence(law, k, lam, m, g, v1, int(seq.index[-1]) + 1,
+                                    kappa, beta)[1][0]
+        v_known, sv = None, 0.0
+        for i in range(seq.times.size - 1):
+            if seq.index[i + 1] - seq.index[i] != 1:
+                v_known = None
+                continue
+            v = v_known if v_known is not None else float(predicted[seq.index[i]])
+            if not (math.isfinite(v) and v > 0.0):
+                break
+            _, tau, _ = contact_map(law, k, lam, m, g, v, kappa, beta)
+            u, dt_du = _rebound_for_flight(float(seq.times[i + 1] - seq.times[i]) - tau, g,
+                                           kappa, beta)
+            su = sigma / dt_du
+            e = u / v
+            rows.append((j, v, e, e * math.hypot(su / u, sv / v)))
+            v_known = float(flight_to_plate(u, g, kappa, beta)[1])
+            sv = su * v_known / u
+    return rows
+
+
+def restitution_curve(law_fit, mass, speeds):
+    """e(v) of a fitted law (no gravity) at ``speeds`` (m/s)."""
+    return restitution(law_fit.contact(), mass, np.asarray(speeds, dtype=float))

@@ -1,0 +1,66 @@
+"""What ``fit_bounces`` returns: the fit of one law (``LawFit``) and of all laws, ranked, with
+the glitches and the prepared data (``BounceFit``).  Units: SI."""
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from contact_sim.model import Contact, ContactLaw
+
+
+@dataclass(frozen=True)
+class LawFit:
+    """The fit of one law to all sequences (SI units)."""
+
+    law: ContactLaw
+    stiffness: float
+    damping: float
+    damping_interval: tuple
+    drag_coefficient: float
+    drag_interval: tuple          # (nan, nan) when C_d was not fitted
+    start_times: np.ndarray       # t₁ per sequence (s)
+    first_speeds: np.ndarray      # v₁ per sequence (m/s)
+    release_heights: np.ndarray   # h(v₁) per sequence (m)
+    residuals: list               # per sequence, predicted - measured (s), kept clicks only
+    weights: list                 # per sequence, the robust loss weights (1 = full weight)
+    rms: float                    # weighted rms timing residual (s)
+    aic: float
+    parameters: int
+    observations: int
+    noise: float                  # estimated timing noise (s)
+    success: bool
+    message: str
+
+    def contact(self):
+        return Contact(self.law, self.stiffness, self.damping)
+
+
+@dataclass(frozen=True)
+class BounceFit:
+    """``fit_bounces`` result: laws ranked best first, the glitches and the prepared data."""
+
+    fits: list
+    sequences: list
+    glitches: list
+    mass: float
+    gravity: float
+    drag: object
+    fit_drag: bool
+    confidence: float
+    timing_resolution: float
+    speed_dependent: bool = field(default=False)
+    delta_aic: float = field(default=math.nan)
+
+    @property
+    def best(self):
+        return self.fits[0]
+
+    def downweighted(self, fit=None):
+        """(sequence, time s, residual s, weight) of the clicks the robust loss down-weighted."""
+        fit = fit or self.best
+        out = []
+        for j, (seq, r, w) in enumerate(zip(self.sequences, fit.residuals, fit.weights)):
+            for t, ri, wi in zip(seq.times, r, w):
+                if wi < 0.5:
+                    out.append((j, float(t), float(ri), float(wi)))
+        return out

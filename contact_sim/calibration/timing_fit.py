@@ -1,0 +1,267 @@
+"""The robust least-squares fit of one law to recorded bounce sequences, on the impact times.
+
+The unknowns are the damping λ (in ln λ), optionally the drag coefficient C_d (in ln C_d), and
+per sequence the time t₁ and speed v₁ of its first recorded impact; the model is
+``bounces.impact_sequence`` (closed-form drag flights, restitution fast path, contact duration,
+first-order gravity during contact).  The residuals are predicted minus measured times in units of
+the timing resolution, plus, for a sequence with a measured release height h (± ``height_error``),
+(h(v₁) - h) / height_error.  ``scipy.optimize.least_squares`` minimises them with a robust loss
+(soft-L1 by default) whose scale is three times the timing noise, itself estimated robustly
+(1.4826 × median absolute residual of a first pass, never below the resolution / √12).
+Confidence intervals come from the Jacobian of the weighted residuals at the optimum (covariance
+s² (JᵀJ)⁻¹, Student t with N - P degrees of freedom), in ln λ and ln C_d; the Akaike criterion
+is N ln(SSE / N) + 2P.
+Units: SI.
+"""
+import math
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from contact_sim.calibration.bounces import impact_sequence, release_height, release_speed
+from contact_sim.calibration.contact_tables import tabulated_restitution
+from contact_sim.calibration.results import LawFit
+from contact_sim.flight import AirDrag
+from contact_sim.impact import damping_for_restitution, damping_from_group, robust_weights
+from contact_sim.validation import require_positive
+
+CD_BOUNDS = (1e-3, 10.0)     # a fitted drag coefficient stays inside (AirDrag's range)
+
+
+class _Problem:
+    """Residuals of one law over all sequences (vectorised over sequences)."""
+
+    def __init__(self, law, stiffness, mass, gravity, drag, fit_drag, sequences, resolution,
+                 height_error):
+        self.law, self.k, self.m, self.g = law, stiffness, mass, gravity
+        self.drag, self.fit_drag = drag, fit_drag
+        self.seqs = sequences
+        self.res = resolution
+        self.height_error = height_error
+        self.count = max(int(s.index[-1]) for s in sequences) + 1
+        self.n_seq = len(sequences)
+        self.offset = 2 if fit_drag else 1
+        self.rows = [(j, s.index) for j, s in enumerate(sequences)]
+        self.n_times = sum(s.times.size for s in sequences)
+        self.heights = [j for j, s in enumerate(sequences) if s.height is not None]
+
+    def unpack(self, x):
+        lam = math.exp(min(x[0], 700.0))
+        cd = math.exp(min(x[1], math.log(CD_BOUNDS[1]))) if self.fit_drag else None
+        t1 = x[self.offset:self.offset + self.n_seq]
+        v1 = np.exp(x[self.offset + self.n_seq:])
+        return lam, cd, t1, v1
+
+    def rates(self, cd):
+        if self.drag is None:
+            return 0.0, 0.0
+        drag = self.drag if cd is None else AirDrag(self.drag.air_density, cd,
+                                                    self.drag.radius,
+                                                    self.drag.linear_coefficient)
+        return drag.rates(self.m, self.g)
+
+    def _times(self, lam, v1, kappa, beta):
+        """Relative touch times (rows, count) for per-row λ and v₁ (arrays of equal length)."""
+        return impact_sequence(self.law, self.k, lam, self.m, self.g, v1, self.count,
+                               kappa, beta)[0]
+
+    def predicted(self, x):
+        lam, cd, t1, v1 = self.unpack(x)
+        kappa, beta = self.rates(cd)
+        times = self._times(np.full(v1.size, lam), v1, kappa, beta)
+        return [t1[j] + times[j, idx] for j, idx in self.rows], (kappa, beta), v1
+
+    def _pack(self, pred, v1, kappa, beta):
+        out = np.empty(self.n_times + len(self.heights))
+        pos = 0
+        for p, s in zip(pred, self.seqs):
+            r = (p - s.times) / self.res
+            out[pos:pos + r.size] = np.where(np.isfinite(r), r, 1e6)   # the ball stopped
+            pos += r.size
+        if self.heights:
+            sel = np.array(self.heights)
+            h = release_height(v1[sel], self.g, kappa, beta)
+            target = np.array([self.seqs[j].height for j in self.heights])
+            out[pos:] = np.where(np.isfinite(h), (h - target) / self.height_error, 1e6)
+        return out
+
+    def residuals(self, x):
+        pred, (kappa, beta), v1 = self.predicted(x)
+        return self._pack(pred, v1, kappa, beta)
+
+    def jacobian(self, x):
+        """Forward differences in ln λ and ln v₁ from one batched model call (the sequences
+        are independent given λ), exact in t₁; C_d, when fitted, by one more call."""
+        lam, cd, t1, v1 = self.unpack(x)
+        kappa, beta = self.rates(cd)
+        n, step = self.n_seq, 1e-7
+        lams = np.concatenate([np.full(n, lam), np.full(n, lam * math.exp(step)),
+                               np.full(n, lam)])
+        v1s = np.concatenate([v1, v1, v1 * math.exp(step)])
+        times = self._times(lams, v1s, kappa, beta)
+        jac = np.zeros((self.n_times + len(self.heights), x.size))
+        pos = 0
+        for j, idx in self.rows:
+            base = times[j, idx]
+            rows = slice(pos, pos + idx.size)
+            jac[rows, 0] = (times[n + j, idx] - base) / step / self.res
+            jac[rows, self.offset + j] = 1.0 / self.res
+            jac[rows, self.offset + n + j] = (times[2 * n + j, idx] - base) / step / self.res
+            pos += idx.size
+        for i, j in enumerate(self.heights):
+            h0 = float(release_height(v1[j], self.g, kappa, beta))
+            h1 = float(release_height(v1[j] * math.exp(step), self.g, kappa, beta))
+            jac[pos + i, self.offset + n + j] = (h1 - h0) / step / self.height_error
+        if self.fit_drag:   # the base residuals from the batch's first block: one call more
+            base = self._pack([t1[j] + times[j, idx] for j, idx in self.rows], v1, kappa, beta)
+            xs = np.array(x, dtype=float)
+            xs[1] += step
+            jac[:, 1] = (self.residuals(xs) - base) / step
+        return np.where(np.isfinite(jac), jac, 0.0)
+
+
+def _damping_guess(law, stiffness, mass, e, speed):
+    """λ giving restitution ``e`` at ``speed``: read off the master curve's nodes (a start
+    value, no root finding); the exact inverse for a law without a master curve."""
+    nodes = tabulated_restitution(law)
+    if nodes is None:
+        return damping_for_restitution(law, stiffness, mass, e, speed)
+    s, e_nodes = nodes
+    log_zeta = float(np.interp(-e, -e_nodes, s))
+    return float(damping_from_group(law, stiffness, mass, speed, math.exp(log_zeta)))
+
+
+def _initial_guess(problem, drag_coefficient):
+    law, k, m, g = problem.law, problem.k, problem.m, problem.g
+    kappa, beta = problem.rates(drag_coefficient)
+    t1, v1, speeds, es = [], [], [], []
+    for s in problem.seqs:
+        dt = np.diff(s.times) / np.diff(s.index)        # rough single flights
+        e = s.restitution_guess
+        first_flight = dt[0]
+        if s.height is not None:
+            v = float(release_speed(s.height, g, kappa, beta))
+            v_first = v * e ** s.index[0]
+        else:
+            v_first = g * first_flight / 2.0 / e
+            v = v_first / e ** s.index[0]
+        t_first = s.times[0] - sum(2.0 * v * e ** (i + 1) / g for i in range(s.index[0]))
+        t1.append(t_first)
+        v1.append(v)
+        speeds.extend(g * dt / 2.0)
+        es.append(e)
+    lam0 = _damping_guess(law, k, m, float(np.median(es)), float(np.median(speeds)))
+    x0 = [math.log(max(lam0, 1e-300))]
+    if problem.fit_drag:
+        x0.append(math.log(drag_coefficient))
+    x0 = np.array(x0 + t1 + [math.log(v) for v in v1])
+    # each sequence's start time: the median offset of the predicted from the measured clicks
+    pred = problem.predicted(x0)[0]
+    for j, (p, s) in enumerate(zip(pred, problem.seqs)):
+        offset = np.median((s.times - p)[np.isfinite(p)]) if np.any(np.isfinite(p)) else 0.0
+        x0[problem.offset + j] += offset
+    return x0
+
+
+def _solve(problem, x0, loss, scale):
+    bounds = (-np.inf, np.inf)
+    if problem.fit_drag:
+        low, high = np.full(x0.size, -np.inf), np.full(x0.size, np.inf)
+        low[1], high[1] = (math.log(b) for b in CD_BOUNDS)
+        x0 = x0.copy()
+        x0[1] = min(max(x0[1], low[1] + 1e-9), high[1] - 1e-9)
+        bounds = (low, high)
+    # many sequences: the iterative trust-region solver (no SVD of the whole Jacobian)
+    solver = 'lsmr' if x0.size > 12 else 'exact'
+    return least_squares(problem.residuals, x0, jac=problem.jacobian, loss=loss, bounds=bounds,
+                         tr_solver=solver,
+                         f_scale=scale, x_scale='jac', method='trf', xtol=1e-8, ftol=1e-8,
+                         gtol=1e-8, max_nfev=100)
+
+
+def fit_law(law, stiffness, mass, gravity, drag, fit_drag, sequences, resolution, height_error,
+            loss, confidence):
+    """Fit λ (and C_d with ``fit_drag``) of one law to the prepared sequences (module doc).
+
+    Parameters
+    ----------
+    law : ContactLaw
+    stiffness : float
+        k in N/m^n.
+    mass, gravity : float
+        kg, m/s^2.
+    drag : AirDrag or None
+        The air drag in flight (its C_d the start value when ``fit_drag``); None: vacuum.
+    fit_drag : bool
+        Fit C_d too.
+    sequences : list of PreparedSequence
+    resolution, height_error : float
+        The timing resolution (s) and the uncertainty of a measured release height (m).
+    loss : str
+        The ``least_squares`` loss.
+    confidence : float
+        The level of the intervals, 0 < confidence < 1.
+
+    Returns
+    -------
+    LawFit
+
+    Raises
+    ------
+    InputError
+        If ``stiffness`` is not positive.
+    """
+    problem = _Problem(law, require_positive('stiffness', stiffness), mass, gravity, drag,
+                       fit_drag, sequences, resolution, height_error)
+    x0 = _initial_guess(problem, drag.drag_coefficient if drag is not None else None)
+    return _solved_fit(law, stiffness, problem, x0, loss, confidence)
+
+
+def _solved_fit(law, k, problem, x0, loss, confidence):
+    from scipy.special import stdtrit
+    res_unit = problem.res
+    # pass 1: plain least squares (quick from afar); its median residual estimates the noise
+    first = _solve(problem, x0, 'linear', 1.0)
+    r = first.fun[:problem.n_times] * res_unit
+    noise = max(1.4826 * float(np.median(np.abs(r - np.median(r)))), res_unit / math.sqrt(12.0))
+    scale = 3.0 * noise / res_unit
+    result = _solve(problem, first.x, loss, scale) if loss != 'linear' else first
+    x = result.x
+    n_obs, n_par = result.fun.size, x.size
+    dof = max(n_obs - n_par, 1)
+    weights = robust_weights(loss, (result.fun / scale) ** 2)
+    weighted_sse = float(np.sum(weights * result.fun ** 2)) * res_unit ** 2
+    s2 = float(np.sum(weights * result.fun ** 2)) / dof
+    jac = result.jac.toarray() if hasattr(result.jac, 'toarray') else np.asarray(result.jac)
+    jw = jac * np.sqrt(weights)[:, None] if loss != 'linear' else jac
+    normal = jw.T @ jw
+    try:
+        cov = s2 * np.linalg.inv(normal)
+        if not np.all(np.isfinite(np.diag(cov))):
+            raise np.linalg.LinAlgError('singular')
+    except np.linalg.LinAlgError:
+        cov = s2 * np.linalg.pinv(normal)
+    q = float(stdtrit(dof, 0.5 + confidence / 2.0))
+    lam, cd, t1, v1 = problem.unpack(x)
+    half = min(q * math.sqrt(max(cov[0, 0], 0.0)), 50.0)
+    lam_ci = (lam * math.exp(-half), lam * math.exp(half))
+    if problem.fit_drag:
+        half_cd = min(q * math.sqrt(max(cov[1, 1], 0.0)), 50.0)
+        cd_ci = (cd * math.exp(-half_cd), cd * math.exp(half_cd))
+    else:
+        cd = problem.drag.drag_coefficient if problem.drag is not None else 0.0
+        cd_ci = (math.nan, math.nan)
+    pred, (kappa, beta), _ = problem.predicted(x)
+    residuals, weights_seq, pos = [], [], 0
+    for p, s in zip(pred, problem.seqs):
+        residuals.append(p - s.times)
+        weights_seq.append(weights[pos:pos + s.times.size])
+        pos += s.times.size
+    n_times = problem.n_times
+    rms = math.sqrt(float(np.sum(weights[:n_times] * (result.fun[:n_times] * res_unit) ** 2))
+                    / float(np.sum(weights[:n_times])))
+    aic = n_obs * math.log(max(weighted_sse, 1e-300) / n_obs) + 2.0 * n_par
+    heights = release_height(v1, problem.g, kappa, beta)
+    return LawFit(law, k, lam, lam_ci, cd, cd_ci, np.asarray(t1), v1, np.asarray(heights),
+                  residuals, weights_seq, rms, aic, n_par, n_obs, noise, bool(result.success),
+                  str(result.message))

@@ -1,0 +1,51 @@
+"""What `contact-sim` says when it refuses: the core's errors rendered with the option names
+and the exit status of each (2 bad input, 1 missing matplotlib or a closed pipe)."""
+import os
+import sys
+
+from contact_sim.cli.plotting import MissingMatplotlib
+from contact_sim.validation import InputError
+
+# The core's field keys as this command line spells them (InputError.render): the same
+# refusal reads `--mass = ...` here and `sphere_mass = ...` in the node.
+OPTION_NAMES = {key: '--' + key.replace('_', '-') for key in (
+    'law', 'sphere', 'plate', 'radius', 'plate_radius', 'stiffness', 'mass', 'damping',
+    'damping_factor', 'height', 'gravity', 'duration', 'sample_rate', 'points', 'confidence',
+    'speed_range')}
+OPTION_NAMES.update(speed='--speeds', material='--sphere/--plate', velocity='--initial-velocity')
+for _body in ('sphere', 'plate'):   # custom materials: --sphere-modulus, --plate-poisson, ...
+    OPTION_NAMES.update({f'{_body}_{_o}': f'--{_body}-{_o}' for _o in ('modulus', 'poisson', 'density')})
+
+# the errors a subcommand may end with, each reported by ``report``
+REPORTED = (ValueError, ArithmeticError, MissingMatplotlib, BrokenPipeError)
+
+
+def option_names(args):
+    """The field -> option map for ``args``: with a data file, its speed and restitution
+    columns are named after the file."""
+    names = dict(OPTION_NAMES)
+    if getattr(args, 'data', None) is not None:
+        source = 'stdin' if args.data == '-' else args.data
+        names.update(speeds=f'{source} speed', restitutions=f'{source} restitution')
+    return names
+
+
+def report(error, args):
+    """Print ``error`` (one of ``REPORTED``) on stderr as the command line words it and return
+    the exit status: 2 for bad input, 1 for a missing matplotlib or a closed stdout."""
+    if isinstance(error, InputError):
+        print(f'contact-sim: error: {error.render(option_names(args))}', file=sys.stderr)
+        return 2
+    if isinstance(error, ValueError):
+        print(f'contact-sim: error: {error}', file=sys.stderr)
+        return 2
+    if isinstance(error, ArithmeticError):   # extreme values that overflow the model
+        print(f'contact-sim: error: the values given overflow the model ({error}): allowed '
+              'physically sensible magnitudes', file=sys.stderr)
+        return 2
+    if isinstance(error, MissingMatplotlib):
+        print(f'contact-sim: error: {error}', file=sys.stderr)
+        return 1
+    # BrokenPipeError, e.g. `contact-sim drop ... | head`: stop quietly
+    os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    return 1
