@@ -5,7 +5,10 @@
 - ``messages``: the table of every topic (name, type, QoS, encoder, decoder) and the message
   functions;
 - ``query``: ``~/query_restitution`` names -> answers;
-- ``node``: ``contact_sim_node`` (``ContactSimNode``, ``main``);
+- ``node``: ``contact_sim_node`` (``ContactSimNode``: parameters, the plate, services; ``main``);
+- ``loop``: the node's tick loop (``TickLoop``: ticks due, wall budgets, a recorder's pace);
+- ``outbox``: the node's publishers and its wait for reliable readers (``Outbox``);
+- ``plate_command``: ``~/plate_command`` messages as the core's commands (``read_plate_command``);
 - ``recorder``: ``contact_sim_record`` (``Recorder``, ``record_main``, ``--recover``);
 - ``bag``: rosbag2 files with the ``rosbags`` library (no ROS import), crash-safe, recoverable.
 """

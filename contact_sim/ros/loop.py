@@ -1,0 +1,193 @@
+"""The node's loop: simulated time cut into ticks, advanced by the engine and published at the
+pace of real time (or as fast as possible, and no faster than a recorder records).
+
+Simulated time is cut into ticks of ``dt`` = real_time_factor / publish_rate s
+(1 / publish_rate s when running as fast as possible), counted from an anchor (the start, a
+~/reset or a change of real_time_factor). A steady-clock timer (period 1/publish_rate, at least
+``WAKE_PERIOD``; 0 when running as fast as possible) runs ``_on_timer``, which works through
+every tick that is due: in real time, those whose wall time has come (a late timer costs no
+tick: it publishes the missed ones at once; at 100 Hz each wake publishes two ticks, since a
+wake of the executor costs about 0.2 ms of CPU); as fast as possible, as many as fit in
+``FAST_TURN`` s of wall time. Each tick publishes, on ~/wrench and ~/contact, every contact point
+the engine passed and the tick's end; each completed impact; and the tick's end on ~/pose,
+~/twist and /clock. The ticks of a turn are advanced together, up to ``BATCH_TICKS`` per engine
+call (``DropSimulation.advance_ticks``: flight and rest evaluated over arrays), and each call's
+messages are encoded and published topic by topic from its arrays. An engine call takes at most
+``TURN_STEP_BUDGET`` integrator steps, and a turn ends when its wall budget is spent (the tick
+goes on at the next turn): ``FAST_TURN`` as fast as possible; in real time ``TURN_BASE`` +
+``TURN_PER_TICK`` per tick due (at most ``REAL_TURN`` of the period), so that a tick with much
+work, such as the settling (about 800 integrator steps and 900 contact points between permanent
+contact and the closed-form rest for the default drop), is spread over several turns of the
+size of a bouncing one while the node stays within about 0.1 s of real time, and services stay
+live. Real time that cannot be held (more than ``MAX_LAG`` s behind) is logged once, with the
+tick rate achieved, and the node skips ahead (the states of the skipped ticks are not published;
+the contact points are).
+
+Pacing by a recorder. DDS acknowledgements alone are too coarse to pace a node running as fast
+as possible (Fast DDS acknowledges on its heartbeats: ``Publisher.wait_for_all_acked`` took 1-2 s
+after as few as 10 samples), so ``contact_sim_record`` also acknowledges itself: it publishes on
+``~/recorded`` (``rosgraph_msgs/Clock``) the simulated time up to which it has recorded every
+topic, and the node, running as fast as possible, publishes no tick more than ``LEAD_TICKS``
+ticks beyond it while a recorder is there (it pauses its timer and resumes when the recorder
+catches up or goes away). The recorder's subscriptions are keep-all, so nothing is dropped on its
+side either.
+"""
+import math
+import time
+
+import numpy as np
+import rclpy
+
+from .messages import PROGRESS
+
+TURN_STEP_BUDGET = 20    # integrator steps per engine call (~10 ms); then the wall budget is checked
+BATCH_TICKS = 256        # ticks per batched engine call (advance_ticks), then the budgets are checked
+FAST_TURN = 0.02         # s of wall time per executor turn when running as fast as possible
+REAL_TURN = 0.75         # of the timer period: wall time per turn at most in real time
+# In real time a turn's wall budget is TURN_BASE + TURN_PER_TICK per tick due (at most REAL_TURN
+# of the period): a tick with much work (the settling's ~1000 contact points) is spread over
+# turns, and a node behind real time gets a larger budget to catch up.
+TURN_BASE = 0.002        # s
+TURN_PER_TICK = 0.0005   # s
+WAKE_PERIOD = 0.02       # s: in real time the node wakes at most every 20 ms (50 Hz)
+MAX_LAG = 2.0            # s behind real time before the node skips ahead (and says so, once)
+LEAD_TICKS = 300         # ticks ahead of a recorder's acknowledgement (< state history 1000)
+WATCH_PERIOD = 0.5       # s: a paused node checks this often whether its recorder has gone
+
+
+class TickLoop:
+    """The tick loop of ``ContactSimNode`` (a mixin of that ``rclpy.node.Node``).
+
+    It reads the node's ``_model`` (``params.Model``: publish_rate, real_time_factor, fast,
+    radius), ``_sim`` (``DropSimulation``), ``_offset`` (s: the stamp of the drop's time 0) and
+    ``_out`` (``outbox.Outbox``), and owns the anchor (``_anchor_wall``, ``_anchor_sim``), the
+    ticks published since it (``_tick``), their length ``_dt`` (s), the loop timer and the pause
+    for a recorder. ``_start_loop`` re-anchors (at ~/reset or a change of real_time_factor).
+    """
+
+    def _init_loop(self):
+        """Listen for a recorder's acknowledgements and start the loop."""
+        self._recorded_ns = None  # the recorder's acknowledgement, see PROGRESS
+        self._progress = self.create_subscription(PROGRESS.msg_type, PROGRESS.name,
+                                                  self._on_recorded, PROGRESS.qos)
+        self._paused = False
+        self.create_timer(WATCH_PERIOD, self._resume_if_free, clock=self._steady)
+        self._lag_logged = False
+        self._timer = None
+        self._start_loop()
+
+    def _start_loop(self):
+        """(Re)start the loop timer and anchor tick 0 at the current simulated and wall time."""
+        model = self._model
+        self._anchor_wall, self._anchor_sim, self._tick = time.monotonic(), self._sim.time, 0
+        self._dt = 1.0 / model.publish_rate if model.fast \
+            else model.real_time_factor / model.publish_rate
+        if self._timer is not None:
+            self.destroy_timer(self._timer)
+        self._paused = False
+        period = 0.0 if model.fast else max(1.0 / model.publish_rate, WAKE_PERIOD)
+        self._period = period
+        self._timer = self.create_timer(period, self._on_timer, clock=self._steady)
+
+    def _reached_on_grid(self):
+        """The drop's time (s) reached, where a new drop (~/reset) starts: if a tick is half done
+        (its turn ran out of wall time inside it), that tick's end, so that the new drop's ticks
+        stay on the grid."""
+        reached = self._sim.time
+        if reached > self._anchor_sim + self._tick * self._dt:
+            reached = max(reached, self._anchor_sim + (self._tick + 1) * self._dt)
+        return reached
+
+    def _ticks_due(self, now):
+        """Ticks (since the anchor) whose wall time has come; every one when running flat out."""
+        if self._model.fast:
+            return math.inf
+        return int((now - self._anchor_wall) * self._model.publish_rate)
+
+    def _on_timer(self):
+        try:
+            self._turn()
+        except Exception:
+            if rclpy.ok(context=self.context):
+                raise
+            # Ctrl-C shut the context down during the turn (rclpy's handler runs in its own
+            # thread): the publishers are gone; spin() returns next
+
+    def _turn(self):
+        if self._out.pending and not self._out.send_pending():
+            return   # a reliable reader still has no room: the next turn tries again
+        start = time.monotonic()
+        fast = self._model.fast
+        due = self._ticks_due(start)
+        deadline = start + (FAST_TURN if fast else min(
+            REAL_TURN * self._period, TURN_BASE + TURN_PER_TICK * max(due - self._tick, 0)))
+        if fast:
+            due = min(due, self._ticks_allowed())
+            if due <= self._tick:   # a recorder is behind: wait for it (see _on_recorded)
+                self._timer.cancel()
+                self._paused = True
+                return
+        elif due - self._tick > MAX_LAG * self._model.publish_rate:
+            self._skip_ahead(due, start)
+        while self._tick < due:
+            if not self._run_ticks(min(due, self._tick + BATCH_TICKS), deadline):
+                return    # out of wall time inside the tick: the next turn goes on with it
+            if self._out.pending or time.monotonic() > deadline:
+                return
+
+    def _ticks_allowed(self):
+        """Ticks (since the anchor) a recorder lets the node publish: LEAD_TICKS beyond what it
+        has acknowledged; unlimited without a recorder or before its first acknowledgement."""
+        if self._recorded_ns is None or self._progress.get_publisher_count() == 0:
+            return math.inf
+        recorded = self._recorded_ns * 1e-9 - self._offset - self._anchor_sim
+        return max(0, math.floor(recorded / self._dt + 1e-6)) + LEAD_TICKS
+
+    def _on_recorded(self, msg):
+        self._recorded_ns = PROGRESS.stamp_ns(msg)
+        if self._paused and self._ticks_allowed() > self._tick:
+            self._resume()
+
+    def _resume_if_free(self):
+        if self._paused and self._ticks_allowed() > self._tick:
+            self._resume()
+
+    def _resume(self):
+        self._paused = False
+        self._timer.reset()
+
+    def _skip_ahead(self, due, now):
+        """Real time cannot be held: say so once, with the rate achieved, and jump to ``due``."""
+        if not self._lag_logged:
+            self._lag_logged = True
+            achieved = self._tick / max(now - self._anchor_wall, 1e-9)
+            self.get_logger().warning(
+                f'publish_rate {self._model.publish_rate:g} Hz at real_time_factor '
+                f'{self._model.real_time_factor:g} cannot be held: {achieved:.0f} ticks/s achieved;'
+                f' skipping ahead (the states of skipped ticks are not published; logged once)')
+        self._tick = due - 1
+
+    def _run_ticks(self, upto, deadline):
+        """Advance through ticks up to ``upto`` (since the anchor) in batched engine calls
+        (``DropSimulation.advance_ticks``, ``TURN_STEP_BUDGET`` integrator steps each) and
+        publish them; False if the wall budget ran out first (what was integrated so far is
+        published; the rest goes on at the next turn)."""
+        sim = self._sim
+        times = self._anchor_sim + np.arange(self._tick + 1, upto + 1) * self._dt
+        done = 0
+        while done < times.size:
+            try:
+                batch = sim.advance_ticks(times[done:], max_steps=TURN_STEP_BUDGET)
+            except Exception as error:  # keep the node alive and the last good state
+                target = float(times[done])
+                self.get_logger().error(f'simulation step to t = {target:.9f} s failed: {error}',
+                                        throttle_duration_sec=5.0)
+                self._tick += 1
+                return True
+            self._out.publish_batch(batch, self._offset, self._model.radius)
+            done += batch.ticks
+            self._tick += batch.ticks
+            if done < times.size and time.monotonic() > deadline:
+                return False
+        return True
+

@@ -1,0 +1,60 @@
+"""The fixtures of the ROS tests, shared by every file of ``test/ros/`` (a package, so that
+package scope ends with its last test): one environment and one client for the package, and one
+``contact_sim_node`` process on its built-in defaults that serves every test asking for ``sim``.
+
+Isolation: a ROS_DOMAIN_ID derived from this process's pid, localhost-only discovery and a
+temporary ROS_LOG_DIR. Every wait is on a condition with a deadline, never a fixed sleep. Tests
+that change the node put it back.
+"""
+import os
+import tempfile
+from pathlib import Path
+
+import pytest
+
+
+@pytest.fixture(scope='package')
+def workdir():
+    with tempfile.TemporaryDirectory(prefix='contact_sim_test_') as path:
+        yield Path(path)
+
+
+@pytest.fixture(scope='package')
+def ros_env(workdir):
+    """Environment for every ROS process of this package, the test process included."""
+    saved = dict(os.environ)
+    os.environ.update({
+        'ROS_DOMAIN_ID': str(1 + os.getpid() % 101),
+        'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST',
+        'ROS_LOG_DIR': str(workdir / 'ros_log'),
+        'RCUTILS_LOGGING_BUFFERED_STREAM': '0',
+        'RCUTILS_COLORIZED_OUTPUT': '0',
+        'PYTHONUNBUFFERED': '1',
+    })
+    os.environ.pop('ROS_LOCALHOST_ONLY', None)
+    yield dict(os.environ)
+    os.environ.clear()
+    os.environ.update(saved)
+
+
+@pytest.fixture(scope='package')
+def client(ros_env):
+    rclpy = pytest.importorskip('rclpy')
+    from .harness import Client
+    rclpy.init()
+    client = Client()
+    yield client
+    client.node.destroy_node()
+    rclpy.try_shutdown()
+
+
+@pytest.fixture(scope='package')
+def sim(ros_env, client, workdir):
+    """contact_sim_node on its built-in defaults (steel ball, cast-iron plate, 1 m, real time)."""
+    from .harness import NODE, Process, assert_clean_exit
+    process = Process('contact_sim_node', [], ros_env, workdir)
+    client.spin_until(lambda: client.count(f'{NODE}/pose') >= 5 or process.popen.poll() is not None,
+                      'the node to publish')
+    assert process.popen.poll() is None, process.output()
+    yield process
+    assert_clean_exit(process)

@@ -1,0 +1,188 @@
+"""Lossless and crash-safe recording: a node and a recorder of their own, in a ROS domain of
+their own (no package node there): a flat-out run recorded sample for sample, and a recorder
+killed with SIGKILL whose bag is recovered.
+"""
+import os
+import re
+import signal
+import subprocess
+import time
+
+import numpy as np
+import pytest
+
+rclpy = pytest.importorskip('rclpy')
+
+from contact_sim.ros import messages as cs_msgs  # noqa: E402
+from contact_sim.ros import params as cs_params  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: E402
+from rosgraph_msgs.msg import Clock  # noqa: E402
+from std_srvs.srv import Trigger  # noqa: E402
+from .harness import (  # noqa: E402
+    TIMEOUT, NODE, TOPICS, TYPE_NAMES, executable, clean_shm, Process, assert_clean_exit,
+    stamp_ns)
+
+
+@pytest.fixture(scope='module')
+def own_domain(ros_env):
+    """Environment and a client context in another ROS domain (no module node there)."""
+    env = {**ros_env, 'ROS_DOMAIN_ID': str(120 + os.getpid() % 101)}
+    context = rclpy.Context()
+    context.init(domain_id=int(env['ROS_DOMAIN_ID']))
+    node = rclpy.create_node('contact_sim_test_watch', context=context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    clock = []
+    node.create_subscription(Clock, '/clock', lambda m: clock.append(stamp_ns(m.clock)),
+                             QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
+
+    def spin_until(condition, what, timeout=TIMEOUT):
+        deadline = time.monotonic() + timeout
+        while not condition():
+            if time.monotonic() > deadline:
+                pytest.fail(f'timed out after {timeout} s waiting for {what}')
+            executor.spin_once(timeout_sec=0.05)
+    reset_client = node.create_client(Trigger, f'{NODE}/reset')
+
+    def reset_drop():
+        """~/reset; returns the simulated time (s) the new drop starts at, as the reply says."""
+        spin_until(reset_client.service_is_ready, 'the reset service')
+        while True:
+            future = reset_client.call_async(Trigger.Request())
+            retry = time.monotonic() + 3.0
+            spin_until(lambda: future.done() or time.monotonic() > retry, 'a reset reply')
+            if future.done():
+                return float(re.search(r'at t = ([0-9.]+) s', future.result().message).group(1))
+            reset_client.remove_pending_request(future)
+    yield env, clock, spin_until, reset_drop
+    node.destroy_node()
+    context.try_shutdown()
+
+
+def read_bag(path):
+    from rosbags.highlevel import AnyReader
+    out = {}
+    with AnyReader([path]) as reader:
+        for connection, timestamp, raw in reader.messages():
+            out.setdefault(connection.topic, []).append(
+                (timestamp, reader.deserialize(raw, connection.msgtype)))
+    return out
+
+
+def replay(ticks, offset):
+    """What the node publishes in ``ticks`` ticks of the default drop flat out (100 Hz) started
+    by a ~/reset at simulated time ``offset``: the same engine, tick by tick. Returns
+    {topic: [stamp ns]} and {stamp ns: wrench force}."""
+    model = cs_params.build_model(dict(cs_params.DEFAULTS))
+    sim = cs_params.make_simulation(model)
+    samples, states, impacts, last = [], [], [], cs_msgs.to_ns(offset)
+    for k in range(ticks):
+        advance = sim.advance(0.0 + (k + 1) * 0.01)
+        points, _ = cs_msgs.contact_samples(advance.samples, offset, last)
+        samples += points
+        last = points[-1][0] if points else last
+        states.append(cs_msgs.to_ns(offset + float(advance.samples.time[-1])))
+        impacts += [cs_msgs.to_ns(r.time + offset) for r in advance.impacts]
+    sample_ns = [p[0] for p in samples]
+    return ({f'{NODE}/wrench': sample_ns, f'{NODE}/contact': sample_ns, f'{NODE}/pose': states,
+             f'{NODE}/twist': states, '/clock': states, f'{NODE}/impact': impacts,
+             f'{NODE}/plate_pose': states, f'{NODE}/plate_twist': states,
+             f'{NODE}/plate_wrench': sample_ns},
+            {p[0]: p[3] for p in samples})
+
+
+def stamps_in_bag(topic, items):
+    if topic.endswith('impact'):
+        return [cs_msgs.to_ns(m.data[0]) for _, m in items]
+    return [stamp_ns(m.clock if topic == '/clock' else m.header.stamp) for _, m in items]
+
+
+@pytest.mark.slow
+def test_a_recorded_flat_out_run_holds_every_sample_of_every_topic(own_domain, workdir):
+    """Flat out, the recorder's keep-all subscriptions and its ~/recorded acknowledgements make
+    the node wait for it: from a ~/reset on, the bag holds every sample the node published (the
+    same engine replayed here gives the stamps and values), for more than 60 simulated s."""
+    env, clock, spin_until, reset_drop = own_domain
+    bag = workdir / 'flat_out'
+    recorder = Process('contact_sim_record', ['-o', str(bag)], env, workdir)
+    spin_until(lambda: 'recording' in recorder.output(), 'the recorder to start')
+    node = Process('contact_sim_node', ['--ros-args', '-p', 'real_time_factor:=0.0'], env,
+                   workdir)
+    try:
+        spin_until(lambda: all(f'receiving {t}' in recorder.output() for t in TOPICS
+                               if not t.endswith('impact')), 'the recorder to receive')
+        # paced from here on (before, the node may run ahead of what the recorder can take)
+        spin_until(lambda: 'pacing 1 node(s)' in recorder.output(), 'the node to be paced')
+        offset = reset_drop()   # a drop that bounces, recorded from its start
+        ticks_before = round(offset * 100)
+        assert offset == pytest.approx(ticks_before * 0.01, abs=1e-9)  # on the tick grid
+        offset = 0.0 + ticks_before * 0.01
+        # (the node runs up to LEAD_TICKS = 3 simulated s ahead of what the recorder has)
+        spin_until(lambda: clock and clock[-1] > (offset + 80) * 1e9, '80 simulated seconds',
+                   timeout=300)
+    finally:
+        try:
+            assert_clean_exit(recorder)
+        finally:
+            assert_clean_exit(node)
+    assert 'stopped before' not in recorder.output()
+    recorded = read_bag(bag)
+    assert set(recorded) == set(TYPE_NAMES)
+    reset_ns = cs_msgs.to_ns(offset)
+    end = max(max(stamps_in_bag(t, items)) for t, items in recorded.items())
+    expected, forces = replay(int(round((end - reset_ns) * 1e-7)) + 1, offset)
+    assert len(expected[f'{NODE}/impact']) > 30   # the bounces are in it
+    for topic, items in recorded.items():
+        got = stamps_in_bag(topic, items)
+        assert [ts for ts, _ in items] == got  # bag time = simulated time
+        got = [ns for ns in got if ns > reset_ns]
+        want = [ns for ns in expected[topic] if ns <= got[-1]]
+        missing = sorted(set(want) - set(got))
+        assert got == want, (topic, len(got), len(want), missing[:3], missing[-3:],
+                             reset_ns, got[-1])  # every sample, in order
+        if not topic.endswith('impact'):
+            assert got[-1] - reset_ns >= 60e9, topic  # >= 60 simulated seconds
+    # the same values, and the sample topics end together at the stop
+    wrench = [m for _, m in recorded[f'{NODE}/wrench'] if stamp_ns(m.header.stamp) > reset_ns]
+    # (to round-off: the node evaluates rest and flight over arrays, where numpy's SIMD exp, sin
+    # and cos may differ from the C library's in the last bit on some CPUs)
+    assert all(m.wrench.force.z == pytest.approx(forces[stamp_ns(m.header.stamp)], rel=1e-12,
+                                                 abs=0.0) for m in wrench)
+    assert recorded[f'{NODE}/wrench'][-1][0] == recorded[f'{NODE}/contact'][-1][0]
+
+
+@pytest.mark.slow
+def test_a_recorder_killed_with_sigkill_loses_at_most_a_second_and_recovers(own_domain,
+                                                                            workdir):
+    env, clock, spin_until, _ = own_domain
+    bag = workdir / 'killed'
+    clock.clear()   # (from an earlier node in this domain)
+    node = Process('contact_sim_node', [], env, workdir)
+    recorder = Process('contact_sim_record', ['-o', str(bag)], env, workdir)
+    try:
+        spin_until(lambda: 'receiving /contact_sim/pose' in recorder.output(), 'recording')
+        spin_until(lambda: clock and clock[-1] < 30e9, "this node's /clock")  # (not stale)
+        start = clock[-1]
+        spin_until(lambda: clock[-1] > start + 3e9, '3 more simulated seconds')
+        os.killpg(recorder.popen.pid, signal.SIGKILL)
+        killed_at = clock[-1]   # (this reader lags the node: the node had reached at least this)
+        recorder.popen.wait(TIMEOUT)
+        clean_shm(recorder.started)
+    finally:
+        if recorder.popen.poll() is None:   # the test failed before the kill
+            recorder.stop()
+        assert_clean_exit(node)
+    assert not (bag / 'metadata.yaml').exists()
+    out = subprocess.run([executable('contact_sim_record'), '--recover', str(bag)], env=env,
+                         capture_output=True, text=True, timeout=TIMEOUT)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.startswith(f'recovered {bag}: ')
+    recorded = read_bag(bag)
+    poses = stamps_in_bag(f'{NODE}/pose', recorded[f'{NODE}/pose'])
+    assert np.all(np.diff(poses) == 10_000_000)  # nothing missing up to the last flush
+    assert poses[-1] >= killed_at - 1_000_000_000, (poses[-1], killed_at)
+    # a second recovery is refused: the bag is complete
+    again = subprocess.run([executable('contact_sim_record'), '--recover', str(bag)], env=env,
+                           capture_output=True, text=True, timeout=TIMEOUT)
+    assert again.returncode == 2 and 'metadata.yaml already' in again.stderr
