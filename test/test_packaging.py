@@ -97,6 +97,7 @@ def _workspace(tmp_path):
     return src, env
 
 
+@pytest.mark.slow   # a colcon build and colcon test of the checkout: about 25 s
 def test_the_checkout_builds_and_tests_with_plain_colcon_in_a_ros_workspace(tmp_path):
     """The README's workspace commands: `colcon build`, then `colcon test` runs the suite with
     pytest (the `test` extra) and `--return-code-on-test-failure` fails on a failing test."""
