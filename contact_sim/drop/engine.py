@@ -35,6 +35,7 @@ engine serves a batch run (``simulate_drop``) and a real-time loop.  Units: SI; 
 penetration, ż > 0 is downward motion (approach), height above the plate is -z.
 """
 import math
+from operator import attrgetter
 
 import numpy as np
 
@@ -59,7 +60,7 @@ __all__ = ['Advance', 'DropResult', 'DropSimulation', 'DropState', 'ImpactRecord
 
 def _recorded(name, doc):
     """A read-only attribute ``name`` of the drop's ``recorder`` (``records.Recorder``)."""
-    return property(lambda self: getattr(self.recorder, name), doc=doc)
+    return property(attrgetter('recorder.' + name), doc=doc)
 
 
 class DropSimulation:

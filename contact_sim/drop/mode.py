@@ -6,6 +6,7 @@ an ``Event`` and the engine looks the next mode up in ``transitions.TRANSITIONS`
 """
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 
 @dataclass(frozen=True)
@@ -29,11 +30,10 @@ class Event:
     contact: object = None
 
 
-@dataclass(frozen=True)
-class Move:
+class Move(NamedTuple):
     """What ``Mode.advance`` did: the ``event`` that ended the mode (``None``: it stopped at
     ``time`` (s), the end asked or where the step budget ran out) and the ``budget`` of
-    integrator steps left."""
+    integrator steps left.  (A named tuple: one is made on every ``advance``, at rest too.)"""
 
     event: Event
     time: float
