@@ -5,12 +5,10 @@ knows its own state and how far it can go alone; it does not know what follows i
 an ``Event`` and the engine looks the next mode up in ``transitions.TRANSITIONS``.
 """
 import math
-from dataclasses import dataclass
 from typing import NamedTuple
 
 
-@dataclass(frozen=True)
-class Event:
+class Event(NamedTuple):
     """What ended a mode, at ``time`` (s) with the sphere at ``penetration`` z (m) and
     ``penetration_rate`` ż (m/s) relative to the plate.
 
@@ -18,7 +16,8 @@ class Event:
     contact phase started by a change from outside (no impact of its own); ``record``: a contact's
     (first point, peak force (N), depth (m)) carried into the phase that goes on from here;
     ``after``: the next mode when the ending mode has built it already (the rest it decayed to,
-    the carried state it checked); ``contact``: a new ``Contact`` given from outside."""
+    the carried state it checked); ``contact``: a new ``Contact`` given from outside.  (Events
+    and moves are named tuples: a few are made at every bounce.)"""
 
     name: str
     time: float
@@ -33,7 +32,7 @@ class Event:
 class Move(NamedTuple):
     """What ``Mode.advance`` did: the ``event`` that ended the mode (``None``: it stopped at
     ``time`` (s), the end asked or where the step budget ran out) and the ``budget`` of
-    integrator steps left.  (A named tuple: one is made on every ``advance``, at rest too.)"""
+    integrator steps left."""
 
     event: Event
     time: float
@@ -53,6 +52,8 @@ class Mode:
       event, with at most ``budget`` integrator steps, appending the contact points passed
       (t, z, ż, F) to ``points``; ``sim`` is the ``DropSimulation`` (contact, mass, gravity,
       plate, recorder);
+    * ``event_at_until()``: the event at ``until`` of a closed-form mode that has one (the
+      default ``advance`` reports it once ``t_end`` reaches ``until``);
     * ``steps``: integrator steps taken in this mode so far (the engine adds them to the record
       when the mode ends); ``in_contact``, ``carried``: what ``DropSimulation`` reports.
     """
