@@ -1,0 +1,128 @@
+"""The ranges of a drop's arguments and ``check_drop``: the drops the engine can follow, inside the
+contact model's validity.  Units: SI; every bound is stated in the refusal (``InputError``)."""
+import math
+
+from contact_sim.phase import phase_scales
+from contact_sim.validation import InputError, require_range
+
+DROP_RTOL = 1e-10
+
+# The ranges of a drop's arguments (SI).  Outside them the doubles of the model overflow or the
+# contact cannot be resolved in time; every bound is stated in the refusal.
+MASS_RANGE = (1e-12, 1e9)            # kg
+GRAVITY_MAX = 1e6                    # m/s²
+HEIGHT_MAX = 1e6                     # m
+VELOCITY_MAX = 1e5                   # m/s, either direction
+DURATION_MAX = 1e9                   # s
+SAMPLE_RATE_MAX = 1e7                # Hz
+MAX_SAMPLES = 200_000                # trajectory samples of one simulate_drop call (~7 s)
+MAX_STEPS = 100_000                  # integrator steps of one simulate_drop call (~10 s)
+CONTACT_TIME_MIN = 1e-12             # s: the contact's time scale T
+CONTACT_LENGTH_MAX = 1e3             # m: the contact's length scale Z (the depth it reaches)
+DAMPING_GROUP_MAX = 1e8              # ζ: beyond it a contact is a creep that never ends in time
+
+
+def require_gravity_for(what, gravity):
+    """Drag flights and a moving plate's flights are solved under gravity: g > 0."""
+    if not gravity > 0.0:
+        raise InputError('gravity', gravity, '{n[gravity]} = {value} is out of range with %s: '
+                         'allowed 0 < {n[gravity]} (its flights are solved under gravity), or '
+                         'no %s' % (what, what))
+
+
+def _first_impact_speed(gravity, height, velocity):
+    """Speed (m/s) at the first touch, √(v0² + 2 g h); 0 if the sphere never lands."""
+    if gravity == 0.0:
+        return max(velocity, 0.0)
+    return math.sqrt(velocity * velocity + 2.0 * gravity * height)
+
+
+def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_speed=0.0):
+    """Refuse a drop the engine cannot follow, or one outside the contact model's validity.
+
+    With a moving plate of peak speed ``plate_speed`` (m/s, ``PlateMotion.speed_bound``) an
+    impact can be faster by up to that: the checks below take v1 + ``plate_speed`` as the
+    impact speed (a vibrating table that pumps the sphere higher still can exceed it).
+
+    * the contact's time scale T (at the first impact, and at rest under gravity) must be at
+      least ``CONTACT_TIME_MIN``, and its damping group ζ at most ``DAMPING_GROUP_MAX`` (a
+      larger ζ is a creep of the sphere into the plate far slower than any drop);
+    * with the sphere ``radius`` R (m): the undamped sphere must not sink deeper than R, where
+      no contact law here applies.  The first impact at v1 = √(v0² + 2 g h) stops undamped at
+      the depth z with k z^(n+1)/(n+1) = m v1²/2 + m g z, so z <= R holds when
+      k >= (n+1)(m v1²/2 + m g R)/R^(n+1); damping only makes z smaller, so this bound is
+      sufficient (and independent of λ).
+
+    Raises ``InputError`` keyed ``stiffness`` or ``damping`` whose reason gives the bounds.
+    """
+    speed = _first_impact_speed(gravity, height, velocity) + plate_speed
+    if speed == 0.0 and gravity == 0.0:
+        return                      # never lands: nothing to check
+    law, k, lam = contact.law, contact.stiffness, contact.damping
+    n = law.n
+    regimes = []
+    try:
+        if speed > 0.0:
+            regimes.append(phase_scales(contact, mass, 0.0, 0.0, speed))
+        if gravity > 0.0:
+            z0 = contact.static_penetration(mass * gravity)
+            regimes.append(phase_scales(contact, mass, gravity, z0, 0.0))
+    except ArithmeticError:
+        regimes = []
+    deepest = max((sc.length for sc in regimes), default=math.inf)
+    if not deepest <= CONTACT_LENGTH_MAX:
+        # Z ∝ k^(-1/(n+1)) at an impact, (m g / k)^(1/n) at rest
+        k_min = max(mass * speed ** 2 / CONTACT_LENGTH_MAX ** (n + 1.0),
+                    mass * gravity / CONTACT_LENGTH_MAX ** n)
+        raise InputError('stiffness', k, '{n[stiffness]} = {value} N/m^%g is too small for a '
+                         '%.4g kg sphere: it would sink %s into the plate; allowed '
+                         '{n[stiffness]} >= %.4g N/m^%g (contact length scale <= %g m)'
+                         % (n, mass, 'without bound' if math.isinf(deepest) else
+                            '~%.3g m' % deepest, k_min, n, CONTACT_LENGTH_MAX))
+    shortest = min(sc.time for sc in regimes)
+    if not shortest >= CONTACT_TIME_MIN:
+        # T ∝ k^(-1/(n+1)) at an impact (Z = (m v²/k)^(1/(n+1)), T = Z/v), ∝ k^(-1/(2n)) at rest
+        exponent = 1.0 / (n + 1.0) if speed > 0.0 else 0.5 / n
+        k_max = k * (shortest / CONTACT_TIME_MIN) ** (1.0 / exponent)
+        raise InputError('stiffness', k, '{n[stiffness]} = {value} N/m^%g is too large for a '
+                         '%.4g kg sphere: its contact would last ~%.3g s, beyond what the engine '
+                         'resolves; allowed {n[stiffness]} <= %.4g N/m^%g (contact time scale '
+                         '>= %g s), or a larger {n[mass]}'
+                         % (n, mass, shortest, k_max, n, CONTACT_TIME_MIN))
+    largest = max(sc.damping for sc in regimes)
+    if largest > DAMPING_GROUP_MAX:
+        lam_max = lam * DAMPING_GROUP_MAX / largest
+        raise InputError('damping', lam, '{n[damping]} = {value} is too large for this drop: '
+                         'the damping group would be zeta = %.3g and the sphere would creep '
+                         'into the plate for ages; allowed {n[damping]} <= %.4g (zeta <= %g)'
+                         % (largest, lam_max, DAMPING_GROUP_MAX))
+    if radius is None or speed == 0.0 and gravity == 0.0:
+        return
+    minimum = (n + 1.0) * (0.5 * mass * speed ** 2 + mass * gravity * radius) / radius ** (n + 1.0)
+    if k >= minimum:
+        return
+    allowed = '{n[stiffness]} >= %.4g N/m^%g' % (minimum, n)
+    # or, with this k, the highest drop: m v1²/2 <= k R^(n+1)/(n+1) - m g R
+    top_speed_sq = 2.0 * (k * radius ** (n + 1.0) / (n + 1.0) - mass * gravity * radius) / mass
+    if plate_speed > 0.0:   # the sphere's own share of the impact speed
+        top_speed_sq = max(math.sqrt(max(top_speed_sq, 0.0)) - plate_speed, 0.0) ** 2
+    if gravity > 0.0 and top_speed_sq > velocity ** 2:
+        allowed += ' or {n[height]} <= %.4g m' % ((top_speed_sq - velocity ** 2) / (2.0 * gravity))
+    if plate_speed > 0.0:
+        allowed += ' (with the plate moving at up to %.4g m/s)' % plate_speed
+    raise InputError('stiffness', k, '{n[stiffness]} = %.4g N/m^%g is too small for this drop: '
+                     'a %.4g kg sphere hitting at %.4g m/s would sink more than its radius '
+                     '(%g m) into the plate, where no contact law here applies; allowed %s'
+                     % (k, n, mass, speed, radius, allowed))
+
+
+
+
+def require_height(height):
+    """Release height of the lowest point above the plate (m): 0 <= h <= HEIGHT_MAX."""
+    return require_range('height', height, 0.0, HEIGHT_MAX, unit='m')
+
+
+def require_velocity(velocity):
+    """Release velocity (m/s, downward positive): |v| <= VELOCITY_MAX."""
+    return require_range('velocity', velocity, -VELOCITY_MAX, VELOCITY_MAX, unit='m/s')

@@ -1,0 +1,127 @@
+"""Contact: a contact phase integrated exactly by ``phase.PhaseIntegrator``, with the plate's
+acceleration as forcing, until one of its events: ``lift_off`` (the force vanished), ``knot``
+(the plate's forcing changes: the same contact goes on from there), ``settled`` (the fixed
+plate's rest took over) or ``carried`` (a moving plate carries the sphere)."""
+import math
+
+from contact_sim.drop.mode import Event, Mode, Move
+from contact_sim.drop.mode_carried import CarryWatch
+from contact_sim.drop.mode_rest import RestWatch
+from contact_sim.drop.records import ImpactRecord
+from contact_sim.phase import contact_phase
+
+
+class Contact(Mode):
+    """A contact phase of ``sim`` (a ``DropSimulation``) from time t (s) at (z, ż) (m, m/s).
+
+    The forcing is the plate's on [t, ``valid_until``) (``PlateMotion.forcing_piece``: none and
+    for ever on the fixed plate); ``watch`` is what the phase settles into, by the plate: a
+    ``RestWatch`` on the fixed plate, a ``CarryWatch`` on a moving one.  ``resumed``: started by
+    a change from outside with the sphere inside (no impact of its own); ``record``: the
+    (first point, peak force (N), depth (m)) of the same contact before a restart (a knot, a
+    change of plate), carried into this phase's impact record."""
+
+    in_contact = True
+    until = -math.inf
+
+    def __init__(self, sim, t, z, zdot, resumed=False, record=None):
+        plate = sim.plate_motion
+        forcing, self.valid_until = plate.forcing_piece(t)
+        self.integrator = contact_phase(sim.contact, sim.mass, sim.gravity, t, z, zdot,
+                                        rtol=sim.rtol, atol=sim.rtol * 1e-2, forcing=forcing)
+        self.watch = CarryWatch() if plate.moving else RestWatch(sim)
+        self.resumed = resumed
+        self.first_point, self.peak, self.depth = record or (None, 0.0, -math.inf)
+        self.emitted = 0
+
+    @property
+    def steps(self):
+        return self.integrator.steps
+
+    @property
+    def landed(self):
+        """True once the contact is permanent (on the fixed plate): a change of plate then starts
+        a new contact phase rather than carrying this one's record on."""
+        return self.watch.landed
+
+    @property
+    def impact_point(self):
+        """(t, z, ż, F) at the start of the contact (before any restart)."""
+        return self.first_point or self.integrator.points[0]
+
+    def record_until(self, t):
+        """(first point, peak force (N), depth (m)) of the contact up to t (s), to carry on."""
+        phase = self.integrator
+        kept = [pt for pt in phase.points if pt[0] <= t]
+        return (self.impact_point, max([self.peak] + [pt[3] for pt in kept]),
+                max([self.depth] + [pt[1] for pt in kept]))
+
+    def state(self, t):
+        phase = self.integrator
+        if t == phase.start_time:
+            return phase.points[0][1], phase.points[0][2]
+        if t == phase.time:
+            return phase.state
+        return phase.state_at(t)
+
+    def take_points(self, t_end):
+        """The integrator's points up to ``t_end`` (s) not handed out yet."""
+        out = []
+        pts = self.integrator.points
+        while self.emitted < len(pts) and pts[self.emitted][0] <= t_end:
+            out.append(pts[self.emitted])
+            self.emitted += 1
+        return out
+
+    def finish_time(self):
+        """When the phase ends within its forcing piece (lift-off, or the switch to rest), or
+        ``None`` if not yet known."""
+        phase = self.integrator
+        if phase.lifted_off:
+            return phase.end[0] if phase.end[0] <= self.valid_until else None
+        return self.watch.settled_at
+
+    def advance(self, sim, t_end, budget, points):
+        phase, knot = self.integrator, self.valid_until
+        while True:
+            points.extend(self.take_points(min(t_end, knot)))
+            finish = self.finish_time()
+            if finish is not None:
+                if finish > t_end:
+                    return Move(None, t_end, budget)
+                return Move(self._finish(sim), finish, budget)
+            if (phase.lifted_off or phase.time >= knot) and knot <= t_end:
+                # the forcing changes at the knot: restart there from the dense output (the last
+                # step integrated the forcing continued smoothly past the knot: exact up to it)
+                z, zdot = phase.state_at(knot)
+                return Move(Event('knot', knot, z, zdot, resumed=self.resumed,
+                                  record=self.record_until(knot)), knot, budget)
+            if phase.time >= t_end:
+                return Move(None, t_end, budget)
+            if budget <= 0:         # out of budget: stop where the integrator is
+                points.extend(self.take_points(phase.time))
+                return Move(None, phase.time, budget)
+            event = self.watch.before_run(sim, self)
+            if event is not None:
+                return Move(event, event.time, budget)
+            budget -= self.watch.run(sim, phase, min(t_end, knot), budget)
+            self.watch.after_run(sim, self)
+
+    def _finish(self, sim):
+        """The event at the end of the phase, its impact recorded: ``lift_off`` or ``settled``."""
+        phase, recorder = self.integrator, sim.recorder
+        if not phase.lifted_off:
+            rest = self.watch.settle(sim, self)
+            return Event('settled', rest.start, after=rest)
+        t, z, zdot = phase.end
+        if self.resumed:        # a contact change moved the sphere: no impact to record
+            recorder.permanent_contact_time = recorder.settle_time = None
+        else:
+            impact_time, _, impact_rate, _ = self.impact_point
+            impact_speed = max(impact_rate, 0.0)
+            rebound = max(-zdot, 0.0)
+            recorder.impacts.append(ImpactRecord(
+                impact_time, impact_speed, rebound,
+                rebound / impact_speed if impact_speed > 0.0 else 0.0, t - impact_time,
+                max(phase.peak_force, self.peak), max(phase.max_penetration, self.depth)))
+        return Event('lift_off', t, z, zdot, resumed=self.resumed)

@@ -1,0 +1,159 @@
+"""Rest on the fixed plate: the linearised damped oscillation about the static deflection, in
+closed form, for ever; and ``RestWatch``, the test a contact phase on the fixed plate makes after
+each run of steps: has it become permanent (the energy above rest below the lift-off floor, or a
+provable creep into the rest depth), and has its oscillation decayed enough for the closed form
+to take over (the event ``settled``, see ``mode_contact``)?"""
+import math
+
+import numpy as np
+
+from contact_sim.drop.mode import Mode
+from contact_sim.drop.records import ImpactRecord
+from contact_sim.phase import lift_off_energy
+
+
+class Rest(Mode):
+    """The linearised damped oscillation about the static deflection ``rest_depth`` z0 (m) from
+    ``start`` (s), with ``offset`` z - z0 (m) and ``rate`` ż (m/s) then, ``decay`` a = c / 2m
+    (1/s) and ``natural_sq`` ω₀² = k' / m (1/s²) of the linearisation."""
+
+    in_contact = True
+
+    def __init__(self, start, rest_depth, offset, rate, decay, natural_sq):
+        self.start, self.rest_depth, self.offset, self.rate = start, rest_depth, offset, rate
+        self.decay, self.natural_sq = decay, natural_sq
+
+    def _oscillation(self, t, exp, cos, sin):
+        """(z, ż) at the times t with the functions ``exp``, ``cos``, ``sin`` of ``math`` (a
+        float t) or ``numpy`` (an array)."""
+        dt = t - self.start
+        a, w0sq = self.decay, self.natural_sq
+        disc = w0sq - a * a
+        if disc > 0.0:                      # underdamped
+            w = math.sqrt(disc)
+            e = exp(-a * dt)
+            ec, es = e * cos(w * dt), e * sin(w * dt) / w
+        elif disc < 0.0:                    # overdamped: e^(-a t) cosh, sinh without overflow
+            w = math.sqrt(-disc)            # w < a
+            slow, fast = exp((w - a) * dt), exp(-(w + a) * dt)
+            ec, es = 0.5 * (slow + fast), 0.5 * (slow - fast) / w
+        else:                               # critically damped
+            e = exp(-a * dt)
+            ec, es = e, e * dt
+        y = self.offset * ec + (self.rate + a * self.offset) * es
+        v = self.rate * ec - (a * self.rate + w0sq * self.offset) * es
+        return self.rest_depth + y, v
+
+    def state(self, t):
+        return self._oscillation(t, math.exp, math.cos, math.sin)
+
+    def states(self, t):
+        return self._oscillation(t, np.exp, np.cos, np.sin)
+
+
+def permanent_record(phase):
+    """The ``ImpactRecord`` of a permanent contact ``phase`` (rebound 0, duration inf)."""
+    impact_time, _, impact_rate, _ = phase.points[0]
+    return ImpactRecord(impact_time, max(impact_rate, 0.0), 0.0, 0.0, math.inf,
+                        phase.peak_force, phase.max_penetration)
+
+
+class RestWatch:
+    """What a contact phase on the fixed plate settles into: permanent contact, then ``rest``.
+
+    ``floor``: below this energy above rest (J) the force can never vanish again; ``permanent``
+    once it is so; ``rest`` (a ``Rest``) once the oscillation has decayed below
+    ``settle_tolerance`` of the rest depth (laws linear in the rate only: the others are
+    integrated all the way); ``record``: the index of the landing's ``ImpactRecord``."""
+
+    def __init__(self, sim):
+        self.floor = (lift_off_energy(sim.contact, sim.mass, sim.gravity)
+                      if sim.gravity > 0.0 else -math.inf)
+        self.permanent = False
+        self.rest = None
+        self.record = None
+
+    @property
+    def landed(self):
+        """True once the contact is permanent (the sphere never leaves the plate again)."""
+        return self.permanent
+
+    @property
+    def settled_at(self):
+        """When the closed-form rest takes over (s), or ``None``."""
+        return self.rest.start if self.rest is not None else None
+
+    def before_run(self, sim, contact):
+        return None
+
+    def run(self, sim, phase, t_stop, budget):
+        """Steps until ``t_stop`` (s), ``budget`` or the energy at which ``after_run`` has work."""
+        return phase.run(t_stop, budget, self._stop_energy(sim))
+
+    def _stop_energy(self, sim):
+        """The energy above rest (J) below which ``after_run`` has work: the contact phase runs
+        its steps without returning until then (it stops at the first step below)."""
+        if sim.gravity <= 0.0:
+            return -math.inf
+        if not self.permanent:
+            return self.floor
+        if not sim.contact.law.linear_in_rate:
+            return -math.inf
+        z0, k_lin, _ = sim.contact.rest_linearisation(sim.mass * sim.gravity)
+        return 0.5 * k_lin * (sim.settle_tolerance * z0) ** 2
+
+    def after_run(self, sim, contact):
+        """Mark permanent contact (the landing for good is reported as the phase's impact unless
+        the phase was ``resumed``), and the switch to the closed-form rest solution."""
+        phase = contact.integrator
+        if sim.gravity <= 0.0 or phase.lifted_off:
+            return
+        energy = phase.energy_above_rest()
+        if not self.permanent and (energy < self.floor or _creeps_to_rest(sim, phase)):
+            self.permanent = True
+            if not contact.resumed:
+                sim.recorder.permanent_contact_time = phase.start_time
+                self.record = sim.recorder.landing(permanent_record(phase))
+        if not self.permanent or not sim.contact.law.linear_in_rate:
+            return   # (no linear damping at rest: it is integrated all the way)
+        z0, k_lin, c_lin = sim.contact.rest_linearisation(sim.mass * sim.gravity)
+        amplitude = math.sqrt(2.0 * max(energy, 0.0) / k_lin)
+        if amplitude < sim.settle_tolerance * z0:
+            z, zdot = phase.state
+            self.rest = Rest(phase.time, z0, z - z0, zdot, c_lin / (2.0 * sim.mass),
+                             k_lin / sim.mass)
+
+    def settle(self, sim, contact):
+        """The phase settled into ``rest``: complete the landing's record with the final peaks."""
+        recorder = sim.recorder
+        if not contact.resumed:
+            phase = contact.integrator
+            recorder.impacts[self.record] = permanent_record(phase)
+            recorder.permanent_contact_time = contact.impact_point[0]
+        recorder.settle_time = self.rest.start
+        return self.rest
+
+
+def _creeps_to_rest(sim, phase):
+    """True if the sphere provably creeps down into its rest depth z0 without lift-off.
+
+    For q = 1, above z0 (z < z0) moving down (ż >= 0): ż cannot turn negative before z0
+    (at ż = 0 the net force m g - k zⁿ is down).  With b = λ zᵖ/m (zᵖ grows with z) and
+    a = max slope of k zⁿ on [z, z0] / m, the region 0 <= ż <= c (z0 - z) is invariant when
+    c² - b c + a <= 0 (check the boundary ż = c δ: z̈ + c ż <= δ (a - b c + c²)), which has a
+    solution c = (b + √(b² - 4a))/2 when b² >= 4a.  Inside it the sphere reaches z0 only
+    with ż = 0: the force k zⁿ + λ zᵖ ż stays positive for ever: permanent contact.
+    """
+    contact, mass = sim.contact, sim.mass
+    law = contact.law
+    if not law.linear_in_rate:
+        return False
+    z, zdot = phase.state
+    z0 = contact.static_penetration(mass * sim.gravity)
+    if not (0.0 < z < z0 and zdot >= 0.0):
+        return False
+    n, k = law.n, contact.stiffness
+    a = n * k * max(z ** (n - 1.0), z0 ** (n - 1.0)) / mass
+    b = contact.damping * z ** law.p / mass
+    disc = b * b - 4.0 * a
+    return disc >= 0.0 and zdot <= 0.5 * (b + math.sqrt(disc)) * (z0 - z)

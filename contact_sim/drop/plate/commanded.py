@@ -1,0 +1,143 @@
+"""A plate commanded by timed set-points: ``CommandedPlate``, the C¹ piecewise-quadratic
+interpolant through them, and the checks of set-point arrays that ``command_motion`` shares."""
+import bisect
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from contact_sim.drop.plate.motions import PlateMotion, constant_forcing
+from contact_sim.validation import InputError
+
+
+@dataclass(frozen=True)
+class CommandedPlate(PlateMotion):
+    """A plate through set-points: ``times`` tᵢ (s, strictly increasing), ``positions`` pᵢ (m),
+    ``velocities`` vᵢ (m/s), equal lengths >= 1; the interpolation is stated in the module
+    docstring (C¹, constant acceleration on each half-interval, constant velocity outside)."""
+
+    times: tuple
+    positions: tuple
+    velocities: tuple
+
+    def __post_init__(self):
+        times = set_point_times(self.times)
+        n = times.size
+        arrays = {'times': times, 'positions': finite_array('positions', self.positions, n),
+                  'velocities': finite_array('velocities', self.velocities, n)}
+        for name, arr in arrays.items():
+            object.__setattr__(self, name, tuple(arr.tolist()))
+        t, p, v = arrays['times'], arrays['positions'], arrays['velocities']
+        h = 0.5 * np.diff(t)
+        dv = (v[1:] - v[:-1]) / h if n > 1 else np.empty(0)
+        a1 = 0.5 * (2.0 * (p[1:] - p[:-1] - 2.0 * v[:-1] * h) / h ** 2 - dv) if n > 1 \
+            else np.empty(0)
+        a2 = dv - a1
+        # pieces: start time, position, velocity, acceleration (the last runs to +inf)
+        starts, pos, vel, acc = [], [], [], []
+        for i in range(n - 1):
+            mid_p = p[i] + v[i] * h[i] + 0.5 * a1[i] * h[i] ** 2
+            starts += [t[i], t[i] + h[i]]
+            pos += [p[i], mid_p]
+            vel += [v[i], v[i] + a1[i] * h[i]]
+            acc += [a1[i], a2[i]]
+        starts.append(t[-1])
+        pos.append(p[-1])
+        vel.append(v[-1])
+        acc.append(0.0)
+        object.__setattr__(self, '_pieces', tuple(tuple(float(x) for x in seq)
+                                                  for seq in (starts, pos, vel, acc)))
+
+    def _piece(self, t):
+        starts = self._pieces[0]
+        return max(bisect.bisect_right(starts, t) - 1, 0)
+
+    def state(self, t):
+        starts, pos, vel, acc = self._pieces
+        if t < starts[0]:
+            return pos[0] + vel[0] * (t - starts[0]), vel[0], 0.0
+        i = self._piece(t)
+        dt = t - starts[i]
+        return pos[i] + vel[i] * dt + 0.5 * acc[i] * dt * dt, vel[i] + acc[i] * dt, acc[i]
+
+    def jerk(self, t):
+        """d p̈ / dt (m/s³): zero inside every piece."""
+        return 0.0
+
+    def acceleration_bound(self):
+        return max(abs(a) for a in self._pieces[3])
+
+    def position_range(self):
+        """(min, max) of p (m) from the first set-point on: at the knots, and at a piece's
+        turning point (ṗ = 0 inside it)."""
+        starts, pos, vel, acc = self._pieces
+        values = list(pos)
+        for i in range(len(starts) - 1):
+            h = starts[i + 1] - starts[i]
+            values.append(pos[i] + vel[i] * h + 0.5 * acc[i] * h * h)
+            if acc[i] != 0.0 and 0.0 < -vel[i] / acc[i] < h:
+                values.append(pos[i] - 0.5 * vel[i] * vel[i] / acc[i])
+        if vel[-1] != 0.0:      # constant velocity after the last set-point: unbounded
+            values.append(math.copysign(math.inf, vel[-1]))
+        return min(values), max(values)
+
+    def speed_bound(self):
+        """Peak |ṗ| (m/s): ṗ is piecewise linear, so at a piece's ends."""
+        return max(abs(v) for v in self.velocities + self._pieces[2])
+
+    def acceleration_range(self, t0, t1):
+        """(min, max) of p̈ over [t0, t1]: over the pieces it overlaps."""
+        starts, acc = self._pieces[0], self._pieces[3]
+        values = [0.0] if t0 < starts[0] else []
+        if t1 >= starts[0]:
+            values += acc[self._piece(max(t0, starts[0])):self._piece(t1) + 1]
+        return min(values), max(values)
+
+    def forcing_piece(self, t):
+        starts, acc = self._pieces[0], self._pieces[3]
+        if t < starts[0]:
+            return constant_forcing(0.0), starts[0]
+        i = j = self._piece(t)
+        while j + 1 < len(starts) and abs(acc[j + 1] - acc[i]) <= 1e-12 * abs(acc[i]):
+            # knots that change nothing (up to the rounding of the interpolant's coefficients)
+            j += 1
+        return constant_forcing(acc[i]), (starts[j + 1] if j + 1 < len(starts) else math.inf)
+
+    def next_acceleration_below(self, t, level):
+        starts, acc = self._pieces[0], self._pieces[3]
+        if t < starts[0]:
+            if 0.0 <= level:
+                return t
+            t = starts[0]
+        for i in range(self._piece(t), len(starts)):
+            if acc[i] <= level:
+                return max(t, starts[i])
+        return math.inf
+
+
+def finite_array(name, values, count=None):
+    try:
+        arr = np.asarray(values, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise InputError(name, values, '{n[%s]} = {value} is invalid: allowed a sequence of '
+                         'finite numbers' % name, value=repr(values)) from None
+    if not np.all(np.isfinite(arr)):
+        raise InputError(name, values, '{n[%s]} = {value} is out of range: allowed finite '
+                         'numbers' % name, value=repr(arr.tolist()))
+    if count is not None and arr.size != count:
+        raise InputError(name, values, '{n[%s]} has %d values: allowed one per point (%d)'
+                         % (name, arr.size, count), value=repr(arr.tolist()))
+    return arr
+
+
+def set_point_times(times):
+    """Set-point times (s) as an array: at least one, finite, strictly increasing."""
+    t = finite_array('times', times)
+    if t.size == 0:
+        raise InputError('times', times, '{n[times]} is empty: allowed at least one point',
+                         value='[]')
+    if np.any(np.diff(t) <= 0.0):
+        raise InputError('times', times, '{n[times]} = {value} is out of range: allowed strictly '
+                         'increasing times', value=repr(t.tolist()))
+    return t
+

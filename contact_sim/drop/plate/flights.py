@@ -1,0 +1,165 @@
+"""A flight over the plate as each plate motion plans it: when the clamped force switches on
+again, and the apex of a flight after a lift-off.
+
+The fixed plate plans in closed form (``ballistic_flight``): the touch time by the quadratic
+formula (``touch_time``), with air drag the closed-form ``flight.FlightPath``.  A moving plate
+plans by the first root of the gap between the sphere and the plate (``gap_flight``), rigorously
+bracketed (``roots.first_gap_root``).  Both work on a flight of the drop engine: an object with
+``start`` (s), ``y0`` (m) and ``v0`` (m/s, the sphere's absolute lowest point and its upward
+velocity at the start), ``gravity`` (m/s²), ``path`` and ``contact_time`` (set here), and the
+methods ``absolute(t)`` -> (y, v) and ``state(t)`` -> (z, ż) relative to the plate.  Units: SI;
+z > 0 is penetration, ż > 0 approach.
+"""
+import math
+
+from contact_sim.drop.plate.roots import EPS, first_gap_root, first_upward_root
+from contact_sim.flight import FlightPath
+
+
+def surface_time(z, zdot, gravity):
+    """Ballistic time (s) to rise from z > 0 (m) at ż (m/s) to the undeformed surface of the
+    fixed plate under ``gravity`` (m/s²); inf: never."""
+    disc = zdot * zdot - 2.0 * gravity * z
+    return 2.0 * z / (-zdot + math.sqrt(disc)) if disc >= 0.0 and zdot < 0.0 else math.inf
+
+
+def touch_time(z, zdot, gravity, contact):
+    """Ballistic flight time (s) from (z, ż) (m, m/s) over the fixed plate under ``gravity``
+    (m/s²) until the clamped force of ``contact`` switches on again (inf: never)."""
+    g = gravity
+    law = contact.law
+    if z > 0.0:
+        # Inside the undeformed surface with zero force (after a lift-off at z > 0): the
+        # force returns when φ = k z^(n-p) + λ ż|ż|^(q-1) turns positive while z > 0.
+        if g > 0.0:
+            disc = zdot * zdot - 2.0 * g * z
+            t_out = (2.0 * z / (-zdot + math.sqrt(disc))) if disc >= 0.0 and zdot < 0.0 \
+                else math.inf
+            t_search = min(t_out, max(-zdot / g, 0.0))
+        else:
+            t_search = -z / zdot if zdot < 0.0 else 0.0
+        if t_search > 0.0:
+            def phi(dt):
+                zz = z + zdot * dt + 0.5 * g * dt * dt
+                return float(law.reduced_force(zz, zdot + g * dt, contact.stiffness,
+                                               contact.damping))
+            root = first_upward_root(phi, t_search)
+            if root is not None:
+                return root
+        if g == 0.0:
+            return math.inf
+        if t_search < t_out:
+            return t_search          # ż reaches 0 with z > 0: the spring pushes again
+        # the sphere leaves the undeformed surface: a flight from z = 0 going up
+        return t_out + touch_time(0.0, zdot + g * t_out, gravity, contact)
+    if g > 0.0:
+        disc = zdot * zdot - 2.0 * g * z
+        if zdot >= 0.0:
+            return 2.0 * -z / (zdot + math.sqrt(disc)) if z < 0.0 else 0.0
+        return (-zdot + math.sqrt(disc)) / g
+    return -z / zdot if zdot > 0.0 else math.inf
+
+
+def ballistic_flight(flight, z, zdot, contact, drag_rates, after_lift_off):
+    """Plan ``flight`` from (z, ż) (m, m/s) over the fixed plate: set its ``contact_time`` (s)
+    and, with ``drag_rates`` (κ, β of ``flight.AirDrag.rates``; ``None``: vacuum) and a flight
+    that leaves the surface, its drag ``path``; returns the apex height (m) of a flight
+    ``after_lift_off``, or ``None``.  A brief excursion inside the undeformed surface after a
+    lift-off at z > 0 stays ballistic."""
+    g, t = flight.gravity, flight.start
+    dt = touch_time(z, zdot, g, contact)
+    flight.contact_time = t + dt
+    leaves = z <= 0.0 or (zdot < 0.0 and dt > surface_time(z, zdot, g))
+    if drag_rates is not None and leaves:
+        flight.path = FlightPath(flight.y0, flight.v0, g, *drag_rates)
+        flight.contact_time = t + flight.path.time_to_height(0.0)
+        return flight.path.apex_height if after_lift_off else None
+    if after_lift_off and g > 0.0 and math.isfinite(dt):
+        t_top = -zdot / g
+        lowest = z - zdot * zdot / (2.0 * g) if 0.0 < t_top < dt else min(
+            z, flight.state(flight.contact_time)[0])
+        return -lowest
+    return None
+
+
+def gap_flight(plate, flight, z, zdot, contact, drag_rates, after_lift_off):
+    """Plan ``flight`` from (z, ż) (m, m/s) over the moving ``plate``: its drag ``path`` (with
+    ``drag_rates``, κ and β; ``None``: vacuum) and its ``contact_time`` (s, ``gap_touch_time``);
+    returns the apex height (m) of a rising flight ``after_lift_off``, or ``None``."""
+    g = flight.gravity
+    if drag_rates is not None:
+        flight.path = FlightPath(flight.y0, flight.v0, g, *drag_rates)
+    flight.contact_time = gap_touch_time(plate, flight, z, zdot, contact, drag_rates)
+    if after_lift_off and flight.v0 > 0.0:
+        path = flight.path
+        return path.apex_height if path is not None else flight.y0 + 0.5 * flight.v0 * flight.v0 / g
+    return None
+
+
+def gap_touch_time(plate, flight, z0, zdot0, contact, drag_rates):
+    """Absolute time (s) at which the force switches on again over the moving ``plate``.
+
+    Above the plate (z <= 0) it is the first root of the gap G = y - p going down, rigorously
+    bracketed (``first_gap_root``, |G''| <= g + drag + max|p̈|); a tangent graze with G' >= 0 at
+    the root (within rounding) is passed.  Inside the undeformed surface with zero force (after
+    a lift-off at z > 0) the force returns when φ turns positive, searched on 64 samples per
+    stretch as for the fixed plate, unless the sphere leaves the surface first.
+    """
+    g, t0 = flight.gravity, flight.start
+    v_up = max(flight.v0, 0.0)
+    kappa, beta = drag_rates if drag_rates is not None else (0.0, 0.0)
+    bound = g + kappa * v_up * v_up + beta * v_up + plate.acceleration_bound()
+
+    def gap(t):
+        y, v = flight.absolute(t)
+        p, pv, _ = plate.state(t)
+        return y - p, v - pv, abs(y) + abs(p)
+
+    def curvature(t, h):      # a lower bound of G'' = y'' - p̈ on [t, t + h]
+        return -(g + kappa * v_up * v_up + beta * v_up) - plate.acceleration_range(t, t + h)[1]
+
+    t = t0
+    if z0 > 0.0:
+        law = contact.law
+        stretch = 2.0 * abs(zdot0) / g + 1e-9
+
+        def inside(t):
+            G, dG, scale = gap(t)
+            return -G, -dG, scale
+
+        def curvature_inside(t, h):   # a lower bound of -G'' = p̈ - y'' (y'' <= -g in vacuum,
+            return plate.acceleration_range(t, t + h)[0] + (  # <= 0 with drag)
+                g if drag_rates is None else 0.0)
+
+        for _ in range(10000):
+            out = first_gap_root(inside, t, bound, t + stretch, local_curvature=curvature_inside)
+            t_stop = out[0] if out is not None else t + stretch
+
+            def phi(dt, start=t):
+                zz, rate = flight.state(start + dt)
+                return float(law.reduced_force(zz, rate, contact.stiffness, contact.damping))
+
+            root = first_upward_root(phi, t_stop - t)
+            if root is not None:
+                return t + root
+            t = t_stop
+            if out is not None:
+                break
+            stretch *= 2.0
+        else:
+            raise RuntimeError(f'no exit from the plate surface found after t = {t0!r}')
+    while True:
+        t_root, G, dG = first_gap_root(gap, t, bound, local_curvature=curvature)
+        if dG < 0.0:
+            return t_root
+        # a tangent graze (or the lift-off point itself): pass it, nudging until G > 0
+        nudge = max(1e-12, 4.0 * EPS * abs(t_root))
+        for _ in range(200):
+            G2, dG2, scale = gap(t_root + nudge)
+            if G2 > 16.0 * EPS * max(scale, 1e-9):
+                break
+            if G2 < 0.0 and dG2 < 0.0:
+                return t_root + nudge
+            nudge *= 2.0
+        t = t_root + nudge
+

@@ -1,0 +1,304 @@
+"""The plate's motions: the protocol ``PlateMotion``, the fixed plate, the vibrating table and a
+switch from one motion to another at a time (``CommandedPlate``, set-points, is in ``commanded``).
+
+The plate's surface is at height p(t) (m, up positive), with velocity ṗ (m/s) and acceleration
+p̈ (m/s²).  The drop engine (``drop.DropSimulation(..., plate=...)``) works in the relative
+coordinate z = p - y (penetration of the sphere's lowest point y), so that during contact
+
+    m z̈ = m (g + p̈(t)) - F(z, ż),
+
+the plate's acceleration enters as forcing beside gravity (``forcing_piece``, a ``phase.Forcing``
+that is exact on an interval).  The contact force F acts up on the sphere, its reaction -F on the
+plate.
+
+A plate motion is any object with the methods of ``PlateMotion``:
+
+* ``state(t)`` -> (p, ṗ, p̈);
+* ``acceleration_bound()`` -> an upper bound of |p̈| over all t (the flights' root bracket);
+* ``acceleration_range(t0, t1)`` -> (min, max) of p̈ over [t0, t1] (the local bracket);
+* ``forcing_piece(t)`` -> (Forcing, t_until): p̈ on [t, t_until) as a ``phase.Forcing``;
+* ``next_acceleration_below(t, level)`` -> the first time >= t at which p̈ <= level (inf: never);
+* ``speed_bound()`` -> an upper bound of |ṗ| over all t (the drop's depth check);
+* ``moving``: False only for the fixed plate (a moving plate can carry the sphere, the fixed
+  one lets it come to rest);
+* ``plan_flight(flight, ...)``: the flight's touch time and apex (``flights``);
+* ``samples(t)`` -> (p, ṗ, p̈) over an array of times, and ``states(t)`` -> (p, ṗ) arrays for
+  the engine's vectorised tick ends, or ``None`` where only ``state`` gives the exact numbers.
+
+Four are provided:
+
+* ``FixedPlate()``: p = 0 for ever, answering in the engine's closed forms (touch time by the
+  quadratic formula, no forcing, a contact exact for ever);
+* ``SinusoidalPlate(amplitude a, frequency f, phase ϕ)``: p = a sin(2π f t + ϕ), so
+  Γ = a (2π f)² / g is the table's peak acceleration in units of g;
+* ``CommandedPlate(times, positions, velocities)``: set-points (tᵢ, pᵢ, vᵢ) joined by the C¹
+  piecewise-quadratic interpolant with a knot at each interval's midpoint: constant acceleration
+  on each half-interval, chosen so that p and ṗ match both set-points.  Constant accelerations
+  make every piece an exact forcing of the compiled contact phase (no kernel change); the
+  interpolant is C¹ (no velocity jump, hence no impulse on a carried sphere).  Outside the
+  set-points the plate moves at constant velocity (zero acceleration): before t₀ it extrapolates
+  (p₀, v₀) backwards, after the last set-point it holds the last velocity;
+* ``SwitchedPlate(before, after, switch_time)``: one motion before the switch, another from it
+  on (a change of motion at a time: what ``DropSimulation.set_plate`` does to a running drop).
+
+``commands.table_transition`` joins the plate's current motion to a new vibrating table with a
+C¹ bridge; ``commands.command_motion`` turns a trajectory command (timed set-points) into a
+``CommandedPlate`` that starts from the plate's current state and brakes to rest after the last
+point.
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from contact_sim.drop.plate.flights import ballistic_flight, gap_flight
+from contact_sim.phase import Forcing
+from contact_sim.validation import require_nonnegative, require_real
+
+
+class PlateMotion:
+    """The protocol of a prescribed plate motion (see the module docstring); a base class."""
+
+    def state(self, t):
+        raise NotImplementedError
+
+    def acceleration_bound(self):
+        raise NotImplementedError
+
+    def forcing_piece(self, t):
+        raise NotImplementedError
+
+    def next_acceleration_below(self, t, level):
+        raise NotImplementedError
+
+    def acceleration_range(self, t0, t1):
+        """(min, max) of p̈ over [t0, t1]; by default ± ``acceleration_bound()``."""
+        bound = self.acceleration_bound()
+        return -bound, bound
+
+    def jerk(self, t):
+        return 0.0
+
+    def speed_bound(self):
+        raise NotImplementedError
+
+    @property
+    def moving(self):
+        return True
+
+    def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
+        """Set ``flight``'s touch time (and drag path) from (z, ż) (m, m/s) by the first root of
+        the gap (``flights.gap_flight``); returns the apex height (m) after a lift-off, or
+        ``None``."""
+        return gap_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off)
+
+    def samples(self, t):
+        """(p, ṗ, p̈) (m, m/s, m/s²) at the times t (s, an array), one ``state`` call each."""
+        return tuple(np.array(v) for v in zip(*(self.state(float(ti)) for ti in t)))
+
+    def states(self, t):
+        """(p, ṗ) arrays at the times t (s) for vectorised closed forms; ``None``: ``state``
+        alone gives the numbers of the scalar path."""
+        return None
+
+
+@dataclass(frozen=True)
+class FixedPlate(PlateMotion):
+    """The plate that does not move: p = ṗ = p̈ = 0 for ever.  Its flights are planned in closed
+    form (``flights.ballistic_flight``), its contacts have no forcing and stay exact for ever,
+    and it carries nothing: a sphere on it comes to rest."""
+
+    def state(self, t):
+        return 0.0, 0.0, 0.0
+
+    def acceleration_bound(self):
+        return 0.0
+
+    def speed_bound(self):
+        return 0.0
+
+    def forcing_piece(self, t):
+        """No forcing beyond gravity (``None``), exact for ever."""
+        return None, math.inf
+
+    def next_acceleration_below(self, t, level):
+        return t if 0.0 <= level else math.inf
+
+    @property
+    def moving(self):
+        return False
+
+    def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
+        """Set ``flight``'s touch time (and drag path) from (z, ż) (m, m/s) in closed form
+        (``flights.ballistic_flight``); returns the apex height (m) after a lift-off, or
+        ``None``."""
+        return ballistic_flight(flight, z, zdot, contact, drag_rates, after_lift_off)
+
+    def samples(self, t):
+        return np.zeros_like(t), np.zeros_like(t), np.zeros_like(t)
+
+    def states(self, t):
+        return np.zeros_like(t), np.zeros_like(t)
+
+
+FIXED = FixedPlate()
+
+
+def constant_forcing(acceleration):
+    """A constant acceleration as a ``phase.Forcing``: A sin(0·t + π/2) = A."""
+    return Forcing(acceleration_amplitude=acceleration, angular_frequency=0.0, phase=math.pi / 2)
+
+
+@dataclass(frozen=True)
+class SinusoidalPlate(PlateMotion):
+    """A table vibrating as p(t) = a sin(2π f t + ϕ): ``amplitude`` a >= 0 (m), ``frequency``
+    f >= 0 (Hz), ``phase`` ϕ (rad).  a = 0 (or f = 0 with ϕ = 0) is the fixed plate."""
+
+    amplitude: float = 0.0
+    frequency: float = 0.0
+    phase: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, 'amplitude', require_nonnegative('amplitude', self.amplitude))
+        object.__setattr__(self, 'frequency', require_nonnegative('frequency', self.frequency))
+        object.__setattr__(self, 'phase', require_real('phase', self.phase))
+
+    @property
+    def angular_frequency(self):
+        return 2.0 * math.pi * self.frequency
+
+    @property
+    def moving(self):
+        return self.amplitude > 0.0 and (self.frequency > 0.0 or math.sin(self.phase) != 0.0)
+
+    def peak_acceleration_ratio(self, gravity=9.81):
+        """Γ = a ω² / g."""
+        return self.amplitude * self.angular_frequency ** 2 / gravity
+
+    def state(self, t):
+        w, a = self.angular_frequency, self.amplitude
+        th = w * t + self.phase
+        s, c = math.sin(th), math.cos(th)
+        return a * s, a * w * c, -a * w * w * s
+
+    def jerk(self, t):
+        """d p̈ / dt (m/s³)."""
+        w = self.angular_frequency
+        return -self.amplitude * w ** 3 * math.cos(w * t + self.phase)
+
+    def acceleration_bound(self):
+        return self.amplitude * self.angular_frequency ** 2
+
+    def speed_bound(self):
+        """Peak |ṗ| = a ω (m/s)."""
+        return self.amplitude * self.angular_frequency
+
+    def acceleration_range(self, t0, t1):
+        """(min, max) of p̈ over [t0, t1] (exact: the extremes of sin on the phase interval)."""
+        w, aw2 = self.angular_frequency, self.amplitude * self.angular_frequency ** 2
+        a0, a1 = self.state(t0)[2], self.state(t1)[2]
+        lo, hi = min(a0, a1), max(a0, a1)
+        th0, th1 = w * t0 + self.phase, w * t1 + self.phase
+        two_pi = 2.0 * math.pi
+        if math.floor((th1 - 1.5 * math.pi) / two_pi) > math.floor((th0 - 1.5 * math.pi) / two_pi):
+            hi = aw2                            # sin = -1 inside
+        if math.floor((th1 - 0.5 * math.pi) / two_pi) > math.floor((th0 - 0.5 * math.pi) / two_pi):
+            lo = -aw2                           # sin = +1 inside
+        return lo, hi
+
+    def forcing_piece(self, t):
+        w = self.angular_frequency
+        return Forcing(-self.amplitude * w * w, w, self.phase), math.inf
+
+    def next_acceleration_below(self, t, level):
+        """First t' >= t with p̈(t') = -a ω² sin(ω t' + ϕ) <= level (closed form)."""
+        aw2 = self.amplitude * self.angular_frequency ** 2
+        if aw2 == 0.0 or self.frequency == 0.0:
+            return t if self.state(t)[2] <= level else math.inf
+        s = -level / aw2                       # need sin θ >= s
+        if s > 1.0:
+            return math.inf
+        w = self.angular_frequency
+        th = w * t + self.phase
+        if math.sin(th) >= s:
+            return t
+        lo = math.asin(s)                      # the window [lo, π - lo] (mod 2π)
+        k = math.ceil((th - lo) / (2.0 * math.pi))
+        return max(t, (lo + 2.0 * math.pi * k - self.phase) / w)
+
+
+@dataclass(frozen=True)
+class SwitchedPlate(PlateMotion):
+    """``before`` (a ``PlateMotion``) for t < ``switch_time`` (s), ``after`` from it on.
+
+    The protocol is the parts', cut at the switch: a forcing piece of ``before`` ends at the
+    switch at the latest.  The caller makes the switch continuous where it must be (a switch in
+    p or ṗ is a teleport or an impulse of the plate): ``table_transition`` and
+    ``command_motion`` start ``after`` from ``before``'s state at the switch.
+    """
+
+    before: PlateMotion
+    after: PlateMotion
+    switch_time: float
+
+    def __post_init__(self):
+        for name in ('before', 'after'):
+            if not isinstance(getattr(self, name), PlateMotion):
+                raise ValueError(f'{name} = {getattr(self, name)!r} is invalid: allowed a '
+                                 'plate.PlateMotion')
+        object.__setattr__(self, 'switch_time', require_real('switch_time', self.switch_time))
+
+    def _part(self, t):
+        return self.before if t < self.switch_time else self.after
+
+    @property
+    def moving(self):
+        return self.before.moving or self.after.moving
+
+    def state(self, t):
+        return self._part(t).state(t)
+
+    def jerk(self, t):
+        return self._part(t).jerk(t)
+
+    def acceleration_bound(self):
+        return max(self.before.acceleration_bound(), self.after.acceleration_bound())
+
+    def speed_bound(self):
+        return max(self.before.speed_bound(), self.after.speed_bound())
+
+    def acceleration_range(self, t0, t1):
+        ts = self.switch_time
+        if t1 < ts:
+            return self.before.acceleration_range(t0, t1)
+        if t0 >= ts:
+            return self.after.acceleration_range(t0, t1)
+        lo0, hi0 = self.before.acceleration_range(t0, ts)
+        lo1, hi1 = self.after.acceleration_range(ts, t1)
+        return min(lo0, lo1), max(hi0, hi1)
+
+    def forcing_piece(self, t):
+        if t < self.switch_time:
+            forcing, until = self.before.forcing_piece(t)
+            return forcing, min(until, self.switch_time)
+        return self.after.forcing_piece(t)
+
+    def next_acceleration_below(self, t, level):
+        if t < self.switch_time:
+            found = self.before.next_acceleration_below(t, level)
+            if found < self.switch_time:
+                return found
+            t = self.switch_time
+        return self.after.next_acceleration_below(t, level)
+
+
+def as_plate(plate):
+    """The motion ``plate`` as the engine takes it: ``FIXED`` for ``None`` or a plate that does not
+    move (the fixed plate), else ``plate`` itself; ``ValueError`` for anything but a
+    ``PlateMotion``."""
+    if plate is None:
+        return FIXED
+    if not isinstance(plate, PlateMotion):
+        raise ValueError(f'plate = {plate!r} is invalid: allowed None, a SinusoidalPlate, a '
+                         'CommandedPlate or another plate.PlateMotion')
+    return plate if plate.moving else FIXED
