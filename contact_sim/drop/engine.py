@@ -45,18 +45,12 @@ from contact_sim.drop.limits import (DROP_RTOL, DURATION_MAX, GRAVITY_MAX, MASS_
 from contact_sim.drop.mode import Event
 from contact_sim.drop.mode_carried import CHUNK
 from contact_sim.drop.plate import as_plate
-from contact_sim.drop.records import (Advance, DropResult, DropState, ImpactRecord, Recorder,
+from contact_sim.drop.records import (Advance, DropResult, DropState, Recorder,
                                       Samples, TickBatch)
 from contact_sim.drop.transitions import TRANSITIONS, free_motion
 from contact_sim.model import require_contact
 from contact_sim.validation import (InputError, require_int, require_positive, require_range,
                                     require_real, require_rtol)
-
-# the names contact_sim/__init__.py takes from this module (the records' classes and check_drop
-# are defined in records and limits)
-__all__ = ['Advance', 'DropResult', 'DropSimulation', 'DropState', 'ImpactRecord', 'Samples',
-           'TickBatch', 'check_drop', 'simulate_drop']
-
 
 def _recorded(name, doc):
     """A read-only attribute ``name`` of the drop's ``recorder`` (``records.Recorder``)."""
