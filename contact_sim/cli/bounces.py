@@ -50,7 +50,7 @@ def add_parser(sub):
         sub, 'bounces', damping=False,
         help='calibrate lambda (and drag) from recorded bounce times or audio',
         description='Fit each law to recorded bounce sequences by least squares on the impact\n'
-                    'times (cs.bounce_fit.fit_bounces), with drag and contact duration in the\n'
+                    'times (cs.fit_bounces), with drag and contact duration in the\n'
                     'model, detector glitches named, and the laws ranked.',
         notes=NOTES)
     p.add_argument('data', nargs='+', help='CSV / phyphox export (.csv, .zip) or .wav files')

@@ -81,7 +81,7 @@ class DropSimulation:
     Besides the public API: ``plate_motion`` (the plate's motion the modes ask, the fixed plate
     included), ``drag_rates`` (κ, β of the drag; ``None``: vacuum), ``pending_contact`` (a
     contact waiting for the next contact phase) and ``recorder`` (the ``records.Recorder``
-    behind ``impacts``, ``apex_heights``, ``steps``, ``permanent_contact_time``,
+    behind the read-only ``impacts``, ``apex_heights``, ``steps``, ``permanent_contact_time``,
     ``settle_time``).
 
     Raises ``InputError`` (keyed by the argument) for arguments out of their ranges

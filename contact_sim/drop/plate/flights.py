@@ -32,9 +32,7 @@ def touch_time(z, zdot, gravity, contact):
         # Inside the undeformed surface with zero force (after a lift-off at z > 0): the
         # force returns when φ = k z^(n-p) + λ ż|ż|^(q-1) turns positive while z > 0.
         if g > 0.0:
-            disc = zdot * zdot - 2.0 * g * z
-            t_out = (2.0 * z / (-zdot + math.sqrt(disc))) if disc >= 0.0 and zdot < 0.0 \
-                else math.inf
+            t_out = surface_time(z, zdot, g)
             t_search = min(t_out, max(-zdot / g, 0.0))
         else:
             t_search = -z / zdot if zdot < 0.0 else 0.0
