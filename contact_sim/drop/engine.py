@@ -57,6 +57,15 @@ def _recorded(name, doc):
     return property(attrgetter('recorder.' + name), doc=doc)
 
 
+MAX_STEPS_PER_CALL = 10 ** 12     # integrator steps one advance call may be given
+
+
+def _step_budget(max_steps):
+    """``max_steps`` of an advance call: ``None`` (no bound) or an integer 0..MAX_STEPS_PER_CALL."""
+    return None if max_steps is None else require_int('max_steps', max_steps, 0,
+                                                      MAX_STEPS_PER_CALL)
+
+
 class DropSimulation:
     """A sphere of mass ``mass`` (kg) released ``height`` (m) above a plate at ``velocity``
     (m/s, downward positive), under ``gravity`` (m/s²), with a ``Contact``.
@@ -223,10 +232,12 @@ class DropSimulation:
     def advance(self, t_end, max_steps=None):
         """Advance to ``t_end`` (s); return the contact points passed and the impacts completed.
 
-        With ``max_steps``, stop early once that many integrator steps have been taken in this
-        call (then ``time < t_end``; call again to go on): a bound on the work of one call.
+        With ``max_steps`` (an integer, 0 to ``MAX_STEPS_PER_CALL``; 0: no integrator step),
+        stop early once that many integrator steps have been taken in this call (then
+        ``time < t_end``; call again to go on): a bound on the work of one call.
         """
         t_end = require_real('t_end', t_end)
+        max_steps = _step_budget(max_steps)
         if t_end < self.time:
             raise ValueError(f't_end = {t_end!r} is out of range: allowed t_end >= {self.time!r}')
         points = []
@@ -276,6 +287,7 @@ class DropSimulation:
         n = times.size
         ends = np.zeros((6, n))
         pieces, piece_ticks, impacts, impact_ticks, apexes = [], [], [], [], []
+        max_steps = _step_budget(max_steps)
         budget = math.inf if max_steps is None else max_steps
         i = 0
         while i < n:

@@ -9,19 +9,56 @@ from concurrent.futures import Executor, ProcessPoolExecutor
 
 import numpy as np
 
+from contact_sim.validation import InputError, require_int
+
+
+def max_workers_limit():
+    """The most local worker processes a sweep may start: 4 per CPU of this machine."""
+    return 4 * (os.cpu_count() or 1)
+
 
 def sweep(function, values, executor=None, max_workers=None):
-    """Evaluate ``function`` at every value of ``values``, in parallel on ``executor`` (default: a
-    ``ProcessPoolExecutor`` with ``max_workers``, default ``os.cpu_count()``, shut down after)."""
+    """Evaluate ``function`` at every value of ``values``, in parallel.
+
+    Parameters
+    ----------
+    function : callable
+        Picklable: a top-level function or a frozen dataclass such as ``table.VibratingTable``.
+    values : iterable
+        The arguments, one call each.
+    executor : concurrent.futures.Executor, optional
+        Where to run (e.g. ``distributed.Client(...).get_executor()``); default: a
+        ``ProcessPoolExecutor`` of this machine, shut down after.
+    max_workers : int, optional
+        The local pool's processes: 1 to ``max_workers_limit()`` (4 per CPU); default
+        ``os.cpu_count()``.  Never more are started than there are values.
+
+    Returns
+    -------
+    list
+        ``[function(v) for v in values]``, in order.
+
+    Raises
+    ------
+    InputError
+        ``max_workers`` not an integer in its range, or ``executor`` not an ``Executor``.
+
+    Examples
+    --------
+    >>> sweep(abs, [-1, 2, -3], max_workers=1)
+    [1, 2, 3]
+    """
     values = list(values)
     if executor is not None and not isinstance(executor, Executor):
-        raise ValueError(f'executor = {executor!r} is invalid: allowed None or a '
-                         'concurrent.futures.Executor (e.g. distributed.Client.get_executor())')
-    if max_workers is not None and (not isinstance(max_workers, int) or max_workers < 1):
-        raise ValueError(f'max_workers = {max_workers!r} is out of range: allowed an integer >= 1')
+        raise InputError('executor', executor, '{n[executor]} = {value} is invalid: allowed None '
+                         'or a concurrent.futures.Executor (e.g. '
+                         'distributed.Client.get_executor())', value=repr(executor))
+    if max_workers is not None:
+        max_workers = require_int('max_workers', max_workers, 1, max_workers_limit())
     own = executor is None
     if own:
-        executor = ProcessPoolExecutor(max_workers=max_workers or os.cpu_count() or 1)
+        workers = min(max_workers or os.cpu_count() or 1, max(len(values), 1))
+        executor = ProcessPoolExecutor(max_workers=workers)
     try:
         futures = [executor.submit(function, v) for v in values]
         return [f.result() for f in futures]

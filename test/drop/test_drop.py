@@ -197,6 +197,29 @@ def test_step_budget_stops_early_and_resumes_to_the_same_motion(paper):
     assert tuple(sim.impacts) == result.impacts and sim.total_steps == result.steps
 
 
+@pytest.mark.parametrize('bad', [0.5, 1e-9, -5, -math.inf, math.inf, math.nan, 'abc', True])
+def test_a_step_budget_that_is_not_a_whole_number_of_steps_is_refused(paper, bad):
+    # issue 17: 0 < max_steps < 1 never returned; -5 and -inf returned with no progress; 'abc'
+    # was a TypeError
+    contact, _ = paper
+    for sim in (cs.DropSimulation(contact, M, H, gravity=G),
+                cs.DropSimulation(contact, M, 0.0, gravity=G)):     # at rest: in contact
+        with pytest.raises(cs.InputError, match=r'max_steps = .* allowed 0 <= max_steps <= 1e\+12'):
+            sim.advance(1.0, max_steps=bad)
+        with pytest.raises(cs.InputError, match='max_steps'):
+            sim.advance_ticks([0.5, 1.0], max_steps=bad)
+        assert sim.time == 0.0
+
+
+def test_a_zero_step_budget_moves_in_closed_form_only(paper):
+    contact, _ = paper
+    sim = cs.DropSimulation(contact, M, H, gravity=G)
+    sim.advance(0.2, max_steps=0)               # in flight: no step needed
+    assert sim.time == 0.2 and sim.total_steps == 0
+    sim.advance(1.0, max_steps=0)               # stops at the touch, where steps are needed
+    assert 0.2 < sim.time < 1.0 and sim.total_steps == 0
+
+
 @pytest.mark.parametrize('damping_factor', [1e8, 1e10])
 def test_heavy_damping_is_integrated_as_a_stiff_problem_and_rests(damping_factor):
     contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron', 0.0127,

@@ -1,8 +1,11 @@
 """The sweep API: order, executors (processes, threads, a local Dask cluster), named errors."""
+import importlib
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
+
+import contact_sim as cs
 
 from contact_sim.model.contact import Contact
 from contact_sim.drop.sweep import bifurcation_diagram, sweep
@@ -27,6 +30,27 @@ def test_sweep_errors_are_named():
         sweep(_square, [1], executor='local')
     with pytest.raises(ValueError, match='max_workers'):
         sweep(_square, [1], max_workers=0)
+
+
+def test_sweep_refuses_a_pool_beyond_its_stated_limit_and_starts_no_more_than_the_values(
+        monkeypatch):
+    # issue 17: max_workers=10**6 started every worker at once under fork (~5000 processes)
+    sweep_module = importlib.import_module('contact_sim.drop.sweep')   # (the package's sweep is the function)
+    limit = sweep_module.max_workers_limit()
+    for bad in (10 ** 6, limit + 1, 2.5, 'abc', True):
+        with pytest.raises(cs.InputError, match=r'max_workers = .* allowed 1 <= max_workers <= %d'
+                           % limit):
+            sweep(_square, [1], max_workers=bad)
+    started = []
+
+    class Recording(sweep_module.ProcessPoolExecutor):
+        def __init__(self, max_workers):
+            started.append(max_workers)
+            super().__init__(max_workers=max_workers)
+
+    monkeypatch.setattr(sweep_module, 'ProcessPoolExecutor', Recording)
+    assert sweep(_square, [2, 3], max_workers=limit) == [4, 9]
+    assert started == [2]       # two values: two processes, not the limit
 
 
 def test_bifurcation_diagram_period_one_then_two():
