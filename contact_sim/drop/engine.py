@@ -39,9 +39,11 @@ from operator import attrgetter
 
 import numpy as np
 
-from contact_sim.drop.limits import (DROP_RTOL, DURATION_MAX, GRAVITY_MAX, MASS_RANGE, MAX_SAMPLES,
-                                     MAX_STEPS, SAMPLE_RATE_MAX, check_drop, require_gravity_for,
-                                     require_height, require_velocity)
+from contact_sim.drop.limits import (DROP_RTOL, DURATION_MAX, MAX_SAMPLES, MAX_STEPS, MAX_TICKS,
+                                     SAMPLE_RATE_MAX, TIME_MAX, check_drop, require_gravity,
+                                     require_gravity_for, require_height, require_mass,
+                                     require_radius, require_velocity)
+from contact_sim.flight import AirDrag
 from contact_sim.drop.mode import Event
 from contact_sim.drop.mode_carried import CHUNK
 from contact_sim.drop.plate import as_plate
@@ -49,7 +51,7 @@ from contact_sim.drop.records import (Advance, DropResult, DropState, Recorder,
                                       Samples, TickBatch)
 from contact_sim.drop.transitions import TRANSITIONS, free_motion
 from contact_sim.model import require_contact
-from contact_sim.validation import (InputError, require_int, require_positive, require_range,
+from contact_sim.validation import (InputError, require_instance, require_int, require_range,
                                     require_real, require_rtol)
 
 def _recorded(name, doc):
@@ -101,14 +103,17 @@ class DropSimulation:
 
     def __init__(self, contact, mass, height, velocity=0.0, gravity=9.81, rtol=DROP_RTOL,
                  settle_tolerance=1e-3, radius=None, drag=None, plate=None):
-        self.mass = require_range('mass', mass, *MASS_RANGE, unit='kg')
-        self.gravity = require_range('gravity', gravity, 0.0, GRAVITY_MAX, unit='m/s^2')
+        self.mass = require_mass(mass)
+        self.gravity = require_gravity(gravity)
         self.height = require_height(height)
         self.velocity = require_velocity(velocity)
         self.rtol = require_rtol('rtol', rtol)
         self.settle_tolerance = require_range('settle_tolerance', settle_tolerance, 0.0, 1.0,
                                               low_open=True)
-        self.radius = None if radius is None else require_positive('radius', radius)
+        self.radius = None if radius is None else require_radius(radius)
+        if drag is not None:
+            require_instance('drag', drag, AirDrag, 'None or an AirDrag(air_density, '
+                             'drag_coefficient, radius)')
         self.drag = drag if drag is not None and drag.active else None
         self.drag_rates = None
         if self.drag is not None:
@@ -237,9 +242,12 @@ class DropSimulation:
         ``time < t_end``; call again to go on): a bound on the work of one call.
         """
         t_end = require_real('t_end', t_end)
+        if not self.time <= t_end <= TIME_MAX:
+            allowed = ('{n[t_end]} >= %r' % self.time if t_end < self.time
+                       else '{n[t_end]} <= %g s' % TIME_MAX)
+            raise InputError('t_end', t_end, '{n[t_end]} = {value} is out of range: allowed '
+                             + allowed)
         max_steps = _step_budget(max_steps)
-        if t_end < self.time:
-            raise ValueError(f't_end = {t_end!r} is out of range: allowed t_end >= {self.time!r}')
         points = []
         n_impacts, n_apex = len(self.impacts), len(self.apex_heights)
         budget = math.inf if max_steps is None else max_steps
@@ -255,6 +263,27 @@ class DropSimulation:
         impacts = tuple(self.impacts[n_impacts:])
         apexes = tuple(self.apex_heights[n_apex:])
         return Advance(Samples.from_points(points), impacts, apexes)
+
+    def _tick_times(self, times):
+        """``times`` of ``advance_ticks`` as a float array, or ``InputError`` keyed ``times``:
+        a 1-D array of at most ``MAX_TICKS`` finite, non-decreasing times from ``time`` to
+        ``TIME_MAX`` (s)."""
+        try:
+            arr = np.asarray(times, dtype=float)
+        except (TypeError, ValueError):
+            arr = None
+        if arr is None or arr.ndim != 1 or not np.isfinite(arr).all():
+            raise InputError('times', times, '{n[times]} must be a 1-D array of finite tick times '
+                             '(s)')
+        if arr.size > MAX_TICKS:
+            raise InputError('times', arr.size, '{n[times]} has %d tick times: allowed at most %d '
+                             'a call' % (arr.size, MAX_TICKS))
+        if arr.size and (arr[0] < self.time or arr[-1] > TIME_MAX
+                         or (arr[1:] < arr[:-1]).any()):
+            raise InputError('times', float(arr[0]), '{n[times]} = %.17g ... %.17g is out of range: '
+                             'allowed non-decreasing times with %.17g <= {n[times]} <= %g s'
+                             % (arr[0], arr[-1], self.time, TIME_MAX))
+        return arr
 
     def _follow(self, event):
         """The mode that ``event`` of the current mode leads to (``transitions.TRANSITIONS``);
@@ -278,12 +307,7 @@ class DropSimulation:
         tick that needs integration once that many integrator steps have been taken in this
         call (or inside a tick, as ``advance`` does): ``ticks`` then says how far it got.
         """
-        times = np.asarray(times, dtype=float)
-        if times.ndim != 1 or not np.isfinite(times).all():
-            raise ValueError('times must be a 1-D array of finite tick times (s)')
-        if times.size and (times[0] < self.time or (times[1:] < times[:-1]).any()):
-            raise ValueError(f'times = {times[0]!r} ... is out of range: allowed non-decreasing '
-                             f'times >= {self.time!r}')
+        times = self._tick_times(times)
         n = times.size
         ends = np.zeros((6, n))
         pieces, piece_ticks, impacts, impact_ticks, apexes = [], [], [], [], []

@@ -2,6 +2,7 @@
 contact model's validity.  Units: SI; every bound is stated in the refusal (``InputError``)."""
 import math
 
+from contact_sim.model import require_contact
 from contact_sim.phase import phase_scales
 from contact_sim.validation import InputError, require_range
 
@@ -20,6 +21,9 @@ MAX_STEPS = 100_000                  # integrator steps of one simulate_drop cal
 CONTACT_TIME_MIN = 1e-12             # s: the contact's time scale T
 CONTACT_LENGTH_MAX = 1e3             # m: the contact's length scale Z (the depth it reaches)
 DAMPING_GROUP_MAX = 1e8              # ζ: beyond it a contact is a creep that never ends in time
+RADIUS_RANGE = (1e-9, 1e3)           # m: the sphere's radius R1 (R^(n+1) stays a normal double)
+TIME_MAX = DURATION_MAX              # s: the latest time a drop is advanced to
+MAX_TICKS = 1_000_000                # tick times of one advance_ticks call (6 x 8 MB of state)
 
 
 def require_gravity_for(what, gravity):
@@ -53,8 +57,19 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
       k >= (n+1)(m v1²/2 + m g R)/R^(n+1); damping only makes z smaller, so this bound is
       sufficient (and independent of λ).
 
-    Raises ``InputError`` keyed ``stiffness`` or ``damping`` whose reason gives the bounds.
+    The arguments are checked first, in the ranges ``DropSimulation`` takes them (``MASS_RANGE``
+    kg, 0 <= g <= ``GRAVITY_MAX``, 0 <= h <= ``HEIGHT_MAX``, |v0| <= ``VELOCITY_MAX``,
+    ``RADIUS_RANGE`` m, a finite ``plate_speed`` >= 0).
+
+    Raises ``InputError`` keyed by the argument out of its range, or ``stiffness`` or
+    ``damping`` whose reason gives the bounds.
     """
+    contact = require_contact(contact)
+    mass = require_mass(mass)
+    gravity = require_gravity(gravity)
+    height, velocity = require_height(height), require_velocity(velocity)
+    radius = None if radius is None else require_radius(radius)
+    plate_speed = require_range('plate_speed', plate_speed, 0.0, unit='m/s')
     speed = _first_impact_speed(gravity, height, velocity) + plate_speed
     if speed == 0.0 and gravity == 0.0:
         return                      # never lands: nothing to check
@@ -116,6 +131,21 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
                      % (k, n, mass, speed, radius, allowed))
 
 
+
+
+def require_mass(mass):
+    """The sphere's (reduced) mass (kg), within ``MASS_RANGE``."""
+    return require_range('mass', mass, *MASS_RANGE, unit='kg')
+
+
+def require_gravity(gravity):
+    """Gravity (m/s²): 0 <= g <= ``GRAVITY_MAX``."""
+    return require_range('gravity', gravity, 0.0, GRAVITY_MAX, unit='m/s^2')
+
+
+def require_radius(radius):
+    """The sphere's radius R1 (m), within ``RADIUS_RANGE``."""
+    return require_range('radius', radius, *RADIUS_RANGE, unit='m')
 
 
 def require_height(height):

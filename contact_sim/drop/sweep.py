@@ -70,7 +70,9 @@ def sweep(function, values, executor=None, max_workers=None):
 def bifurcation_diagram(table, gammas, executor=None, max_workers=None):
     """(Γ, phase) point arrays of a bifurcation diagram: ``table`` (a ``table.VibratingTable``)
     called at every Γ of ``gammas`` through ``sweep``; each Γ contributes its last bounces."""
-    gammas = np.asarray(gammas, dtype=float)
+    gammas = np.asarray(gammas, dtype=float).ravel()
+    if gammas.size == 0:
+        return np.empty(0), np.empty(0)
     phases = sweep(table, gammas.tolist(), executor=executor, max_workers=max_workers)
     x = np.concatenate([np.full(len(p), g) for g, p in zip(gammas, phases)])
     return x, np.concatenate(phases) if phases else np.empty(0)

@@ -30,8 +30,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact_sim.drop.engine import DropSimulation
-from contact_sim.drop.plate import SinusoidalPlate
-from contact_sim.validation import require_positive, require_range
+from contact_sim.drop.limits import GRAVITY_MAX, require_height, require_mass
+from contact_sim.drop.plate import (TABLE_ACCELERATION_MAX, TABLE_AMPLITUDE_MAX,
+                                    TABLE_FREQUENCY_MAX, SinusoidalPlate)
+from contact_sim.model import require_contact
+from contact_sim.validation import require_int, require_positive, require_range
+
+MAX_TABLE_IMPACTS = 1_000_000     # bounces (and transient impacts) of one VibratingTable call
+MAX_TABLE_PERIODS = 10 ** 7       # table periods one call may simulate
 
 
 def period_one_threshold(restitution):
@@ -77,8 +83,36 @@ class VibratingTable:
     start_height: float = 0.01
     max_periods: int = 5000
 
+    def __post_init__(self):
+        require_contact(self.contact)
+        for name, value in (('mass', require_mass(self.mass)),
+                            ('frequency', require_range('frequency', self.frequency, 0.0,
+                                                        TABLE_FREQUENCY_MAX, low_open=True,
+                                                        unit='Hz')),
+                            ('bounces', require_int('bounces', self.bounces, 1, MAX_TABLE_IMPACTS)),
+                            ('transient', require_int('transient', self.transient, 0,
+                                                      MAX_TABLE_IMPACTS)),
+                            ('gravity', require_range('gravity', self.gravity, 0.0, GRAVITY_MAX,
+                                                      low_open=True, unit='m/s^2')),
+                            ('restitution_guess', require_range('restitution_guess',
+                                                                self.restitution_guess, 0.0, 1.0,
+                                                                low_open=True, high_open=True)),
+                            ('start_height', require_height(self.start_height)),
+                            ('max_periods', require_int('max_periods', self.max_periods, 1,
+                                                        MAX_TABLE_PERIODS))):
+            object.__setattr__(self, name, value)
+
+    def gamma_max(self):
+        """The largest Γ = a ω²/g a table at this frequency reaches within its ranges
+        (``plate.TABLE_AMPLITUDE_MAX``, ``plate.TABLE_ACCELERATION_MAX``)."""
+        w = 2.0 * math.pi * self.frequency
+        return min(TABLE_ACCELERATION_MAX, TABLE_AMPLITUDE_MAX * w * w) / self.gravity
+
     def run(self, gamma):
-        """(impact times s, impact phases rad, impact speeds m/s) of all impacts at Γ."""
+        """(impact times s, impact phases rad, impact speeds m/s) of all impacts at Γ
+        (0 <= Γ <= ``gamma_max()``; ``InputError`` keyed ``gamma`` outside)."""
+        top = self.gamma_max()
+        gamma = require_range('gamma', gamma, 0.0, top)
         w = 2.0 * math.pi * self.frequency
         amplitude = gamma * self.gravity / w ** 2
         g1 = period_one_threshold(self.restitution_guess)

@@ -2,6 +2,7 @@
 follow or outside the model's validity, and the bounded work of ``simulate_drop``."""
 import re
 
+import numpy as np
 import pytest
 
 import contact_sim as cs
@@ -96,3 +97,64 @@ def test_simulate_drop_bounds_its_work_and_says_the_limit():
                                          r'steps') as info:
         cs.simulate_drop(elastic, M, 1.0, duration=1e3, max_steps=500)
     assert info.value.field == 'duration'
+
+
+# -- issue 17: every path of the drop layer checks its inputs in the constructor it goes through
+C = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5)
+
+
+@pytest.mark.parametrize('args, pattern', [
+    ((C, 0.066, 9.81, float('nan'), 0.0), r'height = nan is not finite'),
+    ((C, -1.0, 9.81, 1.0, 0.0), r'mass = -1\.0 is out of range: allowed 1e-12 <= mass'),
+    ((C, 0.066, -1.0, 1.0, 0.0), r'gravity = -1\.0 is out of range'),
+    ((C, 0.066, 9.81, 1.0, 1e300), r'velocity = 1e\+300 is out of range'),
+    (('contact', 0.066, 9.81, 1.0, 0.0), r'contact = .* is not a Contact'),
+])
+def test_check_drop_checks_its_own_arguments(args, pattern):
+    # reproduced: a nan height gave "allowed stiffness >= nan", a negative mass a TypeError
+    with pytest.raises(cs.InputError, match=pattern):
+        cs.check_drop(*args, radius=0.0127)
+
+
+@pytest.mark.parametrize('kwargs, pattern', [
+    (dict(drag=0.5), r'drag = 0\.5 is not None or an AirDrag'),
+    (dict(plate=0.5), r'plate = 0\.5 is invalid: allowed None, a SinusoidalPlate'),
+    (dict(radius=1e-308), r'radius = 1e-308 is out of range: allowed 1e-09 <= radius <= 1000'),
+    (dict(radius=1e308), r'radius = 1e\+308 is out of range'),
+])
+def test_a_drop_refuses_what_is_not_a_drag_a_plate_or_a_radius(kwargs, pattern):
+    # reproduced: AttributeError ('float' has no attribute 'active'), ZeroDivisionError
+    with pytest.raises(cs.InputError, match=pattern):
+        cs.simulate_drop(C, 0.066, 1.0, duration=0.1, **kwargs)
+
+
+@pytest.mark.parametrize('plate, pattern', [
+    (dict(amplitude=0.1, frequency=100.0), r'amplitude = 0\.1 m at frequency = 100 Hz shakes the '
+     r'plate at 3\.948e\+04 m/s\^2: allowed a \(2 pi f\)\^2 <= 1000 m/s\^2'),
+    (dict(amplitude=1e308, frequency=20.0), r'amplitude = 1e\+308 is out of range: allowed 0 <= '
+     r'amplitude <= 0\.1 \(m\)'),
+    (dict(amplitude=0.001, frequency=1e4), r'frequency = 10000\.0 is out of range'),
+    (dict(amplitude=0.001, frequency=10.0, phase=7.0), r'phase = 7\.0 is out of range'),
+])
+def test_every_table_is_in_the_tables_ranges_whatever_builds_it(plate, pattern):
+    # reproduced: simulate_drop ran a 3.9e4 m/s^2 table that the node refuses, and a 1e308 m
+    # amplitude was blamed on the stiffness
+    with pytest.raises(cs.InputError, match=pattern):
+        cs.simulate_drop(C, 0.066, 1.0, duration=0.1,
+                         plate=cs.drop.SinusoidalPlate(**plate))
+
+
+def test_advance_refuses_times_beyond_its_range_and_too_many_ticks():
+    # reproduced: advance(1e308) raised "math domain error"; advance_ticks took 1e8 ticks
+    # into memory
+    sim = cs.DropSimulation(C, 0.066, 1.0)
+    with pytest.raises(cs.InputError, match=r't_end = 1e\+308 is out of range: allowed t_end '
+                       r'<= 1e\+09 s'):
+        sim.advance(1e308)
+    with pytest.raises(cs.InputError, match=r'times has 1000001 tick times: allowed at most '
+                       r'1000000 a call'):
+        sim.advance_ticks(np.zeros(1_000_001))
+    for bad in ('abc', [[0.1]], [0.1, float('nan')], [0.2, 0.1], [1e308]):
+        with pytest.raises(cs.InputError, match='times'):
+            sim.advance_ticks(bad)
+    assert sim.time == 0.0

@@ -4,6 +4,8 @@ import math
 import numpy as np
 import pytest
 
+from contact_sim import InputError
+from contact_sim.drop import bifurcation_diagram
 from contact_sim.model.contact import Contact
 from contact_sim.drop.engine import simulate_drop
 from contact_sim.drop.table import (VibratingTable, period_doubling_threshold, period_one_phase,
@@ -82,3 +84,35 @@ def test_engine_thresholds_within_one_percent(damping):
     assert _classify(contact, e, 1.01 * g1) == 'period-1'
     assert _classify(contact, e, 0.99 * g2) == 'period-1'
     assert _classify(contact, e, 1.01 * g2) == 'period-2'
+
+
+@pytest.mark.parametrize('kwargs, pattern', [
+    (dict(frequency=0.0), r'frequency = 0\.0 is out of range: allowed 0 < frequency <= 1000'),
+    (dict(bounces=2.5), r'bounces = 2\.5 is not an integer: allowed 1 <= bounces'),
+    (dict(transient=-1), r'transient = -1 is out of range'),
+    (dict(restitution_guess=1.0), r'restitution_guess = 1\.0 is out of range'),
+    (dict(mass=0.0), r'mass = 0\.0 is out of range'),
+])
+def test_a_vibrating_table_checks_its_fields(kwargs, pattern):
+    # issue 17, reproduced: frequency = 0 was a ZeroDivisionError, bounces = 2.5 a TypeError
+    args = dict(contact=Contact('linear', 1e9, 715.0), mass=0.01, frequency=20.0)
+    with pytest.raises(InputError, match=pattern):
+        VibratingTable(**{**args, **kwargs})
+
+
+@pytest.mark.parametrize('gamma', [-1.0, 1e6, float('nan')])
+def test_a_vibrating_table_refuses_a_gamma_no_table_reaches(gamma):
+    # issue 17, reproduced: Gamma = 1e6 gave empty arrays, Gamma = -1 an error about `amplitude`
+    table = VibratingTable(Contact('linear', 1e9, 715.0), 0.01, 20.0, bounces=3, transient=0)
+    top = table.gamma_max()     # 1000 m/s^2 of the table's peak acceleration over g
+    assert top == pytest.approx(1000.0 / 9.81)
+    with pytest.raises(InputError, match=r'gamma = .* (is out of range: allowed 0 <= gamma '
+                       r'<= 101\.937|is not finite)'):
+        table(gamma)
+
+
+def test_an_empty_bifurcation_diagram_is_empty():
+    # issue 17, reproduced: bifurcation_diagram(T, []) said "need at least one array to concatenate"
+    table = VibratingTable(Contact('linear', 1e9, 715.0), 0.01, 20.0, bounces=3, transient=0)
+    x, phases = bifurcation_diagram(table, [])
+    assert x.shape == phases.shape == (0,)

@@ -5,14 +5,13 @@ it (``flights``) and the root searches they use (``roots``)."""
 from contact_sim.drop.plate.commanded import CommandedPlate
 from contact_sim.drop.plate.commands import (BRIDGE_SPEED_MAX, BRIDGE_TIME, COMMAND_ACCELERATION_MAX,
                                              COMMAND_HORIZON, COMMAND_POSITION_MAX,
-                                             COMMAND_STOP_TIME, COMMAND_VELOCITY_MAX,
-                                             TABLE_ACCELERATION_MAX, TABLE_AMPLITUDE_MAX,
-                                             TABLE_FREQUENCY_MAX, TABLE_PHASE_MAX, Command,
+                                             COMMAND_STOP_TIME, COMMAND_VELOCITY_MAX, Command,
                                              bridge_time, command_motion, sphere_motion,
                                              table_transition, vibrating_table)
 from contact_sim.drop.plate.flights import touch_time
-from contact_sim.drop.plate.motions import (FIXED, FixedPlate, PlateMotion, SinusoidalPlate,
-                                            SwitchedPlate, as_plate)
+from contact_sim.drop.plate.motions import (FIXED, TABLE_ACCELERATION_MAX, TABLE_AMPLITUDE_MAX,
+                                            TABLE_FREQUENCY_MAX, TABLE_PHASE_MAX, FixedPlate,
+                                            PlateMotion, SinusoidalPlate, SwitchedPlate, as_plate)
 from contact_sim.drop.plate.roots import EPS, first_gap_root, first_upward_root
 
 __all__ = ['BRIDGE_SPEED_MAX', 'BRIDGE_TIME', 'COMMAND_ACCELERATION_MAX', 'COMMAND_HORIZON',

@@ -1,14 +1,14 @@
 """Changes of the plate's motion at a time: the vibrating table's C¹ bridge
 (``table_transition``), trajectory commands (``command_motion``), the table's settings
 (``vibrating_table``) and the sphere's absolute motion over the plate (``sphere_motion``)."""
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from contact_sim.drop.plate.commanded import CommandedPlate, finite_array, set_point_times
-from contact_sim.drop.plate.motions import SinusoidalPlate, SwitchedPlate
-from contact_sim.validation import InputError, require_range, require_real
+from contact_sim.drop.plate.motions import (TABLE_ACCELERATION_MAX, SinusoidalPlate,
+                                            SwitchedPlate)
+from contact_sim.validation import InputError, require_real
 
 BRIDGE_TIME = 0.5           # s: the bridge's length when no table frequency gives one
 BRIDGE_SPEED_MAX = 0.5      # m/s: a bridge is no faster than this, the plate now or the table
@@ -141,30 +141,16 @@ def command_motion(now, position, velocity, times, positions, velocities=None):
     return Command(motion, dropped)
 
 # -- the vibrating table's settings (the node's parameters) ------------------------------------
-TABLE_AMPLITUDE_MAX = 0.1         # m
-TABLE_FREQUENCY_MAX = 1000.0      # Hz
-TABLE_PHASE_MAX = 2.0 * math.pi   # rad: -2π <= ϕ <= 2π
-TABLE_ACCELERATION_MAX = 1000.0   # m/s²: the peak a (2π f)² (Γ ≈ 100)
 
 
 def vibrating_table(amplitude, frequency, phase):
-    """A ``SinusoidalPlate`` from settings in the stated ranges (0 <= a <= ``TABLE_AMPLITUDE_MAX``
-    m, 0 <= f <= ``TABLE_FREQUENCY_MAX`` Hz, |ϕ| <= ``TABLE_PHASE_MAX``, peak acceleration
-    a (2π f)² <= ``TABLE_ACCELERATION_MAX``), or ``None`` if it does not vibrate (a = 0 or
-    f = 0: the fixed plate, not a plate held at a sin ϕ).  ``InputError`` keyed ``amplitude``,
-    ``frequency`` or ``phase``."""
-    a = require_range('amplitude', amplitude, 0.0, TABLE_AMPLITUDE_MAX, unit='m')
-    f = require_range('frequency', frequency, 0.0, TABLE_FREQUENCY_MAX, unit='Hz')
-    ph = require_range('phase', phase, -TABLE_PHASE_MAX, TABLE_PHASE_MAX, unit='rad')
-    table = SinusoidalPlate(a, f, ph)
-    peak = table.acceleration_bound()
-    if peak > TABLE_ACCELERATION_MAX:
-        raise InputError('amplitude', a, '{n[amplitude]} = {value} m at {n[frequency]} = %g Hz '
-                         'shakes the plate at %.4g m/s^2: allowed a (2 pi f)^2 <= %g m/s^2, i.e. '
-                         '{n[amplitude]} <= %.4g m at this frequency'
-                         % (f, peak, TABLE_ACCELERATION_MAX,
-                            TABLE_ACCELERATION_MAX / table.angular_frequency ** 2))
-    return table if a > 0.0 and f > 0.0 else None
+    """A ``SinusoidalPlate`` from settings in its ranges (``SinusoidalPlate``: 0 <= a <=
+    ``TABLE_AMPLITUDE_MAX`` m, 0 <= f <= ``TABLE_FREQUENCY_MAX`` Hz, |ϕ| <= ``TABLE_PHASE_MAX``,
+    peak acceleration a (2π f)² <= ``TABLE_ACCELERATION_MAX``), or ``None`` if it does not vibrate
+    (a = 0 or f = 0: the fixed plate, not a plate held at a sin ϕ).  ``InputError`` keyed
+    ``amplitude``, ``frequency`` or ``phase``."""
+    table = SinusoidalPlate(amplitude, frequency, phase)
+    return table if table.amplitude > 0.0 and table.frequency > 0.0 else None
 
 
 def sphere_motion(radius, penetration, penetration_rate, plate_position=0.0,

@@ -53,7 +53,13 @@ import numpy as np
 
 from contact_sim.drop.plate.flights import ballistic_flight, gap_flight
 from contact_sim.phase import Forcing
-from contact_sim.validation import require_nonnegative, require_real
+from contact_sim.validation import InputError, require_instance, require_range, require_real
+
+# the vibrating table's ranges (the node's plate_* parameters, sweeps, every SinusoidalPlate)
+TABLE_AMPLITUDE_MAX = 0.1         # m
+TABLE_FREQUENCY_MAX = 1000.0      # Hz
+TABLE_PHASE_MAX = 2.0 * math.pi   # rad: -2π <= ϕ <= 2π
+TABLE_ACCELERATION_MAX = 1000.0   # m/s²: the peak a (2π f)² (Γ ≈ 100)
 
 
 class PlateMotion:
@@ -151,17 +157,44 @@ def constant_forcing(acceleration):
 
 @dataclass(frozen=True)
 class SinusoidalPlate(PlateMotion):
-    """A table vibrating as p(t) = a sin(2π f t + ϕ): ``amplitude`` a >= 0 (m), ``frequency``
-    f >= 0 (Hz), ``phase`` ϕ (rad).  a = 0 (or f = 0 with ϕ = 0) is the fixed plate."""
+    """A table vibrating as p(t) = a sin(2π f t + ϕ), in the ranges a table has.
+
+    Parameters
+    ----------
+    amplitude : float
+        a, 0 to ``TABLE_AMPLITUDE_MAX`` (m).
+    frequency : float
+        f, 0 to ``TABLE_FREQUENCY_MAX`` (Hz).
+    phase : float
+        ϕ, -``TABLE_PHASE_MAX`` to ``TABLE_PHASE_MAX`` (rad).
+
+    a = 0 (or f = 0 with ϕ = 0) is the fixed plate.
+
+    Raises
+    ------
+    InputError
+        Keyed ``amplitude``, ``frequency`` or ``phase``: a value out of its range, or a peak
+        acceleration a (2π f)² above ``TABLE_ACCELERATION_MAX`` (m/s²).
+    """
 
     amplitude: float = 0.0
     frequency: float = 0.0
     phase: float = 0.0
 
     def __post_init__(self):
-        object.__setattr__(self, 'amplitude', require_nonnegative('amplitude', self.amplitude))
-        object.__setattr__(self, 'frequency', require_nonnegative('frequency', self.frequency))
-        object.__setattr__(self, 'phase', require_real('phase', self.phase))
+        a = require_range('amplitude', self.amplitude, 0.0, TABLE_AMPLITUDE_MAX, unit='m')
+        f = require_range('frequency', self.frequency, 0.0, TABLE_FREQUENCY_MAX, unit='Hz')
+        ph = require_range('phase', self.phase, -TABLE_PHASE_MAX, TABLE_PHASE_MAX, unit='rad')
+        object.__setattr__(self, 'amplitude', a)
+        object.__setattr__(self, 'frequency', f)
+        object.__setattr__(self, 'phase', ph)
+        peak = self.acceleration_bound()
+        if peak > TABLE_ACCELERATION_MAX:
+            raise InputError('amplitude', a, '{n[amplitude]} = {value} m at {n[frequency]} = %g '
+                             'Hz shakes the plate at %.4g m/s^2: allowed a (2 pi f)^2 <= %g '
+                             'm/s^2, i.e. {n[amplitude]} <= %.4g m at this frequency'
+                             % (f, peak, TABLE_ACCELERATION_MAX,
+                                TABLE_ACCELERATION_MAX / self.angular_frequency ** 2))
 
     @property
     def angular_frequency(self):
@@ -243,9 +276,7 @@ class SwitchedPlate(PlateMotion):
 
     def __post_init__(self):
         for name in ('before', 'after'):
-            if not isinstance(getattr(self, name), PlateMotion):
-                raise ValueError(f'{name} = {getattr(self, name)!r} is invalid: allowed a '
-                                 'plate.PlateMotion')
+            require_instance(name, getattr(self, name), PlateMotion, 'a plate.PlateMotion')
         object.__setattr__(self, 'switch_time', require_real('switch_time', self.switch_time))
 
     def _part(self, t):
@@ -294,11 +325,12 @@ class SwitchedPlate(PlateMotion):
 
 def as_plate(plate):
     """The motion ``plate`` as the engine takes it: ``FIXED`` for ``None`` or a plate that does not
-    move (the fixed plate), else ``plate`` itself; ``ValueError`` for anything but a
+    move (the fixed plate), else ``plate`` itself; ``InputError`` for anything but a
     ``PlateMotion``."""
     if plate is None:
         return FIXED
     if not isinstance(plate, PlateMotion):
-        raise ValueError(f'plate = {plate!r} is invalid: allowed None, a SinusoidalPlate, a '
-                         'CommandedPlate or another plate.PlateMotion')
+        raise InputError('plate', plate, '{n[plate]} = {value} is invalid: allowed None, a '
+                         'SinusoidalPlate, a CommandedPlate or another plate.PlateMotion',
+                         value=repr(plate))
     return plate if plate.moving else FIXED
