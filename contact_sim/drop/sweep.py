@@ -41,14 +41,20 @@ def sweep(function, values, executor=None, max_workers=None):
     Raises
     ------
     InputError
-        ``max_workers`` not an integer in its range, or ``executor`` not an ``Executor``.
+        ``values`` not iterable, ``max_workers`` not an integer in its range, or ``executor``
+        not an ``Executor``.
 
     Examples
     --------
     >>> sweep(abs, [-1, 2, -3], max_workers=1)
     [1, 2, 3]
     """
-    values = list(values)
+    try:
+        values = list(values)
+    except TypeError:
+        raise InputError('values', values, '{n[values]} = {value} is not a sequence: allowed a '
+                         'list (or any iterable) of the values to call {n[function]} with',
+                         value=repr(values)) from None
     if executor is not None and not isinstance(executor, Executor):
         raise InputError('executor', executor, '{n[executor]} = {value} is invalid: allowed None '
                          'or a concurrent.futures.Executor (e.g. '

@@ -30,6 +30,9 @@ def test_sweep_errors_are_named():
         sweep(_square, [1], executor='local')
     with pytest.raises(ValueError, match='max_workers'):
         sweep(_square, [1], max_workers=0)
+    for values in (1.0, None, 1 + 2j):      # issue 17 (scripts/hostile_inputs.py): a TypeError
+        with pytest.raises(cs.InputError, match=r'values = .* is not a sequence'):
+            sweep(_square, values)
 
 
 def test_sweep_refuses_a_pool_beyond_its_stated_limit_and_starts_no_more_than_the_values(

@@ -1,0 +1,294 @@
+#!/usr/bin/env python3
+"""Replay hostile inputs across the library, the command line and the node; count what breaks.
+
+Every case is one bad input (a non-finite, negative, huge, tiny, wrongly typed or empty value of
+one argument of a public function, one option of a subcommand, one parameter of the node).  The
+expected outcome is a refusal: an ``InputError`` naming the argument (library), one line on
+stderr and exit 2 (command line), one ``[FATAL]`` line and exit 2 (node).  Anything else is
+counted:
+
+* ``traceback``: another exception, or a traceback printed;
+* ``hang``: no answer within ``--timeout`` seconds;
+* ``memory``: a ``MemoryError`` (each case runs under a 2 GiB address-space limit);
+* ``nonsense``: accepted, with a non-finite number in the result (library) or in the output;
+* ``unnamed``: refused, but the message does not name the argument the user gave.
+
+    python scripts/hostile_inputs.py [--only library|cli|node] [--timeout 20] [--list]
+
+It prints one line per case that is not a clean refusal, then the counts; exit status 1 if any.
+The node cases need ROS (the set-up's venv); they are skipped with a note where rclpy is absent.
+"""
+import argparse
+import json
+import math
+import os
+import re
+import resource
+import select
+import subprocess
+import sys
+import tempfile
+
+BAD_NUMBERS = [math.nan, math.inf, -math.inf, -1.0, 0.0, 1e308, -1e308, 1e-308, 'abc', True,
+               None, 1 + 2j]
+MEMORY = 2 * 1024 ** 3
+
+# -- the library: (call, argument name, keyword arguments of a valid call) --------------------
+LIBRARY = [
+    ('cs.simulate_drop', dict(contact='C', mass=0.066, height=1.0, duration=1.0,
+                              gravity=9.81, radius=0.0127, velocity=0.0)),
+    ('cs.DropSimulation', dict(contact='C', mass=0.066, height=1.0, gravity=9.81,
+                               radius=0.0127, velocity=0.0, settle_tolerance=1e-3)),
+    ('cs.check_drop', dict(contact='C', mass=0.066, gravity=9.81, height=1.0, velocity=0.0,
+                           radius=0.0127)),
+    ('cs.simulate_impact', dict(contact='C', mass=0.066, speed=1.0)),
+    ('cs.restitution', dict(contact='C', mass=0.066, speeds=1.0)),
+    ('cs.contact_duration', dict(contact='C', mass=0.066, speeds=1.0)),
+    ('cs.predict_bounces', dict(contact='C', mass=0.066, height=1.0, count=10)),
+    ('cs.Contact', dict(law='azad_featherstone', stiffness=1e10, damping=1e5)),
+    ('cs.FlightPath', dict(height=1.0, velocity=0.0, gravity=9.81)),
+    ('cs.AirDrag', dict(air_density=1.2, drag_coefficient=0.5, radius=0.02)),
+    ('cs.drop.SinusoidalPlate', dict(amplitude=0.001, frequency=20.0, phase=0.0)),
+    ('cs.drop.VibratingTable', dict(contact='C', mass=0.01, frequency=20.0, bounces=3,
+                                    transient=0)),
+    ('cs.drop.sweep', dict(function='abs', values=[1], max_workers=1)),
+    ('cs.fit_damping', dict(law='azad_featherstone', stiffness=1e10, mass=0.066,
+                            speeds=[0.5, 1.0, 2.0], restitutions=[0.8, 0.75, 0.7])),
+]
+
+# -- the command line: (subcommand with a valid set of options, option names to spoil) --------
+CLI = [
+    (['restitution', '--law', 'azad_featherstone', '--sphere', 'steel', '--plate', 'cast_iron',
+      '--radius', '0.0127', '--damping-factor', '8.87e5', '--speeds', '1'],
+     ['--radius', '--damping-factor', '--speeds', '--mass', '--stiffness']),
+    (['drop', '--stiffness', '1e10', '--damping', '1e5', '--mass', '0.066', '--height', '1',
+      '--duration', '1'],
+     ['--stiffness', '--damping', '--mass', '--height', '--duration', '--gravity']),
+]
+CLI_VALUES = ['nan', 'inf', '-inf', '-1', '0', '1e308', '1e-308', 'abc', '', ',']
+
+# -- the node: parameters to spoil at start-up ------------------------------------------------
+NODE = ['sphere_radius', 'sphere_mass', 'initial_height', 'stiffness', 'damping',
+        'real_time_factor', 'publish_rate', 'gravity', 'plate_amplitude', 'plate_frequency']
+NODE_VALUES = ['nan', '-1.0', '1.0e+308', 'abc']
+
+
+def _limit_memory():
+    resource.setrlimit(resource.RLIMIT_AS, (MEMORY, MEMORY))
+
+
+def library_cases():
+    for call, kwargs in LIBRARY:
+        for name, good in kwargs.items():
+            if name in ('contact', 'function', 'law'):
+                continue
+            for bad in BAD_NUMBERS:
+                if bad == good:
+                    continue
+                yield ('library', f'{call}({name}={bad!r})', (call, kwargs, name, bad))
+
+
+def cli_cases():
+    for argv, options in CLI:
+        for option in options:
+            for bad in CLI_VALUES:
+                spoilt = list(argv)
+                if option in spoilt:
+                    spoilt[spoilt.index(option) + 1] = bad
+                else:
+                    spoilt += [option, bad]
+                yield ('cli', 'contact-sim ' + ' '.join(spoilt), (spoilt, option))
+
+
+def node_cases():
+    for name in NODE:
+        for bad in NODE_VALUES:
+            yield ('node', f'contact_sim_node --ros-args -p {name}:={bad}', (name, bad))
+
+
+LIBRARY_WORKER = r"""
+import json, math, sys
+import numpy as np
+import contact_sim as cs
+C = cs.Contact('azad_featherstone', 1e10, 1e5)
+# documented non-finite values: a time not reached (nan), a permanent contact's duration (inf)
+DOCUMENTED = {'permanent_contact_time', 'settle_time', 'contact_duration'}
+
+def decode(bad):
+    if isinstance(bad, str) and bad in ('nan', 'inf', '-inf'):
+        return float(bad)
+    if isinstance(bad, list) and bad and bad[0] == '__complex__':
+        return complex(bad[1], bad[2])
+    return bad
+
+def numbers(x, depth=0):
+    if depth > 4:
+        return
+    if isinstance(x, (float, int, np.floating, np.integer)) and not isinstance(x, bool):
+        yield float(x)
+    elif isinstance(x, np.ndarray) and x.dtype.kind in 'fc':
+        yield from (float(v) for v in np.abs(x).ravel()[:100000])
+    elif isinstance(x, (list, tuple)):
+        for v in list(x)[:1000]:
+            yield from numbers(v, depth + 1)
+    elif hasattr(x, '__dataclass_fields__'):
+        for f in x.__dataclass_fields__:
+            if f not in DOCUMENTED:
+                yield from numbers(getattr(x, f), depth + 1)
+
+print('ready', flush=True)
+for line in sys.stdin:
+    call, kwargs, name, bad = json.loads(line)
+    args = {k: (C if v == 'C' else abs if v == 'abs' else v) for k, v in kwargs.items()}
+    args[name] = decode(bad)
+    try:
+        result = eval(call)(**args)
+        answer = {'outcome': 'accepted' if all(math.isfinite(v) for v in numbers(result))
+                  else 'nonsense'}
+    except cs.InputError as error:
+        answer = {'outcome': 'refused', 'message': str(error)}
+    except MemoryError:
+        answer = {'outcome': 'memory'}
+    except Exception as error:
+        answer = {'outcome': 'traceback', 'message': f'{type(error).__name__}: {error}'}
+    print(json.dumps(answer), flush=True)
+"""
+
+
+def _encode(value):
+    if isinstance(value, float) and not math.isfinite(value):
+        return repr(value)              # 'nan', 'inf', '-inf'
+    if isinstance(value, complex):
+        return ['__complex__', value.real, value.imag]
+    return value
+
+
+class LibraryWorker:
+    """One Python process that runs the library cases in turn (restarted after a hang or a
+    crash), so that each case does not pay the import of contact_sim."""
+
+    def __init__(self, timeout):
+        self.timeout, self.proc = timeout, None
+
+    def _start(self):
+        self.proc = subprocess.Popen([sys.executable, '-c', LIBRARY_WORKER], text=True,
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                     stderr=subprocess.DEVNULL, preexec_fn=_limit_memory)
+        self._read(120.0)               # 'ready': the import done
+
+    def _read(self, timeout):
+        ready, _, _ = select.select([self.proc.stdout], [], [], timeout)
+        if not ready:
+            raise TimeoutError
+        line = self.proc.stdout.readline()
+        if not line:
+            raise EOFError
+        return line
+
+    def run(self, case):
+        call, kwargs, name, bad = case
+        if self.proc is None or self.proc.poll() is not None:
+            self._start()
+        self.proc.stdin.write(json.dumps([call, kwargs, name, _encode(bad)]) + '\n')
+        self.proc.stdin.flush()
+        try:
+            answer = json.loads(self._read(self.timeout))
+        except TimeoutError:
+            self.stop()
+            return 'hang', ''
+        except EOFError:                # killed: out of memory in C code, or a crash
+            self.stop()
+            return 'memory', 'the worker died'
+        outcome, message = answer['outcome'], answer.get('message', '')
+        if outcome == 'refused' and name not in message:
+            return 'unnamed', message
+        return ('ok' if outcome in ('refused', 'accepted') else outcome), message
+
+    def stop(self):
+        if self.proc is not None:
+            self.proc.kill()
+            self.proc.wait()
+            self.proc = None
+
+
+def run_cli(case, timeout, exe):
+    argv, option = case
+    try:
+        out = subprocess.run([exe, *argv], capture_output=True, text=True, timeout=timeout,
+                             preexec_fn=_limit_memory, cwd=tempfile.gettempdir())
+    except subprocess.TimeoutExpired:
+        return 'hang', ''
+    text = out.stdout + out.stderr
+    if 'Traceback' in text:
+        return 'traceback', out.stderr[-300:]
+    if 'MemoryError' in text:
+        return 'memory', ''
+    if out.returncode == 0:
+        if re.search(r'\b(nan|inf)\b', out.stdout):
+            return 'nonsense', out.stdout[-200:]
+        return 'ok', ''
+    if out.returncode == 2 and option not in out.stderr:
+        return 'unnamed', out.stderr.strip()[-200:]
+    return 'ok', ''
+
+
+def run_node(case, timeout, exe, domain):
+    name, bad = case
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_LOG_DIR=tempfile.mkdtemp(),
+               ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST')
+    try:
+        proc = subprocess.Popen([exe, '--ros-args', '-p', f'{name}:={bad}'], env=env,
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                start_new_session=True)
+        out, _ = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, 2)
+        proc.communicate()
+        return 'hang', 'still running: the bad value was accepted?'
+    if 'Traceback' in out:
+        return 'traceback', out[-300:]
+    if proc.returncode != 2 or name not in out:
+        return 'unnamed', out.strip()[-200:]
+    return 'ok', ''
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
+    parser.add_argument('--only', choices=['library', 'cli', 'node'])
+    parser.add_argument('--timeout', type=float, default=20.0)
+    parser.add_argument('--list', action='store_true', help='list the cases and stop')
+    args = parser.parse_args(argv)
+    groups = {'library': library_cases, 'cli': cli_cases, 'node': node_cases}
+    cases = [c for kind, make in groups.items() if args.only in (None, kind) for c in make()]
+    if args.list:
+        for kind, label, _ in cases:
+            print(kind, label)
+        print(f'{len(cases)} cases')
+        return 0
+    bindir = os.path.dirname(sys.executable)
+    exe_cli = os.path.join(bindir, 'contact-sim')
+    exe_node = os.path.join(bindir, 'contact_sim_node')
+    counts = {}
+    domain = 150 + os.getpid() % 50
+    library = LibraryWorker(args.timeout)
+    for kind, label, case in cases:
+        if kind == 'library':
+            outcome, detail = library.run(case)
+        elif kind == 'cli':
+            outcome, detail = run_cli(case, args.timeout, exe_cli)
+        elif not os.path.exists(exe_node):
+            outcome, detail = 'skipped', 'no contact_sim_node next to this python'
+        else:
+            outcome, detail = run_node(case, args.timeout, exe_node, domain)
+        counts[outcome] = counts.get(outcome, 0) + 1
+        if outcome not in ('ok', 'skipped'):
+            print(f'{outcome:9s} {label}: {" ".join(detail.split())[:160]}', flush=True)
+    library.stop()
+    print(f'{len(cases)} cases: ' + ', '.join(f'{counts.get(k, 0)} {k}' for k in
+          ('ok', 'traceback', 'hang', 'memory', 'nonsense', 'unnamed', 'skipped')))
+    return 1 if any(counts.get(k) for k in ('traceback', 'hang', 'memory', 'nonsense',
+                                            'unnamed')) else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())
