@@ -8,13 +8,16 @@ compare when counts differ, e.g. with and without a fitted C_d).  The constant-r
 the linear law (its e does not depend on speed); its stiffness, when not given, is chosen so that
 its undamped contact lasts as long as the Hertz contact at the median impact speed.  The data are
 said to support a speed-dependent restitution when the best speed-dependent law beats the constant
-law by ΔAIC > 10.  The robust loss's down-weighted points (weight < 0.5) are reported as outliers.
+law by ΔAIC > 10; that verdict means something only if some law describes the recording at all
+(``BounceFit.adequacy``, ``BounceFit.trustworthy``).  The robust loss's down-weighted points (weight < 0.5) are reported as outliers.
 Units: SI.
 """
 import math
+from dataclasses import replace
 
 import numpy as np
 
+from contact_sim.calibration.adequacy import check_adequacy
 from contact_sim.calibration.glitches import Glitch, prepare_sequence
 from contact_sim.calibration.recordings import ImpactTimes
 from contact_sim.calibration.results import BounceFit
@@ -141,6 +144,7 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     delta = math.nan
     if constant and varying:
         delta = constant[0].aic - min(f.aic for f in varying)
-    return BounceFit(fits, prepared, glitches, mass, gravity, drag, fit_drag, confidence,
-                     resolution, bool(delta > SUPPORT_DELTA_AIC), delta)
+    fit = BounceFit(fits, prepared, glitches, mass, gravity, drag, fit_drag, confidence,
+                    resolution, bool(delta > SUPPORT_DELTA_AIC), delta)
+    return replace(fit, adequacy=check_adequacy(fit))
 

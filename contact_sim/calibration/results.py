@@ -15,7 +15,7 @@ class LawFit:
     law: ContactLaw
     stiffness: float
     damping: float
-    damping_interval: tuple
+    damping_interval: tuple       # (nan, nan) when undetermined (``message`` says why)
     drag_coefficient: float
     drag_interval: tuple          # (nan, nan) when C_d was not fitted
     start_times: np.ndarray       # t₁ per sequence (s)
@@ -28,8 +28,8 @@ class LawFit:
     parameters: int
     observations: int
     noise: float                  # estimated timing noise (s)
-    success: bool
-    message: str
+    success: bool                 # the solver converged and every interval is determined
+    message: str                  # what went wrong, or the solver's convergence message
 
     def contact(self):
         return Contact(self.law, self.stiffness, self.damping)
@@ -50,6 +50,12 @@ class BounceFit:
     timing_resolution: float
     speed_dependent: bool = field(default=False)
     delta_aic: float = field(default=math.nan)
+    adequacy: object = field(default=None)    # ``adequacy.Adequacy``: does any law describe it
+
+    @property
+    def trustworthy(self):
+        """True when the best law's fit succeeded and it describes the recording."""
+        return self.best.success and (self.adequacy is None or self.adequacy.adequate)
 
     @property
     def best(self):

@@ -2,6 +2,7 @@
 audio): the laws fitted by ``calibration.fit_bounces``, ranked, and the best one's report."""
 import argparse
 import math
+import sys
 
 import numpy as np
 
@@ -15,6 +16,8 @@ from contact_sim.flight import AIR_DENSITY, SPHERE_DRAG_COEFFICIENT, AirDrag
 from contact_sim.impact import LOSSES
 from contact_sim.model import build_contact
 from contact_sim.validation import require_positive
+
+UNTRUSTED_FIT = 3     # the exit status of a report whose best fit is not to be trusted
 
 NOTES = """
 
@@ -30,6 +33,16 @@ on the click times (soft-L1 scaled to three times the timing noise).  Air drag
 1/2 rho C_d pi R1^2 v^2 acts in flight when --radius is given (C_d 0.47 unless
 --drag-coefficient; 0 turns it off).
 The constant-restitution law is the linear law (its k is derived unless --stiffness is given).
+
+fits that fail say so: each law's line ends with `fit: converged` or `fit: FAILED` and why
+(the solver did not converge, C_d at a bound of [0.001, 10], an interval the data do not
+determine: then none is printed).  Fewer observations (clicks and heights) than fitted
+parameters are refused.  `model adequacy` compares the best fit's timing noise with the clock
+(--timing-resolution) and with the recording's own scatter about a smooth sequence: when it is
+far above both, no law here describes the recording, and the reason is given (e.g. a
+restitution that rises with speed); the speed-dependence verdict is then undecided.
+exit status 3: the report is printed, but the best fit failed or no law describes the
+recording (a warning on stderr says why).
 
 example:
   contact-sim bounces golf_80cm.csv --sphere steel --plate steel --radius 0.0214 \\
@@ -131,7 +144,9 @@ def _drag(args):
 
 def run(args):
     """Fit the laws to the recordings, print the report (and draw it with --plot, save the
-    node parameters with --save-params); returns the exit status 0."""
+    node parameters with --save-params); returns the exit status: 0, or ``UNTRUSTED_FIT`` when
+    the best fit failed or no law describes the recording (the report is printed all the
+    same)."""
     laws = law_list(args, LAW_NAMES)
     mass = mass_of(args)
     drag = _drag(args)
@@ -147,6 +162,11 @@ def run(args):
     if args.save_params:
         write_params(args.save_params, fit, args)
         print(f'# node parameters written to {args.save_params}')
+    if not fit.trustworthy:
+        why = fit.best.message if not fit.best.success else fit.adequacy.reason
+        print(f'contact-sim: warning: the best fit ({fit.best.law.name}) is not to be trusted: '
+              f'{why}', file=sys.stderr)
+        return UNTRUSTED_FIT
     return 0
 
 
@@ -175,20 +195,19 @@ def print_report(fit, sequences, args, k_source, table):
     print(f'# laws ranked by weighted rms timing residual (equal parameter counts: '
           f'{fit.best.parameters} each); AIC = N ln(SSE/N) + 2P')
     for f in fit.fits:
-        low, high = f.damping_interval
-        print(f'{f.law.name}: lambda = {f.damping:.6e} [{low:.6e}, {high:.6e}] ({level}), '
+        print(f'{f.law.name}: lambda = {f.damping:.6e} {_interval(f.damping_interval, level)}, '
               f'k = {f.stiffness:.6e}, rms = {f.rms * 1e3:.4f} ms, AIC = {f.aic:.2f}')
         if fit.fit_drag:
-            lo, hi = f.drag_interval
-            if 1.001e-3 < f.drag_coefficient < 9.99:
-                print(f'  drag coefficient C_d = {f.drag_coefficient:.4f} [{lo:.4f}, {hi:.4f}]')
-            else:
-                print(f'  drag coefficient C_d = {f.drag_coefficient:.4f} (at its bound: this law '
-                      'needs an implausible drag)')
+            print(f'  drag coefficient C_d = {f.drag_coefficient:.4f} '
+                  f'{_interval(f.drag_interval, level, ".4f")}')
+        print(f'  fit: {"converged" if f.success else "FAILED"}: {f.message}')
     if math.isfinite(fit.delta_aic):
-        verdict = 'supported' if fit.speed_dependent else 'NOT supported'
+        verdict = ('supported' if fit.speed_dependent else 'NOT supported') \
+            if fit.adequacy.adequate else 'undecided (no law describes the recording)'
         print(f'speed-dependent restitution: {verdict} (constant-restitution AIC minus the best '
               f'speed-dependent law\'s: {fit.delta_aic:.2f}; needs > 10)')
+    print(f'model adequacy: {"adequate" if fit.adequacy.adequate else "INADEQUATE"}: '
+          f'{fit.adequacy.reason}')
     best = fit.best
     print(f'timing noise (robust estimate): {best.noise * 1e3:.4f} ms')
     down = fit.downweighted()
@@ -207,6 +226,14 @@ def print_report(fit, sequences, args, k_source, table):
         for n, t, ri, wi in zip(s.index, s.times, r, w):
             print(f'  {j + 1:3d} {n + 1:6d} {t:13.6f} {t + ri:13.6f} {ri * 1e3:13.4f} {wi:6.2f}')
     print(f'rms predicted - measured: {best.rms * 1e3:.4f} ms')
+
+
+def _interval(interval, level, spec='.6e'):
+    """``[low, high] (level)``, or ``(no interval)`` when the fit did not determine one."""
+    low, high = interval
+    if not (math.isfinite(low) and math.isfinite(high)):
+        return '(no interval: see the fit message)'
+    return f'[{low:{spec}}, {high:{spec}}] ({level})'
 
 
 def write_params(path, fit, args):

@@ -81,3 +81,36 @@ def test_cli_bounces_without_any_stiffness_names_the_option(golf_csv, capsys):
     err = capsys.readouterr().err
     assert code == 2 and err.startswith('contact-sim: error: --stiffness is missing for law '
                                         'linear') and err.count('\n') == 1, err
+
+
+def test_cli_bounces_says_when_the_fit_fails(tmp_path, capsys):
+    # found: --fit-drag exited 2 when C_d reached its bound (10.000000000000002 refused); a
+    # failed fit, and a fit no law describes, printed as a success with exit 0
+    # a table-tennis ball with C_d = 5, given a third of its radius: it needs C_d = 45 > 10
+    lam = cs.damping_for_restitution('azad_featherstone', 5e6, 0.0027, 0.9, 2.0)
+    drop = cs.simulate_drop(cs.Contact('azad_featherstone', 5e6, lam), 0.0027, 0.5,
+                            duration=2.0, drag=AirDrag(1.2, 5.0, 0.02))
+    times = [imp.time for imp in drop.impacts if not imp.permanent][:10]
+    path = tmp_path / 'pingpong.csv'
+    path.write_text('Event time (s) h=0.5m\n' + '\n'.join(f'{t:.6f}' for t in times) + '\n')
+    code = cli.main(['bounces', str(path), '--mass', '0.0027', '--stiffness', '5e6',
+                     '--law', 'azad_featherstone', '--radius', str(0.02 / 3.0), '--fit-drag'])
+    captured = capsys.readouterr()
+    assert code == 3, captured.err
+    assert 'fit: FAILED: C_d = 10 is at a bound' in captured.out
+    assert 'not to be trusted' in captured.err
+    # vacuum flights whose restitution rises with speed, e = 0.7 + 0.05 s/m v: no law's
+    v, t = 3.0, [0.0]
+    for _ in range(12):
+        v *= 0.7 + 0.05 * v
+        t.append(t[-1] + 2.0 * v / G)
+    rising = tmp_path / 'rising.csv'
+    rising.write_text('t\n' + '\n'.join(f'{x:.5f}' for x in t) + '\n')
+    assert cli.main(['bounces', str(rising), '--mass', '0.05', '--stiffness', '1e8']) == 3
+    out = capsys.readouterr().out
+    assert 'model adequacy: INADEQUATE: no law here describes this recording' in out
+    assert 'speed-dependent restitution: undecided' in out
+    few = tmp_path / 'few.csv'
+    few.write_text('t\n0.0\n0.5\n0.9\n')
+    assert cli.main(['bounces', str(few), '--mass', '0.05', '--stiffness', '1e8']) == 2
+    assert 'allowed more observations than parameters' in capsys.readouterr().err
