@@ -236,33 +236,35 @@ def _interval(interval, level, spec='.6e'):
     return f'[{low:{spec}}, {high:{spec}}] ({level})'
 
 
+def _yaml_number(value):
+    """A plain YAML float (``21450572.48``, never ``np.float64(...)``), as the node reads it."""
+    return repr(float(value))
+
+
 def write_params(path, fit, args):
     """A ROS 2 parameter file for contact_sim_node (names from its PARAMETERS)."""
     best = fit.best
     heights = [s.height for s in fit.sequences if s.height is not None]
     lines = ['# contact calibrated by `contact-sim bounces` from ' + ', '.join(args.data),
              f'# {best.law.name}: rms timing residual {best.rms * 1e3:.4f} ms; lambda '
-             f'{fit.confidence * 100:g}% interval [{best.damping_interval[0]:.6e}, '
-             f'{best.damping_interval[1]:.6e}]',
+             f'{_interval(best.damping_interval, f"{fit.confidence * 100:g}%")}; fit '
+             f'{"converged" if best.success else "FAILED: " + best.message}',
              'contact_sim:', '  ros__parameters:',
-             f'    contact_law: {best.law.name}',
-             f'    stiffness: {best.stiffness!r}',
-             f'    damping: {best.damping!r}',
-             f'    sphere_mass: {fit.mass!r}',
-             f'    gravity: {fit.gravity!r}']
+             f'    contact_law: {best.law.name}']
+    values = {'stiffness': best.stiffness, 'damping': best.damping, 'sphere_mass': fit.mass,
+              'gravity': fit.gravity}
     if args.radius is not None:
-        lines.append(f'    sphere_radius: {float(args.radius)!r}')
+        values['sphere_radius'] = args.radius
+    if heights:
+        values['initial_height'] = heights[0]
+    if fit.drag is not None:
+        values['air_density'] = fit.drag.air_density
+    values['drag_coefficient'] = best.drag_coefficient if fit.drag is not None else 0.0
+    lines += [f'    {name}: {_yaml_number(value)}' for name, value in values.items()]
     for body in ('sphere', 'plate'):      # library materials only (k and lambda are given)
         chosen = material(args, body)
         if chosen is not None and chosen.name == getattr(args, body):
             lines.append(f'    {body}_material: {chosen.name}')
-    if heights:
-        lines.append(f'    initial_height: {float(heights[0])!r}')
-    if fit.drag is not None:
-        lines.append(f'    air_density: {fit.drag.air_density!r}')
-        lines.append(f'    drag_coefficient: {float(best.drag_coefficient)!r}')
-    else:
-        lines.append('    drag_coefficient: 0.0')
     try:
         with open(path, 'w', encoding='utf-8') as f:
             f.write('\n'.join(lines) + '\n')

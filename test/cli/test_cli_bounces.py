@@ -114,3 +114,34 @@ def test_cli_bounces_says_when_the_fit_fails(tmp_path, capsys):
     few.write_text('t\n0.0\n0.5\n0.9\n')
     assert cli.main(['bounces', str(few), '--mass', '0.05', '--stiffness', '1e8']) == 2
     assert 'allowed more observations than parameters' in capsys.readouterr().err
+
+
+@pytest.mark.ros   # each file goes through the node's parameter parser
+def test_cli_bounces_parameter_file_of_every_law_is_read_by_the_node(golf_csv, tmp_path):
+    # found: the constant-restitution law's stiffness derived from materials was written as
+    # `stiffness: np.float64(21450572.48...)`, which the node refused (FATAL, exit 2)
+    from dataclasses import replace
+
+    import yaml
+
+    from contact_sim.cli.app import build_parser
+    from contact_sim.cli.bounces import write_params
+    from contact_sim.ros.params import DEFAULTS, build_model
+    args = build_parser().parse_args(['bounces', str(golf_csv), '--sphere', 'steel', '--plate',
+                                      'steel', '--radius', '0.0214', '--mass', str(GOLF_MASS)])
+    k = cs.build_contact('hunt_crossley', sphere='steel', plate='steel', radius=0.0214,
+                         damping=0.0).stiffness
+    fit = cs.fit_bounces(cs.calibration.read_impact_times(golf_csv), GOLF_MASS,
+                         {'azad_featherstone': k, 'hunt_crossley': k, 'lee_wang': k},
+                         laws=list(cs.LAWS), drag=GOLF)
+    assert {f.law.name for f in fit.fits} == set(cs.LAWS)
+    for law_fit in fit.fits:
+        path = tmp_path / f'{law_fit.law.name}.yaml'
+        write_params(str(path), replace(fit, fits=[law_fit]), args)
+        text = path.read_text()
+        assert 'np.' not in text and 'float64' not in text, text
+        values = yaml.safe_load(text)['contact_sim']['ros__parameters']
+        model = build_model({**DEFAULTS, **values})
+        assert values['contact_law'] == law_fit.law.name
+        assert model.contact.stiffness == pytest.approx(law_fit.stiffness, rel=1e-12)
+        assert model.contact.damping == pytest.approx(law_fit.damping, rel=1e-12)
