@@ -22,10 +22,13 @@ UNTRUSTED_FIT = 3     # the exit status of a report whose best fit is not to be 
 NOTES = """
 
 data: CSV files of impact times (s), one column per sequence (several runs side by side are
-fine), or phyphox "Acoustic Stopwatch" exports read as they are (the CSV of the All sheet, any
-separator and decimal comma, or the zip of the CSV export), or WAV recordings of the bounces
-(the clicks are found by contact_sim.calibration.audio).  A release height in a column header or file name
-(h=0.8, 80cm) is used; --height overrides it, once per sequence in order.
+fine; --column picks some), or phyphox "Acoustic Stopwatch" exports read as they are (the CSV
+of the All sheet, any separator and decimal comma, or the zip of the CSV export), or WAV
+recordings of the bounces (the clicks are found by contact_sim.calibration.audio).  Columns
+that number the events (event_index, 0 1 2 ...) are not times; an interval column beside a time
+column restores a last event kept only as an interval.  A release height in a column header or
+file name (h=0.8, 80cm, Lancio1,10cm = 0.10 m) is used: a file name's one height for every run
+in the file, or one height per run in order; --height overrides them, once per sequence.
 
 what is fitted: for every law, lambda (k fixed: --stiffness or Hertz), per sequence its start
 time and first impact speed, and with --fit-drag the drag coefficient, by robust least squares
@@ -69,6 +72,9 @@ def add_parser(sub):
     p.add_argument('data', nargs='+', help='CSV / phyphox export (.csv, .zip) or .wav files')
     p.add_argument('--law', action='append', choices=LAW_NAMES,
                    help='force law, repeatable (default: all four)')
+    p.add_argument('--column', action='append', metavar='COL',
+                   help='read only this column of the CSV files: its header or its number from '
+                        '1 (repeatable; default every time column)')
     p.add_argument('--height', action='append', type=_float_list, metavar='H',
                    help='release height in m of each sequence, in order (repeatable)')
     p.add_argument('--height-error', type=float, default=0.01, metavar='DH',
@@ -104,7 +110,7 @@ def _sequences(args):
             sequences.append(ImpactTimes(onsets.times, height_from_label(
                 str(path).rsplit('/', 1)[-1]), f'{path} (audio)'))
         else:
-            sequences.extend(read_impact_times(path))
+            sequences.extend(read_impact_times(path, columns=args.column))
     if args.height:
         if len(args.height) != len(sequences):
             raise ValueError(f'height is given {len(args.height)} time(s) for '

@@ -145,3 +145,19 @@ def test_cli_bounces_parameter_file_of_every_law_is_read_by_the_node(golf_csv, t
         assert values['contact_law'] == law_fit.law.name
         assert model.contact.stiffness == pytest.approx(law_fit.stiffness, rel=1e-12)
         assert model.contact.damping == pytest.approx(law_fit.damping, rel=1e-12)
+
+
+def test_cli_bounces_reads_heights_from_names_and_chosen_columns(golf_csv, tmp_path, capsys):
+    # found: `Lancio1,10cm` read as 0.011 m; no --column; an index column fitted as times
+    lines = golf_csv.read_text().splitlines()[1:]
+    table = tmp_path / 'Lancio1,80cm.csv'
+    table.write_text('event_index,first,second\n' + '\n'.join(
+        f'{i},{row}' for i, row in enumerate(lines)) + '\n')
+    base = ['bounces', str(table), '--mass', str(GOLF_MASS), '--stiffness', str(GOLF_K),
+            '--radius', '0.0214', '--drag-coefficient', '0.3', '--law', 'azad_featherstone']
+    assert cli.main(base + ['--column', 'first']) == 0
+    out = capsys.readouterr().out
+    assert '1 sequence(s), 10 clicks' in out
+    assert 'Lancio1,80cm.csv: first, 10 clicks, released from 0.8 m' in out
+    assert cli.main(base + ['--column', 'third']) == 2
+    assert "column = 'third' is not in" in capsys.readouterr().err
