@@ -19,6 +19,7 @@ import numpy as np
 
 from contact_sim.calibration.adequacy import check_adequacy
 from contact_sim.calibration.glitches import Glitch, prepare_sequence
+from contact_sim.calibration.holdout import predict_held, split_sequences
 from contact_sim.calibration.recordings import ImpactTimes
 from contact_sim.calibration.results import BounceFit
 from contact_sim.calibration.timing_fit import fit_law
@@ -39,7 +40,7 @@ def _linear_stiffness(hertz_law, hertz_k, mass, speed):
 
 def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, fit_drag=False,
                 timing_resolution=1.0 / 48000.0, height_error=0.01, loss='soft_l1',
-                confidence=0.95):
+                confidence=0.95, holdout=None):
     """Fit λ (and optionally C_d) of each law to recorded bounce sequences; see module doc.
 
     Parameters
@@ -69,6 +70,9 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         The robust least-squares loss (``impact.LOSSES``).
     confidence : float
         The level of the intervals, 0 < confidence < 1.
+    holdout : float, optional
+        Hold out this share of each sequence's last clicks, 0 < holdout < 1: the laws are
+        fitted on the others and predict them (``holdout`` module; ``BounceFit.holdout``).
 
     Returns
     -------
@@ -112,6 +116,9 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         p, g = prepare_sequence(j, s, gravity, kappa0, cut_k, mass, cut_law)
         prepared.append(p)
         glitches.extend(g)
+    held = None
+    if holdout is not None:
+        prepared, held = split_sequences(prepared, holdout)
     speeds = np.concatenate([gravity * np.diff(p.times) / np.diff(p.index) / 2.0
                              for p in prepared])
     v_med = float(np.median(speeds))
@@ -146,5 +153,8 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         delta = constant[0].aic - min(f.aic for f in varying)
     fit = BounceFit(fits, prepared, glitches, mass, gravity, drag, fit_drag, confidence,
                     resolution, bool(delta > SUPPORT_DELTA_AIC), delta)
-    return replace(fit, adequacy=check_adequacy(fit))
+    fit = replace(fit, adequacy=check_adequacy(fit))
+    if held is not None:
+        fit = replace(fit, holdout=[predict_held(fit, f, held) for f in fit.fits])
+    return fit
 

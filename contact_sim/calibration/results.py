@@ -5,6 +5,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from contact_sim.flight import AirDrag
 from contact_sim.model import Contact, ContactLaw
 
 
@@ -51,6 +52,16 @@ class BounceFit:
     speed_dependent: bool = field(default=False)
     delta_aic: float = field(default=math.nan)
     adequacy: object = field(default=None)    # ``adequacy.Adequacy``: does any law describe it
+    holdout: list = field(default=None)       # ``holdout.Holdout`` per law (fits' order), or None
+
+    def rates(self, law_fit=None):
+        """The drag rates (κ 1/m, β 1/s) in flight with the C_d of ``law_fit`` (default the
+        best fit); (0, 0) in vacuum."""
+        lf = law_fit or self.best
+        if self.drag is None:
+            return 0.0, 0.0
+        return AirDrag(self.drag.air_density, lf.drag_coefficient, self.drag.radius,
+                       self.drag.linear_coefficient).rates(self.mass, self.gravity)
 
     @property
     def trustworthy(self):

@@ -37,6 +37,10 @@ on the click times (soft-L1 scaled to three times the timing noise).  Air drag
 --drag-coefficient; 0 turns it off).
 The constant-restitution law is the linear law (its k is derived unless --stiffness is given).
 
+--holdout F: the glitches are named on the whole of each sequence, then its last share F of
+clicks is held out; the laws are fitted on the rest and predict the held-out clicks (their rms
+per sequence and overall is printed): what a fit is worth beyond the clicks it saw.
+
 fits that fail say so: each law's line ends with `fit: converged` or `fit: FAILED` and why
 (the solver did not converge, C_d at a bound of [0.001, 10], an interval the data do not
 determine: then none is printed).  Fewer observations (clicks and heights) than fitted
@@ -93,6 +97,9 @@ def add_parser(sub):
                    help='least-squares loss (default soft_l1: robust against outliers)')
     p.add_argument('--confidence', type=float, default=0.95,
                    help='confidence level of the intervals, 0 < C < 1 (default 0.95)')
+    p.add_argument('--holdout', type=float, metavar='F',
+                   help='fit the laws on the first clicks of each sequence and predict its '
+                        'last share F of clicks, 0 < F < 1; the prediction rms is printed')
     p.add_argument('--plot', metavar='OUT.png',
                    help='also draw e vs speed with each law and the timing residuals')
     p.add_argument('--save-params', metavar='FILE.yaml',
@@ -160,7 +167,8 @@ def run(args):
     sequences = _sequences(args)
     fit = fit_bounces(sequences, mass, ks, laws=laws, gravity=args.gravity, drag=drag,
                       fit_drag=args.fit_drag, timing_resolution=args.timing_resolution,
-                      height_error=args.height_error, loss=args.loss, confidence=args.confidence)
+                      height_error=args.height_error, loss=args.loss, confidence=args.confidence,
+                      holdout=args.holdout)
     table = corrected_restitution_table(fit)
     print_report(fit, sequences, args, k_source, table)
     if args.plot:
@@ -232,6 +240,22 @@ def print_report(fit, sequences, args, k_source, table):
         for n, t, ri, wi in zip(s.index, s.times, r, w):
             print(f'  {j + 1:3d} {n + 1:6d} {t:13.6f} {t + ri:13.6f} {ri * 1e3:13.4f} {wi:6.2f}')
     print(f'rms predicted - measured: {best.rms * 1e3:.4f} ms')
+    if fit.holdout is not None:
+        print_holdout(fit)
+
+
+def print_holdout(fit):
+    """The hold-out check: the held-out clicks of each sequence predicted by each law."""
+    print('# hold-out: the last clicks of each sequence predicted by the laws fitted on the '
+          'earlier ones')
+    print(f'# {"seq":>3} {"held out":>8} ' + ' '.join(f'{h.law.name + " (ms)":>22}'
+                                                       for h in fit.holdout))
+    for j, seq in enumerate(fit.holdout[0].held):
+        print(f'  {j + 1:3d} {seq.times.size:8d} ' + ' '.join(f'{h.rms[j] * 1e3:22.4f}'
+                                                              for h in fit.holdout))
+    for h in fit.holdout:
+        print(f'hold-out rms ({h.law.name}): {h.overall * 1e3:.4f} ms over '
+              f'{sum(s.times.size for s in h.held)} clicks')
 
 
 def _interval(interval, level, spec='.6e'):

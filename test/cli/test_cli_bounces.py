@@ -161,3 +161,16 @@ def test_cli_bounces_reads_heights_from_names_and_chosen_columns(golf_csv, tmp_p
     assert 'Lancio1,80cm.csv: first, 10 clicks, released from 0.8 m' in out
     assert cli.main(base + ['--column', 'third']) == 2
     assert "column = 'third' is not in" in capsys.readouterr().err
+
+
+def test_cli_bounces_holdout_prints_the_prediction_rms(golf_csv, capsys):
+    # found: no hold-out check; the recording was made with 50 us of timing noise
+    code = cli.main(['bounces', str(golf_csv), '--mass', str(GOLF_MASS), '--stiffness',
+                     str(GOLF_K), '--radius', '0.0214', '--drag-coefficient', '0.3',
+                     '--holdout', '0.4', '--law', 'azad_featherstone', '--law', 'linear'])
+    out = capsys.readouterr().out
+    assert code == 0
+    rms = {ln.split('(')[1].split(')')[0]: float(ln.split(': ')[1].split(' ms')[0])
+           for ln in out.splitlines() if ln.startswith('hold-out rms (')}
+    assert rms['azad_featherstone'] < 0.2 and rms['linear'] > 2.0, rms
+    assert 'over 8 clicks' in out      # 4 of 10 and 4 of 9 clicks held out
