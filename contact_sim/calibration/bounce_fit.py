@@ -18,7 +18,8 @@ from dataclasses import replace
 import numpy as np
 
 from contact_sim.calibration.adequacy import check_adequacy
-from contact_sim.calibration.glitches import Glitch, prepare_sequence
+from contact_sim.calibration.glitches import (MICRO_BOUNCE_RATIO, Glitch, MicroBounceCut,
+                                              prepare_sequence)
 from contact_sim.calibration.holdout import predict_held, split_sequences
 from contact_sim.calibration.recordings import ImpactTimes
 from contact_sim.calibration.results import BounceFit
@@ -40,7 +41,8 @@ def _linear_stiffness(hertz_law, hertz_k, mass, speed):
 
 def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, fit_drag=False,
                 timing_resolution=1.0 / 48000.0, height_error=0.01, loss='soft_l1',
-                confidence=0.95, holdout=None):
+                confidence=0.95, holdout=None, micro_bounce_ratio=MICRO_BOUNCE_RATIO,
+                min_flight=0.0):
     """Fit λ (and optionally C_d) of each law to recorded bounce sequences; see module doc.
 
     Parameters
@@ -70,6 +72,10 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         The robust least-squares loss (``impact.LOSSES``).
     confidence : float
         The level of the intervals, 0 < confidence < 1.
+    micro_bounce_ratio, min_flight : float
+        Where the final micro-bounces are cut (``glitches.MicroBounceCut``): a contact time
+        (of the softest law given) above this share of the flight before it, or a flight
+        shorter than ``min_flight`` s.
     holdout : float, optional
         Hold out this share of each sequence's last clicks, 0 < holdout < 1: the laws are
         fitted on the others and predict them (``holdout`` module; ``BounceFit.holdout``).
@@ -110,10 +116,11 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     # the softest contact given decides where the micro-bounces begin
     cut_law, cut_k = min(ks.items(), key=lambda lk: lk[1] ** (1.0 / (lk[0].n + 1.0)),
                          default=(None, None))
+    cut = MicroBounceCut(cut_law, cut_k, mass, micro_bounce_ratio, min_flight)
     prepared, glitches = [], []
     kappa0 = drag.rates(mass, gravity)[0] if drag is not None else 0.0
     for j, s in enumerate(seqs):
-        p, g = prepare_sequence(j, s, gravity, kappa0, cut_k, mass, cut_law)
+        p, g = prepare_sequence(j, s, gravity, kappa0, cut)
         prepared.append(p)
         glitches.extend(g)
     held = None

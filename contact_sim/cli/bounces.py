@@ -6,7 +6,7 @@ import sys
 
 import numpy as np
 
-from contact_sim.calibration import (ImpactTimes, bounce_times_from_audio,
+from contact_sim.calibration import (MICRO_BOUNCE_RATIO, ImpactTimes, bounce_times_from_audio,
                                      corrected_restitution_table, fit_bounces, height_from_label,
                                      read_impact_times, restitution_curve)
 from contact_sim.cli import plotting
@@ -16,6 +16,12 @@ from contact_sim.flight import AIR_DENSITY, SPHERE_DRAG_COEFFICIENT, AirDrag
 from contact_sim.impact import LOSSES
 from contact_sim.model import build_contact
 from contact_sim.validation import require_positive
+
+LINEAR_DERIVED = """\
+with
+               materials and no --stiffness the linear law is kept: its k is derived (its
+               undamped contact lasts as long as the Hertz one at the median impact speed)
+               when a Hertz law is fitted beside it; alone, it needs --stiffness."""
 
 UNTRUSTED_FIT = 3     # the exit status of a report whose best fit is not to be trusted
 
@@ -36,6 +42,12 @@ on the click times (soft-L1 scaled to three times the timing noise).  Air drag
 1/2 rho C_d pi R1^2 v^2 acts in flight when --radius is given (C_d 0.47 unless
 --drag-coefficient; 0 turns it off).
 The constant-restitution law is the linear law (its k is derived unless --stiffness is given).
+
+micro-bounces: the final clicks, where each impact lasts a sizeable share of its bounce, are
+beyond the bounce model; they are left out from the first impact whose undamped contact time
+(of the softest law's k) exceeds --micro-bounce-ratio times the flight before it, or from the
+first flight shorter than --min-flight.  A k guessed too soft cuts too early: raise the ratio
+(inf turns it off) or give --min-flight instead; the glitches list says where and why.
 
 --holdout F: the glitches are named on the whole of each sequence, then its last share F of
 clicks is held out; the laws are fitted on the rest and predict the held-out clicks (their rms
@@ -72,7 +84,7 @@ def add_parser(sub):
         description='Fit each law to recorded bounce sequences by least squares on the impact\n'
                     'times (cs.fit_bounces), with drag and contact duration in the\n'
                     'model, detector glitches named, and the laws ranked.',
-        notes=NOTES)
+        notes=NOTES, linear=LINEAR_DERIVED)
     p.add_argument('data', nargs='+', help='CSV / phyphox export (.csv, .zip) or .wav files')
     p.add_argument('--law', action='append', choices=LAW_NAMES,
                    help='force law, repeatable (default: all four)')
@@ -97,6 +109,12 @@ def add_parser(sub):
                    help='least-squares loss (default soft_l1: robust against outliers)')
     p.add_argument('--confidence', type=float, default=0.95,
                    help='confidence level of the intervals, 0 < C < 1 (default 0.95)')
+    p.add_argument('--micro-bounce-ratio', type=float, default=MICRO_BOUNCE_RATIO, metavar='R',
+                   help='leave out the final clicks from the first impact whose contact time '
+                        '(undamped, of the softest law) exceeds R times the flight before it '
+                        f'(default {MICRO_BOUNCE_RATIO:g}; inf: never)')
+    p.add_argument('--min-flight', type=float, default=0.0, metavar='S',
+                   help='and from the first flight shorter than S seconds (default 0: none)')
     p.add_argument('--holdout', type=float, metavar='F',
                    help='fit the laws on the first clicks of each sequence and predict its '
                         'last share F of clicks, 0 < F < 1; the prediction rms is printed')
@@ -168,7 +186,8 @@ def run(args):
     fit = fit_bounces(sequences, mass, ks, laws=laws, gravity=args.gravity, drag=drag,
                       fit_drag=args.fit_drag, timing_resolution=args.timing_resolution,
                       height_error=args.height_error, loss=args.loss, confidence=args.confidence,
-                      holdout=args.holdout)
+                      holdout=args.holdout, micro_bounce_ratio=args.micro_bounce_ratio,
+                      min_flight=args.min_flight)
     table = corrected_restitution_table(fit)
     print_report(fit, sequences, args, k_source, table)
     if args.plot:

@@ -174,3 +174,21 @@ def test_cli_bounces_holdout_prints_the_prediction_rms(golf_csv, capsys):
            for ln in out.splitlines() if ln.startswith('hold-out rms (')}
     assert rms['azad_featherstone'] < 0.2 and rms['linear'] > 2.0, rms
     assert 'over 8 clicks' in out      # 4 of 10 and 4 of 9 clicks held out
+
+
+def test_cli_bounces_micro_bounce_cut_is_adjustable_and_help_is_right(golf_csv, capsys):
+    # found: a fixed cut from the guessed stiffness threw clicks away with no option to change
+    # it; --help said the linear law is skipped with materials and no --stiffness
+    base = ['bounces', str(golf_csv), '--mass', str(GOLF_MASS), '--stiffness', '2e3',
+            '--law', 'azad_featherstone']
+    cli.main(base)
+    assert 'micro-bounces' in capsys.readouterr().out      # a k far too soft cuts early
+    cli.main(base + ['--micro-bounce-ratio', 'inf'])
+    assert 'micro-bounces' not in capsys.readouterr().out
+    assert cli.main(base + ['--micro-bounce-ratio', '0']) == 2
+    assert 'micro_bounce_ratio = 0.0 is out of range' in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        cli.main(['bounces', '--help'])
+    text = ' '.join(capsys.readouterr().out.split())
+    assert 'the linear law is kept: its k is derived' in text
+    assert 'the linear law is skipped' not in text
