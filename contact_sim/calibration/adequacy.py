@@ -1,18 +1,19 @@
-"""Whether any law fitted describes a recording: the best fit's timing noise against what the
-recording itself allows.
+"""Whether any law fitted describes a recording: the best fit's timing error (its robust noise
+estimate or its weighted rms residual, whichever is larger) against what the recording itself
+allows.
 
 Two yardsticks, neither of them a law:
 
 * the clock: the timing resolution Δ (a click cannot be timed better than Δ/√12), and a detector
-  that times its onsets to a few tens of Δ (< 0.35 ms at 48 kHz): a fit whose noise exceeds
+  that times its onsets to a few tens of Δ (< 0.35 ms at 48 kHz): a fit whose error exceeds
   ``RESOLUTION_FACTOR`` Δ is beyond any detector error;
 * the recording's own scatter: in each run of at least ``OWN_MIN_FLIGHTS`` consecutive single
   flights, the third differences of ln(flight) over the bounce number (zero for a restitution
   that changes smoothly with speed, whatever the law), turned into click-time errors, have a
-  robust scale: the scatter of the clicks about *some* smooth sequence.  A fit ``OWN_FACTOR`` times noisier than that misses a
+  robust scale: the scatter of the clicks about *some* smooth sequence.  A fit error ``OWN_FACTOR`` times that misses a
   trend of the data, not their noise.
 
-A fit is inadequate when its noise exceeds both ``RESOLUTION_FACTOR`` Δ and ``OWN_FACTOR`` times
+A fit is inadequate when its error exceeds both ``RESOLUTION_FACTOR`` Δ and ``OWN_FACTOR`` times
 the recording's own scatter.  The reason then names the trend if the flights show one the laws
 cannot follow: a restitution (flight ratio) that rises with the impact speed when every law
 fitted has one that falls with speed or stays.
@@ -25,8 +26,8 @@ import numpy as np
 
 from contact_sim.calibration.restitution_table import restitution_curve
 
-RESOLUTION_FACTOR = 100.0    # fit noise above this many clock resolutions: not detector error
-OWN_FACTOR = 5.0             # fit noise above this many times the recording's own scatter
+RESOLUTION_FACTOR = 100.0    # fit error above this many clock resolutions: not detector error
+OWN_FACTOR = 5.0             # fit error above this many times the recording's own scatter
 OWN_MIN_FLIGHTS = 6          # single flights in a row needed for the recording's own scatter
 TREND_T = 3.0                # |t| of the e(v) slope above which a trend is named
 
@@ -36,10 +37,10 @@ class Adequacy:
     """The verdict of ``check_adequacy`` (times in s).
 
     ``adequate`` is False when no law fitted describes the recording; ``reason`` says why (or
-    what it was checked against); ``own_noise`` is nan when no run is long enough."""
+    what it was checked against); ``own_noise`` (s) is nan when no run is long enough."""
 
     adequate: bool
-    noise: float
+    error: float             # the best fit's timing error: max(robust noise, weighted rms)
     resolution: float
     own_noise: float
     reason: str
@@ -131,15 +132,16 @@ def check_adequacy(fit):
     Adequacy
     """
     best, resolution = fit.best, fit.timing_resolution
+    error = max(best.noise, best.rms)     # the robust noise, or the weighted rms if larger
     own = own_scatter(fit.sequences)
     own_text = f'{own * 1e3:.3g} ms' if math.isfinite(own) else 'unknown (no run of ' \
         f'{OWN_MIN_FLIGHTS} single flights)'
-    against = (f'timing noise {best.noise * 1e3:.3g} ms against the clock resolution '
+    against = (f'timing error {error * 1e3:.3g} ms against the clock resolution '
                f'{resolution * 1e3:.3g} ms and the recording\'s own scatter {own_text}')
-    too_noisy = best.noise > RESOLUTION_FACTOR * resolution and not (
-        math.isfinite(own) and best.noise <= OWN_FACTOR * own)
+    too_noisy = error > RESOLUTION_FACTOR * resolution and not (
+        math.isfinite(own) and error <= OWN_FACTOR * own)
     if not too_noisy:
-        return Adequacy(True, best.noise, resolution, own, against)
+        return Adequacy(True, error, resolution, own, against)
     reason = (f'no law here describes this recording: the best fit ({best.law.name}) has '
               f'{against}, more than {RESOLUTION_FACTOR:g} resolutions' +
               (f' and {OWN_FACTOR:g} times its own scatter' if math.isfinite(own) else ''))
@@ -152,4 +154,4 @@ def check_adequacy(fit):
             reason += (f'; the restitution rises with speed (flight ratios {slope:+.3g} s/m '
                        f'from {v_low:.3g} to {v_high:.3g} m/s, t = {t:.1f}), which no law '
                        'fitted can follow (their e falls with speed or stays)')
-    return Adequacy(False, best.noise, resolution, own, reason)
+    return Adequacy(False, error, resolution, own, reason)

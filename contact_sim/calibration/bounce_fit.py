@@ -24,6 +24,7 @@ from contact_sim.calibration.holdout import predict_held, split_sequences
 from contact_sim.calibration.recordings import ImpactTimes
 from contact_sim.calibration.results import BounceFit
 from contact_sim.calibration.timing_fit import fit_law
+from contact_sim.drop import VELOCITY_MAX
 from contact_sim.flight import AirDrag
 from contact_sim.impact import elastic_limits, impact_scales, require_fit_options
 from contact_sim.model import LAWS, get_law
@@ -37,6 +38,35 @@ def _linear_stiffness(hertz_law, hertz_k, mass, speed):
     tau_unit = elastic_limits(hertz_law)['duration']   # dimensionless τc at ζ -> 0
     length, _ = impact_scales(hertz_law, hertz_k, mass, speed)
     return mass * (math.pi * speed / (tau_unit * length)) ** 2
+
+
+def check_recording(sequence, gravity, resolution):
+    """Refuse a sequence no bounce recording can be: an interval shorter than the clock's
+    resolution, or a flight whose impact speed g T / 2 exceeds the drop's ``VELOCITY_MAX``.
+
+    Parameters
+    ----------
+    sequence : ImpactTimes
+    gravity, resolution : float
+        g in m/s^2 and the timing resolution in s.
+
+    Raises
+    ------
+    ValueError
+        Naming the sequence, the interval and the allowed range.
+    """
+    dt = np.diff(sequence.times)
+    name = sequence.name or 'sequence'
+    shortest, longest = int(np.argmin(dt)), int(np.argmax(dt))
+    if dt[shortest] < resolution:
+        raise ValueError(f'{name}: times[{shortest + 1}] - times[{shortest}] = '
+                         f'{float(dt[shortest]):g} s is out of range: allowed intervals of at '
+                         f'least the timing resolution {resolution:g} s')
+    flight_max = 2.0 * VELOCITY_MAX / gravity
+    if dt[longest] > flight_max:
+        raise ValueError(f'{name}: times[{longest + 1}] - times[{longest}] = '
+                         f'{float(dt[longest]):g} s is out of range: allowed flights up to '
+                         f'{flight_max:g} s (impacts up to {VELOCITY_MAX:g} m/s)')
 
 
 def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, fit_drag=False,
@@ -87,8 +117,8 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     Raises
     ------
     InputError, ValueError
-        For an unknown law, a value out of range, a missing stiffness, no sequences, or
-        ``fit_drag`` without a drag to fit.
+        For an unknown law, a value out of range, a missing stiffness, no sequences, a
+        sequence ``check_recording`` refuses, or ``fit_drag`` without a drag to fit.
     """
     mass = require_positive('mass', mass)
     gravity = require_positive('gravity', gravity)
@@ -105,6 +135,8 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     seqs = [s if isinstance(s, ImpactTimes)
             else ImpactTimes(np.asarray(s), None, f'sequence {i + 1}')
             for i, s in enumerate(sequences)]
+    for s in seqs:
+        check_recording(s, gravity, resolution)
     # the names given are resolved here, once: from now on the laws are ContactLaw objects
     chosen = [get_law(law) for law in (laws if laws is not None else LAWS.values())]
     if isinstance(stiffness, dict):

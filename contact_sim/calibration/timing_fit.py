@@ -72,6 +72,8 @@ def log_interval(name, value, half):
     """
     if not (math.isfinite(value) and value > 0.0):
         return (math.nan, math.nan), f'{name} collapsed to {value:g}: the data do not determine it'
+    if not math.isfinite(half):
+        return (math.nan, math.nan), f'{name} is undetermined: its standard error is not finite'
     if not half > 0.0:
         return (math.nan, math.nan), f'{name} has an interval of zero width: no degree of freedom'
     if not half < HALF_WIDTH_MAX:

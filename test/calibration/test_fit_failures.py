@@ -78,7 +78,7 @@ def test_no_law_describes_a_restitution_rising_with_speed():
     assert not fit.adequacy.adequate and not fit.trustworthy
     assert 'no law here describes this recording' in fit.adequacy.reason
     assert 'rises with speed' in fit.adequacy.reason
-    assert fit.best.noise > 100 * fit.timing_resolution
+    assert fit.adequacy.error > 100 * fit.timing_resolution
 
 
 def test_a_recording_of_the_model_itself_is_adequate():
@@ -90,3 +90,14 @@ def test_a_recording_of_the_model_itself_is_adequate():
     verdict = check_adequacy(fit)
     assert verdict.adequate and fit.trustworthy, verdict.reason
     assert 25e-6 < verdict.own_noise < 1e-3      # law-free: at least the 50 us put in
+
+
+def test_recordings_no_bounce_can_make_are_refused_by_name():
+    # found: bounce times 1e12 s apart and 12 clicks 1 ns apart printed a "result", exit 0
+    t = np.array([0.0, 0.8, 1.44, 1.952, 2.36])
+    with pytest.raises(ValueError, match=r'times\[1\] - times\[0\] = 8e\+11 s is out of range: '
+                                         r'allowed flights up to 20387.4 s'):
+        fit_bounces([t * 1e12], 0.05, 1e8)
+    with pytest.raises(ValueError, match=r'= 1e-09 s is out of range: allowed intervals of at '
+                                         r'least the timing resolution 2.08333e-05 s'):
+        fit_bounces([np.arange(12) * 1e-9], 0.05, 1e8)
