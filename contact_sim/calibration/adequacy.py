@@ -28,7 +28,7 @@ from contact_sim.calibration.restitution_table import restitution_curve
 
 RESOLUTION_FACTOR = 100.0    # fit error above this many clock resolutions: not detector error
 OWN_FACTOR = 5.0             # fit error above this many times the recording's own scatter
-OWN_MIN_FLIGHTS = 6          # single flights in a row needed for the recording's own scatter
+OWN_MIN_FLIGHTS = 5          # single flights in a row needed for the recording's own scatter
 TREND_T = 3.0                # |t| of the e(v) slope above which a trend is named
 
 

@@ -335,4 +335,4 @@ def _solved_fit(law, k, problem, x0, loss, confidence):
     heights = release_height(v1, problem.g, kappa, beta)
     return LawFit(law, k, lam, lam_ci, cd, cd_ci, np.asarray(t1), v1, np.asarray(heights),
                   residuals, weights_seq, rms, aic, n_par, n_obs, noise, not problems,
-                  '; '.join(problems) or f'converged ({result.message})')
+                  '; '.join(problems) or str(result.message))

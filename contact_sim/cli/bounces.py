@@ -233,7 +233,7 @@ def print_report(fit, sequences, args, k_source, table):
         if fit.fit_drag:
             print(f'  drag coefficient C_d = {f.drag_coefficient:.4f} '
                   f'{_interval(f.drag_interval, level, ".4f")}')
-        print(f'  fit: {"converged" if f.success else "FAILED"}: {f.message}')
+        print(f'  fit: converged ({f.message})' if f.success else f'  fit: FAILED: {f.message}')
     if math.isfinite(fit.delta_aic):
         verdict = ('supported' if fit.speed_dependent else 'NOT supported') \
             if fit.adequacy.adequate else 'undecided (no law describes the recording)'
