@@ -5,8 +5,8 @@ Glitches are found from the intervals between clicks, which shrink by about the 
 
 * a doubled click (an echo or the ball's rattle): an interval far shorter (< 0.4 ×) than the one
   expected; the later click is left out;
-* a missed bounce: an interval close to (1 + ē) or (1 + ē + ē²) times the one expected; nothing is
-  left out, the following clicks are numbered one or two bounces later;
+* missed bounces: an interval close to (1 + ē + … + ē^m) times the one expected, for any m (no
+  cap; ``_flights_in``); nothing is left out, the following clicks are numbered m bounces later;
 * a late start (the first impact was missed): with a release height, a first interval that
   matches the second bounce's flight rather than the first; the sequence is numbered from 1.
   Without a release height a late start cannot be told from a lower release;
@@ -31,6 +31,7 @@ from contact_sim.impact import elastic_limits, impact_scales
 from contact_sim.validation import require_nonnegative, require_positive
 
 MICRO_BOUNCE_RATIO = 0.016   # contact time / flight time beyond which clicks are left out
+MISSED_FLIGHT_SHARE = 0.01   # a flight shorter than this share of an interval: not counted
 DOUBLED_RATIO = 0.4          # an interval below this fraction of the expected one: doubled click
 
 
@@ -122,6 +123,18 @@ def _interval_restitution(dt):
     return float(np.clip(np.median(good) if good.size else 0.7, 0.1, 0.995))
 
 
+def _flights_in(interval, expected, e_bar):
+    """How many clicks are missing from ``interval`` (s), whose first flight is expected to
+    last ``expected`` s: the m whose m + 1 flights expected (1 + ē + … + ē^m) come closest in
+    ratio.  No cap: the candidates run until their sum passes the interval, or until one more
+    flight would add less than ``MISSED_FLIGHT_SHARE`` of it (the sums no longer differ)."""
+    sums, m = [expected], 0
+    while sums[-1] < interval and expected * e_bar ** (m + 1) > MISSED_FLIGHT_SHARE * interval:
+        m += 1
+        sums.append(sums[-1] + expected * e_bar ** m)
+    return int(np.argmin([abs(math.log(interval / total)) for total in sums]))
+
+
 def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, cut=MicroBounceCut()):
     """Find the glitches in one recorded sequence (module doc).
 
@@ -188,8 +201,7 @@ def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, cut=MicroBounceCut())
                 expected = dt[i]   # the next interval is the one that holds a miss
         else:
             expected = last * e_bar
-        sums = [expected * sum(e_bar ** j for j in range(m + 1)) for m in range(3)]
-        m = int(np.argmin([abs(math.log(dt[i] / s)) for s in sums]))
+        m = _flights_in(dt[i], expected, e_bar)
         index[i + 1] = index[i] + 1 + m
         if m:
             glitches.append(Glitch(number, 'missed bounce', float(kt[i + 1]), False,
