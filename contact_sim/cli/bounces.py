@@ -56,7 +56,7 @@ per sequence and overall is printed): what a fit is worth beyond the clicks it s
 fits that fail say so: each law's line ends with `fit: converged` or `fit: FAILED` and why
 (the solver did not converge, C_d at a bound of [0.001, 10], an interval the data do not
 determine: then none is printed).  Fewer observations (clicks and heights) than fitted
-parameters are refused.  `model adequacy` compares the best fit's timing noise with the clock
+parameters are refused.  `model adequacy` compares the best fit's timing error with the clock
 (--timing-resolution) and with the recording's own scatter about a smooth sequence: when it is
 far above both, no law here describes the recording, and the reason is given (e.g. a
 restitution that rises with speed); the speed-dependence verdict is then undecided.
