@@ -29,6 +29,8 @@ not found: the bounce fit then names it a missed bounce.
 import math
 from dataclasses import dataclass
 
+import struct
+
 import numpy as np
 from scipy.io import wavfile
 from scipy.ndimage import median_filter, uniform_filter1d
@@ -53,7 +55,7 @@ def read_wav(path):
     """(sample rate Hz, samples as float array (n, channels) in full-scale units)."""
     try:
         rate, data = wavfile.read(path)
-    except (OSError, ValueError) as error:
+    except (OSError, ValueError, struct.error) as error:   # struct: a header cut off
         reason = getattr(error, 'strerror', None) or str(error)
         raise ValueError(f'audio = {str(path)!r} cannot be read as WAV: {reason}') from None
     data = np.asarray(data)

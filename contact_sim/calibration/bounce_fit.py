@@ -8,17 +8,23 @@ compare when counts differ, e.g. with and without a fitted C_d).  The constant-r
 the linear law (its e does not depend on speed); its stiffness, when not given, is chosen so that
 its undamped contact lasts as long as the Hertz contact at the median impact speed.  The data are
 said to support a speed-dependent restitution when the best speed-dependent law beats the constant
-law by ΔAIC > 10.  The robust loss's down-weighted points (weight < 0.5) are reported as outliers.
+law by ΔAIC > 10; that verdict means something only if some law describes the recording at all
+(``BounceFit.adequacy``, ``BounceFit.trustworthy``).  The robust loss's down-weighted points (weight < 0.5) are reported as outliers.
 Units: SI.
 """
 import math
+from dataclasses import replace
 
 import numpy as np
 
-from contact_sim.calibration.glitches import Glitch, prepare_sequence
+from contact_sim.calibration.adequacy import check_adequacy
+from contact_sim.calibration.glitches import (MICRO_BOUNCE_RATIO, Glitch, MicroBounceCut,
+                                              prepare_sequence)
+from contact_sim.calibration.holdout import predict_held, split_sequences
 from contact_sim.calibration.recordings import ImpactTimes
 from contact_sim.calibration.results import BounceFit
 from contact_sim.calibration.timing_fit import fit_law
+from contact_sim.drop import VELOCITY_MAX
 from contact_sim.flight import AirDrag
 from contact_sim.impact import elastic_limits, impact_scales, require_fit_options
 from contact_sim.model import LAWS, get_law
@@ -34,9 +40,39 @@ def _linear_stiffness(hertz_law, hertz_k, mass, speed):
     return mass * (math.pi * speed / (tau_unit * length)) ** 2
 
 
+def check_recording(sequence, gravity, resolution):
+    """Refuse a sequence no bounce recording can be: an interval shorter than the clock's
+    resolution, or a flight whose impact speed g T / 2 exceeds the drop's ``VELOCITY_MAX``.
+
+    Parameters
+    ----------
+    sequence : ImpactTimes
+    gravity, resolution : float
+        g in m/s^2 and the timing resolution in s.
+
+    Raises
+    ------
+    ValueError
+        Naming the sequence, the interval and the allowed range.
+    """
+    dt = np.diff(sequence.times)
+    name = sequence.name or 'sequence'
+    shortest, longest = int(np.argmin(dt)), int(np.argmax(dt))
+    if dt[shortest] < resolution:
+        raise ValueError(f'{name}: times[{shortest + 1}] - times[{shortest}] = '
+                         f'{float(dt[shortest]):g} s is out of range: allowed intervals of at '
+                         f'least the timing resolution {resolution:g} s')
+    flight_max = 2.0 * VELOCITY_MAX / gravity
+    if dt[longest] > flight_max:
+        raise ValueError(f'{name}: times[{longest + 1}] - times[{longest}] = '
+                         f'{float(dt[longest]):g} s is out of range: allowed flights up to '
+                         f'{flight_max:g} s (impacts up to {VELOCITY_MAX:g} m/s)')
+
+
 def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, fit_drag=False,
                 timing_resolution=1.0 / 48000.0, height_error=0.01, loss='soft_l1',
-                confidence=0.95):
+                confidence=0.95, holdout=None, micro_bounce_ratio=MICRO_BOUNCE_RATIO,
+                min_flight=0.0):
     """Fit λ (and optionally C_d) of each law to recorded bounce sequences; see module doc.
 
     Parameters
@@ -66,6 +102,13 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         The robust least-squares loss (``impact.LOSSES``).
     confidence : float
         The level of the intervals, 0 < confidence < 1.
+    micro_bounce_ratio, min_flight : float
+        Where the final micro-bounces are cut (``glitches.MicroBounceCut``): a contact time
+        (of the softest law given) above this share of the flight before it, or a flight
+        shorter than ``min_flight`` s.
+    holdout : float, optional
+        Hold out this share of each sequence's last clicks, 0 < holdout < 1: the laws are
+        fitted on the others and predict them (``holdout`` module; ``BounceFit.holdout``).
 
     Returns
     -------
@@ -74,8 +117,8 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     Raises
     ------
     InputError, ValueError
-        For an unknown law, a value out of range, a missing stiffness, no sequences, or
-        ``fit_drag`` without a drag to fit.
+        For an unknown law, a value out of range, a missing stiffness, no sequences, a
+        sequence ``check_recording`` refuses, or ``fit_drag`` without a drag to fit.
     """
     mass = require_positive('mass', mass)
     gravity = require_positive('gravity', gravity)
@@ -92,6 +135,8 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     seqs = [s if isinstance(s, ImpactTimes)
             else ImpactTimes(np.asarray(s), None, f'sequence {i + 1}')
             for i, s in enumerate(sequences)]
+    for s in seqs:
+        check_recording(s, gravity, resolution)
     # the names given are resolved here, once: from now on the laws are ContactLaw objects
     chosen = [get_law(law) for law in (laws if laws is not None else LAWS.values())]
     if isinstance(stiffness, dict):
@@ -103,12 +148,16 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     # the softest contact given decides where the micro-bounces begin
     cut_law, cut_k = min(ks.items(), key=lambda lk: lk[1] ** (1.0 / (lk[0].n + 1.0)),
                          default=(None, None))
+    cut = MicroBounceCut(cut_law, cut_k, mass, micro_bounce_ratio, min_flight)
     prepared, glitches = [], []
     kappa0 = drag.rates(mass, gravity)[0] if drag is not None else 0.0
     for j, s in enumerate(seqs):
-        p, g = prepare_sequence(j, s, gravity, kappa0, cut_k, mass, cut_law)
+        p, g = prepare_sequence(j, s, gravity, kappa0, cut)
         prepared.append(p)
         glitches.extend(g)
+    held = None
+    if holdout is not None:
+        prepared, held = split_sequences(prepared, holdout)
     speeds = np.concatenate([gravity * np.diff(p.times) / np.diff(p.index) / 2.0
                              for p in prepared])
     v_med = float(np.median(speeds))
@@ -141,6 +190,10 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     delta = math.nan
     if constant and varying:
         delta = constant[0].aic - min(f.aic for f in varying)
-    return BounceFit(fits, prepared, glitches, mass, gravity, drag, fit_drag, confidence,
-                     resolution, bool(delta > SUPPORT_DELTA_AIC), delta)
+    fit = BounceFit(fits, prepared, glitches, mass, gravity, drag, fit_drag, confidence,
+                    resolution, bool(delta > SUPPORT_DELTA_AIC), delta)
+    fit = replace(fit, adequacy=check_adequacy(fit))
+    if held is not None:
+        fit = replace(fit, holdout=[predict_held(fit, f, held) for f in fit.fits])
+    return fit
 

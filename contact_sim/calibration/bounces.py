@@ -241,7 +241,7 @@ def first_speed_for_flight(law, stiffness, damping, mass, gravity, flight, kappa
     while interval(hi) < flight:
         lo, hi = hi, 2.0 * hi
         if hi > 1e6:
-            raise ValueError(f'first_flight = {flight!r} is out of range: no bounce of this '
+            raise ValueError(f'first_flight = {float(flight)!r} is out of range: no bounce of this '
                              'contact lasts that long')
     return brentq(lambda v: interval(v) - flight, lo, hi, xtol=1e-14, rtol=1e-14)
 

@@ -5,13 +5,18 @@ Glitches are found from the intervals between clicks, which shrink by about the 
 
 * a doubled click (an echo or the ball's rattle): an interval far shorter (< 0.4 ×) than the one
   expected; the later click is left out;
-* a missed bounce: an interval close to (1 + ē) or (1 + ē + ē²) times the one expected; nothing is
-  left out, the following clicks are numbered one or two bounces later;
+* missed bounces: an interval close to (1 + ē + … + ē^m) times the one expected, for any m (no
+  cap; ``_flights_in``); nothing is left out, the following clicks are numbered m bounces later;
 * a late start (the first impact was missed): with a release height, a first interval that
   matches the second bounce's flight rather than the first; the sequence is numbered from 1.
   Without a release height a late start cannot be told from a lower release;
-* micro-bounces: the final clicks whose impacts have a gravity group G = g T / v above
-  ``MICRO_BOUNCE_GROUP``, beyond the bounce model (``bounces``), are left out.
+* micro-bounces (``MicroBounceCut``): from the first flight shorter than ``min_flight``, or
+  whose impact lasts more than ``ratio`` of it, the final clicks are left out: there the ball
+  spends a sizeable part of each bounce in contact, gravity acts during the contact beyond the
+  bounce model's first order (``bounces``), and the law's k matters more than its λ.  The
+  contact time is the law's undamped one, τ_c = τ̂ Z / v (``impact.elastic_limits``), at the
+  impact speed g T / 2 of the flight T before it; the default ratio 0.016 is G = gZ/v² = 0.01 for
+  the n = 3/2 laws.  Both are the user's to change: a stiffness guessed too soft cuts too early.
 
 Units: SI.
 """
@@ -22,8 +27,11 @@ import numpy as np
 
 from contact_sim.calibration.bounces import release_speed
 from contact_sim.flight import flight_to_plate
+from contact_sim.impact import elastic_limits, impact_scales
+from contact_sim.validation import require_nonnegative, require_positive
 
-MICRO_BOUNCE_GROUP = 1e-2    # impacts with G = gT/v above this are left out (bounces doc)
+MICRO_BOUNCE_RATIO = 0.016   # contact time / flight time beyond which clicks are left out
+MISSED_FLIGHT_SHARE = 0.01   # a flight shorter than this share of an interval: not counted
 DOUBLED_RATIO = 0.4          # an interval below this fraction of the expected one: doubled click
 
 
@@ -46,6 +54,59 @@ class Glitch:
 
 
 @dataclass(frozen=True)
+class MicroBounceCut:
+    """Where the final micro-bounces of a sequence begin (module doc).
+
+    Parameters
+    ----------
+    law : ContactLaw or None
+        The law of ``stiffness`` (None: no contact-time test).
+    stiffness : float or None
+        Its k in N/m^n.
+    mass : float or None
+        The mass in kg.
+    ratio : float
+        Contact time / flight time beyond which the clicks are left out, > 0 (inf: never).
+    min_flight : float
+        Flights shorter than this (s) are micro-bounces, >= 0 (0: no such test).
+    """
+
+    law: object = None
+    stiffness: float = None
+    mass: float = None
+    ratio: float = MICRO_BOUNCE_RATIO
+    min_flight: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, 'ratio', require_positive('micro_bounce_ratio', self.ratio,
+                                                           allow_inf=True))
+        object.__setattr__(self, 'min_flight', require_nonnegative('min_flight',
+                                                                   self.min_flight))
+
+    def contact_time(self, speed):
+        """The undamped contact duration (s) at impact ``speed`` (m/s), or None without a
+        law."""
+        if self.law is None or self.stiffness is None or self.mass is None:
+            return None
+        _, scale = impact_scales(self.law, self.stiffness, self.mass, speed)
+        return elastic_limits(self.law)['duration'] * scale
+
+    def first(self, flights, gravity):
+        """The first flight (position in ``flights``, s) of the micro-bounces and why, or
+        None."""
+        speeds = 0.5 * gravity * flights
+        contact = self.contact_time(speeds)
+        for i, (flight, v) in enumerate(zip(flights, speeds)):
+            if flight < self.min_flight:
+                return i, f'flight {flight * 1e3:.3g} ms < min_flight {self.min_flight * 1e3:g} ms'
+            if contact is not None and contact[i] > self.ratio * flight:
+                return i, (f'impact at {v:.3g} m/s lasts {contact[i] * 1e3:.3g} ms, more than '
+                           f'{self.ratio:g} of the flight of {flight * 1e3:.3g} ms before it '
+                           f'({self.law.name}, k = {self.stiffness:.3g})')
+        return None
+
+
+@dataclass(frozen=True)
 class PreparedSequence:
     """Clicks kept for the fit and the bounce number (from 0) each one is assigned."""
 
@@ -62,8 +123,19 @@ def _interval_restitution(dt):
     return float(np.clip(np.median(good) if good.size else 0.7, 0.1, 0.995))
 
 
-def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, stiffness=None, mass=None,
-                     law=None):
+def _flights_in(interval, expected, e_bar):
+    """How many clicks are missing from ``interval`` (s), whose first flight is expected to
+    last ``expected`` s: the m whose m + 1 flights expected (1 + ē + … + ē^m) come closest in
+    ratio.  No cap: the candidates run until their sum passes the interval, or until one more
+    flight would add less than ``MISSED_FLIGHT_SHARE`` of it (the sums no longer differ)."""
+    sums, m = [expected], 0
+    while sums[-1] < interval and expected * e_bar ** (m + 1) > MISSED_FLIGHT_SHARE * interval:
+        m += 1
+        sums.append(sums[-1] + expected * e_bar ** m)
+    return int(np.argmin([abs(math.log(interval / total)) for total in sums]))
+
+
+def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, cut=MicroBounceCut()):
     """Find the glitches in one recorded sequence (module doc).
 
     Parameters
@@ -76,11 +148,8 @@ def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, stiffness=None, mass=
         g in m/s^2.
     kappa : float
         The quadratic drag rate c/m in 1/m, used for the late-start test.
-    stiffness, mass : float, optional
-        k of ``law`` (N/m^n) and the mass (kg): with both, the final micro-bounces beyond the
-        model's validity are cut off.
-    law : ContactLaw, optional
-        The law of ``stiffness`` (needed with it).
+    cut : MicroBounceCut
+        Where the final micro-bounces begin (default: no law, so no flight is cut).
 
     Returns
     -------
@@ -112,20 +181,14 @@ def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, stiffness=None, mass=
                 break
     kt = t[keep]
     dt = np.diff(kt)
-    # micro-bounces: cut where the gravity group of the impacts exceeds the model's range
-    if stiffness is not None and mass is not None and dt.size > 2:
-        v = gravity * dt / 2.0                       # impact speed at the end of each flight
-        length = (mass * v * v / stiffness) ** (1.0 / (law.n + 1.0))
-        group = gravity * length / (v * v)           # G = g T / v with T = Z / v
-        over = np.flatnonzero(group > MICRO_BOUNCE_GROUP)
-        if over.size and over[0] + 2 < kt.size:
-            cut = int(over[0]) + 2
-            glitches.append(Glitch(number, 'micro-bounces', float(kt[cut]), True,
-                                   f'the last {kt.size - cut} click(s) left out: impacts at '
-                                   f'{v[over[0]]:.3g} m/s and slower have G = gT/v > '
-                                   f'{MICRO_BOUNCE_GROUP:g}, beyond the bounce model'))
-            kt = kt[:cut]
-            dt = np.diff(kt)
+    # micro-bounces: the final clicks from the first flight the cut names
+    over = cut.first(dt, gravity) if dt.size > 2 else None
+    if over is not None and over[0] + 2 < kt.size:
+        end = over[0] + 2          # the impact that ends that flight is the last click kept
+        glitches.append(Glitch(number, 'micro-bounces', float(kt[end]), True,
+                               f'the last {kt.size - end} click(s) left out: {over[1]}'))
+        kt = kt[:end]
+        dt = np.diff(kt)
     e_bar = _interval_restitution(dt)
     index = np.zeros(kt.size, dtype=int)
     # missed bounces: number the clicks so that each interval is one or more bounce flights
@@ -138,8 +201,7 @@ def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, stiffness=None, mass=
                 expected = dt[i]   # the next interval is the one that holds a miss
         else:
             expected = last * e_bar
-        sums = [expected * sum(e_bar ** j for j in range(m + 1)) for m in range(3)]
-        m = int(np.argmin([abs(math.log(dt[i] / s)) for s in sums]))
+        m = _flights_in(dt[i], expected, e_bar)
         index[i + 1] = index[i] + 1 + m
         if m:
             glitches.append(Glitch(number, 'missed bounce', float(kt[i + 1]), False,

@@ -3,14 +3,19 @@
 A recording is one or several sequences of impact (click) times in seconds, each with an optional
 release height (m).  Accepted as they come from the phone or the lab:
 
-* a phyphox CSV export read as is: the ``All`` sheet (``"Event time (s)"``, ``"Interval (s)"``;
-  the interval column is ignored, an empty last interval is fine), the ``Multiple`` sheet (one run
+* a phyphox CSV export read as is: the ``All`` sheet (``"Event time (s)"``, ``"Interval (s)"``:
+  the interval of a row is the time to the next event, so a last event kept only as an interval
+  is restored; an empty last interval is fine), the ``Multiple`` sheet (one run
   of six events per row: ``Start (s)``, ``Stop 1 (s)`` ... ``Stop 5 (s)``), or the zip of the CSV
   export (its ``All`` file is read);
 * comma, semicolon or tab separators, decimal point or decimal comma, quoted headers;
-* several runs pasted side by side: every time column is one sequence (empty cells end a column);
-* a release height in a column header (``h=0.8``, ``height = 80 cm``, ``0.8m``), or given
-  separately (``--height`` on the command line);
+* several runs pasted side by side: every time column is one sequence (empty cells end a column),
+  or only the columns chosen (by header or number); a column that numbers the events (a header
+  ``index``, ``nr``, ``n``, ... or the values 0, 1, 2, ...) is not a sequence of times;
+* a release height in a column header or a file name (``h=0.8``, ``height = 80 cm``, ``0.8m``,
+  ``1,5 m``; a number glued to a word is not one: ``Lancio1,10cm`` is 0.10 m), one in the file
+  name for every run of the file or one per run in order, or given separately (``--height`` on
+  the command line);
 * text after ``#`` on a line is a comment.
 """
 import csv
@@ -41,27 +46,56 @@ class ImpactTimes:
             raise ValueError(f'{self.name or "sequence"}: impact times must be finite numbers')
         if np.any(np.diff(t) <= 0.0):
             i = int(np.flatnonzero(np.diff(t) <= 0.0)[0])
-            raise ValueError(f'{self.name or "sequence"}: times[{i + 1}] = {t[i + 1]!r} is out of '
-                             f'range: allowed times[{i + 1}] > times[{i}] = {t[i]!r} (increasing)')
+            raise ValueError(f'{self.name or "sequence"}: times[{i + 1}] = {float(t[i + 1])!r} is '
+                             f'out of range: allowed times[{i + 1}] > times[{i}] = '
+                             f'{float(t[i])!r} (increasing)')
         object.__setattr__(self, 'times', t)
         if self.height is not None:
             object.__setattr__(self, 'height', require_positive('height', self.height))
 
 
-_HEIGHT = re.compile(r'(?:\b(?:h|height|hoehe|höhe|altura|hauteur)\s*[=:]?\s*)?'
-                     r'(\d+(?:[.,]\d+)?)\s*(mm|cm|m)\b', re.IGNORECASE)
-_HEIGHT_KEY = re.compile(r'\b(?:h|height|hoehe|höhe|altura|hauteur)\s*[=:]\s*(\d+(?:[.,]\d+)?)'
-                         r'\s*(mm|cm|m)?', re.IGNORECASE)
+# a number not glued to a word before it ('Lancio1,10cm' is run 1 from 10 cm, not 1.10 cm),
+# with a decimal point or comma, then its unit
+_HEIGHT = re.compile(r'(?<![^\W_])(\d+(?:[.,]\d+)?)\s*(mm|cm|m)(?![^\W_])', re.IGNORECASE)
+_HEIGHT_KEY = re.compile(r'(?<![^\W_])(?:h|height|hoehe|höhe|altura|hauteur|altezza)\s*[=:]\s*'
+                         r'(\d+(?:[.,]\d+)?)\s*(mm|cm|m)?(?![^\W_])', re.IGNORECASE)
+_UNITS = {'mm': 1e-3, 'cm': 1e-2, 'm': 1.0}
+# columns that number the events rather than time them
+_INDEX = re.compile(r'(?<![^\W_])(index|idx|nr|no|number|count|n|#)(?![^\W_])', re.IGNORECASE)
+_INTERVAL = re.compile(r'interval|difference|differenz|interv|abstand', re.IGNORECASE)
+
+
+def heights_from_label(label):
+    """Every release height (m) named in a column header or file name, in order.
+
+    Parameters
+    ----------
+    label : str
+        A header or a file name: ``h=0.8``, ``80cm``, ``1,5 m``, ``Lancio1,10cm``.
+
+    Returns
+    -------
+    list of float
+        The heights in m (a key ``h=`` without a unit is in m); empty if none.
+
+    Examples
+    --------
+    >>> heights_from_label('Lancio1,10cm.csv')
+    [0.1]
+    >>> heights_from_label('drops_80cm_1,2m')
+    [0.8, 1.2]
+    """
+    keyed = list(_HEIGHT_KEY.finditer(label))
+    found = keyed or list(_HEIGHT.finditer(label))
+    return [float(m.group(1).replace(',', '.')) * _UNITS[(m.group(2) or 'm').lower()]
+            for m in found]
 
 
 def height_from_label(label):
-    """A release height (m) named in a column header or file name, or ``None``."""
-    m = _HEIGHT_KEY.search(label) or _HEIGHT.search(label)
-    if not m:
-        return None
-    value = float(m.group(1).replace(',', '.'))
-    unit = (m.group(2) or 'm').lower()
-    return value * {'mm': 1e-3, 'cm': 1e-2, 'm': 1.0}[unit]
+    """The first release height (m) named in a column header or file name, or ``None``
+    (``heights_from_label``)."""
+    heights = heights_from_label(label)
+    return heights[0] if heights else None
 
 
 def _number(cell, decimal_comma):
@@ -117,8 +151,27 @@ def _read_text(path):
         raise ValueError(f'data = {name!r} cannot be read: {reason}') from None
 
 
-def parse_impact_times(text, source='data'):
-    """Sequences (list of ``ImpactTimes``) from the text of a CSV file; see module doc."""
+def parse_impact_times(text, source='data', columns=None):
+    """Sequences (list of ``ImpactTimes``) from the text of a CSV file; see module doc.
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+    source : str
+        Its name, in the sequences' names and the messages.
+    columns : list of str, optional
+        The columns to read (headers or numbers from 1); default every time column.
+
+    Returns
+    -------
+    list of ImpactTimes
+
+    Raises
+    ------
+    ValueError
+        If no impact times are found, a column asked for is not there, or a sequence is bad.
+    """
     lines = [ln.split('#', 1)[0] for ln in text.splitlines()]
     delimiter, decimal_comma = _dialect(lines)
     rows = [[c.strip() for c in next(csv.reader(io.StringIO(ln), delimiter=delimiter))]
@@ -143,23 +196,21 @@ def parse_impact_times(text, source='data'):
             if t:
                 sequences.append(ImpactTimes(np.array(t), None, f'{source} row {number}'))
         return sequences
-    # time columns: everything but interval/difference columns
-    skip = {i for i, c in enumerate(lower)
-            if re.search(r'interval|difference|differenz|interv|abstand', c)}
+    chosen = _selected(columns, labels, width, source) if columns else [
+        i for i in range(width)
+        if not _INTERVAL.search(labels[i]) and not _INDEX.search(labels[i])]
     sequences = []
-    for i in range(width):
-        if i in skip:
+    for i in chosen:
+        values, last_row = _column(rows, i, decimal_comma)
+        if not values or (not columns and _counts_events(values)):
             continue
-        values = []
-        for row in rows:
-            x = _number(row[i], decimal_comma) if i < len(row) else None
-            if x is None:
-                if values:
-                    break          # an empty cell ends a column pasted beside a longer one
-                continue
-            values.append(x)
-        if not values:
-            continue
+        # the interval beside a time column is the time to the next event: a last event kept
+        # only as an interval is restored
+        if i + 1 < width and _INTERVAL.search(labels[i + 1]):
+            cells = rows[last_row]
+            last = _number(cells[i + 1], decimal_comma) if i + 1 < len(cells) else None
+            if last is not None and last > 0.0:
+                values.append(values[-1] + last)
         label = labels[i] or f'column {i + 1}'
         sequences.append(ImpactTimes(np.array(values), height_from_label(labels[i]),
                                      f'{source}: {label}'))
@@ -169,11 +220,73 @@ def parse_impact_times(text, source='data'):
     return sequences
 
 
-def read_impact_times(path):
-    """Sequences of impact times from a CSV file or phyphox export (``.csv`` or ``.zip``)."""
-    sequences = parse_impact_times(_read_text(path), source=str(path))
-    file_height = height_from_label(str(path).rsplit('/', 1)[-1])
-    if file_height is not None and len(sequences) == 1 and sequences[0].height is None:
-        s = sequences[0]
-        sequences = [ImpactTimes(s.times, file_height, s.name)]
-    return sequences
+def _column(rows, i, decimal_comma):
+    """The numbers of column ``i`` from its first one to the first empty cell after it, and
+    the row of the last one."""
+    values, last_row = [], None
+    for n, row in enumerate(rows):
+        x = _number(row[i], decimal_comma) if i < len(row) else None
+        if x is None:
+            if values:
+                break          # an empty cell ends a column pasted beside a longer one
+            continue
+        values.append(x)
+        last_row = n
+    return values, last_row
+
+
+def _counts_events(values):
+    """Whether a column counts the events (0, 1, 2, ... or 1, 2, 3, ...) instead of timing
+    them: bounce flights shrink, they are never all one second long."""
+    return len(values) >= 2 and values[0] in (0.0, 1.0) and bool(np.all(np.diff(values) == 1.0))
+
+
+def _selected(columns, labels, width, source):
+    """Column positions (from 0) of ``columns``: each a header (case and spaces aside) or a
+    number from 1."""
+    names = [lab.strip().lower() for lab in labels]
+    chosen = []
+    for wanted in columns:
+        text = str(wanted).strip()
+        if text.lower() in names:
+            chosen.append(names.index(text.lower()))
+        elif text.isdigit() and 1 <= int(text) <= width:
+            chosen.append(int(text) - 1)
+        else:
+            headers = ', '.join(repr(lab) for lab in labels if lab) or 'none'
+            raise ValueError(f'column = {text!r} is not in {source}: allowed a header '
+                             f'({headers}) or a number 1 to {width}')
+    return chosen
+
+
+def read_impact_times(path, columns=None):
+    """Sequences of impact times from a CSV file or phyphox export (``.csv`` or ``.zip``).
+
+    Release heights in the file name go to the sequences without a height of their own: one
+    height to every run, or as many heights as runs, in order.
+
+    Parameters
+    ----------
+    path : str or Path
+    columns : list of str, optional
+        The columns to read (``parse_impact_times``).
+
+    Returns
+    -------
+    list of ImpactTimes
+
+    Raises
+    ------
+    ValueError
+        If the file cannot be read, holds no impact times, or its name holds a number of
+        heights that is neither one nor the number of runs.
+    """
+    sequences = parse_impact_times(_read_text(path), source=str(path), columns=columns)
+    heights = heights_from_label(str(path).replace('\\', '/').rsplit('/', 1)[-1])
+    if len(heights) == 1:
+        heights = heights * len(sequences)
+    if heights and len(heights) != len(sequences):
+        raise ValueError(f'data = {str(path)!r} names {len(heights)} heights for '
+                         f'{len(sequences)} runs: allowed one height, or one per run in order')
+    return [ImpactTimes(s.times, h, s.name) if heights and s.height is None else s
+            for s, h in zip(sequences, heights or [None] * len(sequences))]

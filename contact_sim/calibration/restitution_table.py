@@ -6,7 +6,7 @@ import math
 import numpy as np
 
 from contact_sim.calibration.bounces import contact_map, impact_sequence
-from contact_sim.flight import AirDrag, flight_to_plate
+from contact_sim.flight import flight_to_plate
 from contact_sim.impact import restitution
 
 
@@ -36,10 +36,7 @@ def corrected_restitution_table(fit, law_fit=None):
     noise √2 σ_t of each interval."""
     lf = law_fit or fit.best
     law, k, lam, m, g = lf.law, lf.stiffness, lf.damping, fit.mass, fit.gravity
-    kappa, beta = (0.0, 0.0)
-    if fit.drag is not None:
-        kappa, beta = AirDrag(fit.drag.air_density, lf.drag_coefficient, fit.drag.radius,
-                              fit.drag.linear_coefficient).rates(m, g)
+    kappa, beta = fit.rates(lf)
     sigma = math.sqrt(2.0) * lf.noise
     rows = []
     for j, (seq, v1) in enumerate(zip(fit.sequences, lf.first_speeds)):

@@ -5,6 +5,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from contact_sim.flight import AirDrag
 from contact_sim.model import Contact, ContactLaw
 
 
@@ -15,7 +16,7 @@ class LawFit:
     law: ContactLaw
     stiffness: float
     damping: float
-    damping_interval: tuple
+    damping_interval: tuple       # (nan, nan) when undetermined (``message`` says why)
     drag_coefficient: float
     drag_interval: tuple          # (nan, nan) when C_d was not fitted
     start_times: np.ndarray       # t₁ per sequence (s)
@@ -28,8 +29,8 @@ class LawFit:
     parameters: int
     observations: int
     noise: float                  # estimated timing noise (s)
-    success: bool
-    message: str
+    success: bool                 # the solver converged and every interval is determined
+    message: str                  # what went wrong, or the solver's convergence message
 
     def contact(self):
         return Contact(self.law, self.stiffness, self.damping)
@@ -50,6 +51,22 @@ class BounceFit:
     timing_resolution: float
     speed_dependent: bool = field(default=False)
     delta_aic: float = field(default=math.nan)
+    adequacy: object = field(default=None)    # ``adequacy.Adequacy``: does any law describe it
+    holdout: list = field(default=None)       # ``holdout.Holdout`` per law (fits' order), or None
+
+    def rates(self, law_fit=None):
+        """The drag rates (κ 1/m, β 1/s) in flight with the C_d of ``law_fit`` (default the
+        best fit); (0, 0) in vacuum."""
+        lf = law_fit or self.best
+        if self.drag is None:
+            return 0.0, 0.0
+        return AirDrag(self.drag.air_density, lf.drag_coefficient, self.drag.radius,
+                       self.drag.linear_coefficient).rates(self.mass, self.gravity)
+
+    @property
+    def trustworthy(self):
+        """True when the best law's fit succeeded and it describes the recording."""
+        return self.best.success and (self.adequacy is None or self.adequacy.adequate)
 
     @property
     def best(self):

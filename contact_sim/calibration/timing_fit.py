@@ -26,6 +26,60 @@ from contact_sim.impact import damping_for_restitution, damping_from_group, robu
 from contact_sim.validation import require_positive
 
 CD_BOUNDS = (1e-3, 10.0)     # a fitted drag coefficient stays inside (AirDrag's range)
+HALF_WIDTH_MAX = 20.0        # a log-interval half width beyond this: the parameter is undetermined
+
+
+def drag_coefficient_of(log_cd):
+    """C_d from its fitted logarithm, clipped into ``CD_BOUNDS``: exp(log 10) is
+    10.000000000000002, which ``AirDrag`` refuses.
+
+    Parameters
+    ----------
+    log_cd : float
+        ln C_d.
+
+    Returns
+    -------
+    float
+        C_d, ``CD_BOUNDS[0] <= C_d <= CD_BOUNDS[1]``.
+
+    Examples
+    --------
+    >>> drag_coefficient_of(math.log(10.0))
+    10.0
+    """
+    return min(max(math.exp(min(log_cd, 700.0)), CD_BOUNDS[0]), CD_BOUNDS[1])
+
+
+def log_interval(name, value, half):
+    """The interval value · exp(±half) of a parameter fitted in its logarithm, or why there
+    is none.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the reason.
+    value : float
+        The fitted value (> 0 to have an interval).
+    half : float
+        The half width in the logarithm (Student t times the standard error).
+
+    Returns
+    -------
+    (tuple, str)
+        ``(low, high)`` and ``''``; or ``(nan, nan)`` and the reason when the interval is
+        degenerate (zero width, a value at zero) or unbounded (the data do not determine it).
+    """
+    if not (math.isfinite(value) and value > 0.0):
+        return (math.nan, math.nan), f'{name} collapsed to {value:g}: the data do not determine it'
+    if not math.isfinite(half):
+        return (math.nan, math.nan), f'{name} is undetermined: its standard error is not finite'
+    if not half > 0.0:
+        return (math.nan, math.nan), f'{name} has an interval of zero width: no degree of freedom'
+    if not half < HALF_WIDTH_MAX:
+        return (math.nan, math.nan), (f'{name} is undetermined: its interval spans more than a '
+                                      f'factor exp({HALF_WIDTH_MAX:g})')
+    return (value * math.exp(-half), value * math.exp(half)), ''
 
 
 class _Problem:
@@ -47,9 +101,9 @@ class _Problem:
 
     def unpack(self, x):
         lam = math.exp(min(x[0], 700.0))
-        cd = math.exp(min(x[1], math.log(CD_BOUNDS[1]))) if self.fit_drag else None
+        cd = drag_coefficient_of(x[1]) if self.fit_drag else None
         t1 = x[self.offset:self.offset + self.n_seq]
-        v1 = np.exp(x[self.offset + self.n_seq:])
+        v1 = np.exp(np.minimum(x[self.offset + self.n_seq:], 700.0))
         return lam, cd, t1, v1
 
     def rates(self, cd):
@@ -115,8 +169,10 @@ class _Problem:
         if self.fit_drag:   # the base residuals from the batch's first block: one call more
             base = self._pack([t1[j] + times[j, idx] for j, idx in self.rows], v1, kappa, beta)
             xs = np.array(x, dtype=float)
-            xs[1] += step
-            jac[:, 1] = (self.residuals(xs) - base) / step
+            # a backward step at the upper bound: the derivative from inside the range
+            sign = -1.0 if x[1] + step > math.log(CD_BOUNDS[1]) else 1.0
+            xs[1] += sign * step
+            jac[:, 1] = (self.residuals(xs) - base) / (sign * step)
         return np.where(np.isfinite(jac), jac, 0.0)
 
 
@@ -210,10 +266,19 @@ def fit_law(law, stiffness, mass, gravity, drag, fit_drag, sequences, resolution
     ------
     InputError
         If ``stiffness`` is not positive.
+    ValueError
+        If there are no more observations (clicks and heights) than fitted parameters.
     """
     problem = _Problem(law, require_positive('stiffness', stiffness), mass, gravity, drag,
                        fit_drag, sequences, resolution, height_error)
     x0 = _initial_guess(problem, drag.drag_coefficient if drag is not None else None)
+    n_obs = problem.n_times + len(problem.heights)
+    if n_obs <= x0.size:
+        raise ValueError(f'data holds {problem.n_times} click(s) and {len(problem.heights)} '
+                         f'release height(s), {n_obs} observation(s) for {x0.size} fitted '
+                         'parameters (lambda, C_d if fitted, and per sequence its start time '
+                         'and first speed): allowed more observations than parameters (more '
+                         'clicks, or the release heights)')
     return _solved_fit(law, stiffness, problem, x0, loss, confidence)
 
 
@@ -228,7 +293,7 @@ def _solved_fit(law, k, problem, x0, loss, confidence):
     result = _solve(problem, first.x, loss, scale) if loss != 'linear' else first
     x = result.x
     n_obs, n_par = result.fun.size, x.size
-    dof = max(n_obs - n_par, 1)
+    dof = n_obs - n_par      # > 0: fit_law refuses fewer observations
     weights = robust_weights(loss, (result.fun / scale) ** 2)
     weighted_sse = float(np.sum(weights * result.fun ** 2)) * res_unit ** 2
     s2 = float(np.sum(weights * result.fun ** 2)) / dof
@@ -243,14 +308,20 @@ def _solved_fit(law, k, problem, x0, loss, confidence):
         cov = s2 * np.linalg.pinv(normal)
     q = float(stdtrit(dof, 0.5 + confidence / 2.0))
     lam, cd, t1, v1 = problem.unpack(x)
-    half = min(q * math.sqrt(max(cov[0, 0], 0.0)), 50.0)
-    lam_ci = (lam * math.exp(-half), lam * math.exp(half))
+    lam_ci, why_lam = log_interval('lambda', lam, q * math.sqrt(max(cov[0, 0], 0.0)))
+    problems = [why_lam]
     if problem.fit_drag:
-        half_cd = min(q * math.sqrt(max(cov[1, 1], 0.0)), 50.0)
-        cd_ci = (cd * math.exp(-half_cd), cd * math.exp(half_cd))
+        cd_ci, why_cd = log_interval('C_d', cd, q * math.sqrt(max(cov[1, 1], 0.0)))
+        problems.append(why_cd)
+        if not CD_BOUNDS[0] * (1.0 + 1e-6) < cd < CD_BOUNDS[1] * (1.0 - 1e-6):
+            problems.append(f'C_d = {cd:.6g} is at a bound of its range [{CD_BOUNDS[0]:g}, '
+                            f'{CD_BOUNDS[1]:g}]: this law needs an implausible drag')
     else:
         cd = problem.drag.drag_coefficient if problem.drag is not None else 0.0
         cd_ci = (math.nan, math.nan)
+    if not result.success:
+        problems.insert(0, f'the solver did not converge ({result.message})')
+    problems = [p for p in problems if p]
     pred, (kappa, beta), _ = problem.predicted(x)
     residuals, weights_seq, pos = [], [], 0
     for p, s in zip(pred, problem.seqs):
@@ -263,5 +334,5 @@ def _solved_fit(law, k, problem, x0, loss, confidence):
     aic = n_obs * math.log(max(weighted_sse, 1e-300) / n_obs) + 2.0 * n_par
     heights = release_height(v1, problem.g, kappa, beta)
     return LawFit(law, k, lam, lam_ci, cd, cd_ci, np.asarray(t1), v1, np.asarray(heights),
-                  residuals, weights_seq, rms, aic, n_par, n_obs, noise, bool(result.success),
-                  str(result.message))
+                  residuals, weights_seq, rms, aic, n_par, n_obs, noise, not problems,
+                  '; '.join(problems) or str(result.message))

@@ -2,10 +2,11 @@
 audio): the laws fitted by ``calibration.fit_bounces``, ranked, and the best one's report."""
 import argparse
 import math
+import sys
 
 import numpy as np
 
-from contact_sim.calibration import (ImpactTimes, bounce_times_from_audio,
+from contact_sim.calibration import (MICRO_BOUNCE_RATIO, ImpactTimes, bounce_times_from_audio,
                                      corrected_restitution_table, fit_bounces, height_from_label,
                                      read_impact_times, restitution_curve)
 from contact_sim.cli import plotting
@@ -16,13 +17,24 @@ from contact_sim.impact import LOSSES
 from contact_sim.model import build_contact
 from contact_sim.validation import require_positive
 
+LINEAR_DERIVED = """\
+with
+               materials and no --stiffness the linear law is kept: its k is derived (its
+               undamped contact lasts as long as the Hertz one at the median impact speed)
+               when a Hertz law is fitted beside it; alone, it needs --stiffness."""
+
+UNTRUSTED_FIT = 3     # the exit status of a report whose best fit is not to be trusted
+
 NOTES = """
 
 data: CSV files of impact times (s), one column per sequence (several runs side by side are
-fine), or phyphox "Acoustic Stopwatch" exports read as they are (the CSV of the All sheet, any
-separator and decimal comma, or the zip of the CSV export), or WAV recordings of the bounces
-(the clicks are found by contact_sim.calibration.audio).  A release height in a column header or file name
-(h=0.8, 80cm) is used; --height overrides it, once per sequence in order.
+fine; --column picks some), or phyphox "Acoustic Stopwatch" exports read as they are (the CSV
+of the All sheet, any separator and decimal comma, or the zip of the CSV export), or WAV
+recordings of the bounces (the clicks are found by contact_sim.calibration.audio).  Columns
+that number the events (event_index, 0 1 2 ...) are not times; an interval column beside a time
+column restores a last event kept only as an interval.  A release height in a column header or
+file name (h=0.8, 80cm, Lancio1,10cm = 0.10 m) is used: a file name's one height for every run
+in the file, or one height per run in order; --height overrides them, once per sequence.
 
 what is fitted: for every law, lambda (k fixed: --stiffness or Hertz), per sequence its start
 time and first impact speed, and with --fit-drag the drag coefficient, by robust least squares
@@ -30,6 +42,26 @@ on the click times (soft-L1 scaled to three times the timing noise).  Air drag
 1/2 rho C_d pi R1^2 v^2 acts in flight when --radius is given (C_d 0.47 unless
 --drag-coefficient; 0 turns it off).
 The constant-restitution law is the linear law (its k is derived unless --stiffness is given).
+
+micro-bounces: the final clicks, where each impact lasts a sizeable share of its bounce, are
+beyond the bounce model; they are left out from the first impact whose undamped contact time
+(of the softest law's k) exceeds --micro-bounce-ratio times the flight before it, or from the
+first flight shorter than --min-flight.  A k guessed too soft cuts too early: raise the ratio
+(inf turns it off) or give --min-flight instead; the glitches list says where and why.
+
+--holdout F: the glitches are named on the whole of each sequence, then its last share F of
+clicks is held out; the laws are fitted on the rest and predict the held-out clicks (their rms
+per sequence and overall is printed): what a fit is worth beyond the clicks it saw.
+
+fits that fail say so: each law's line ends with `fit: converged` or `fit: FAILED` and why
+(the solver did not converge, C_d at a bound of [0.001, 10], an interval the data do not
+determine: then none is printed).  Fewer observations (clicks and heights) than fitted
+parameters are refused.  `model adequacy` compares the best fit's timing error with the clock
+(--timing-resolution) and with the recording's own scatter about a smooth sequence: when it is
+far above both, no law here describes the recording, and the reason is given (e.g. a
+restitution that rises with speed); the speed-dependence verdict is then undecided.
+exit status 3: the report is printed, but the best fit failed or no law describes the
+recording (a warning on stderr says why).
 
 example:
   contact-sim bounces golf_80cm.csv --sphere steel --plate steel --radius 0.0214 \\
@@ -52,10 +84,13 @@ def add_parser(sub):
         description='Fit each law to recorded bounce sequences by least squares on the impact\n'
                     'times (cs.fit_bounces), with drag and contact duration in the\n'
                     'model, detector glitches named, and the laws ranked.',
-        notes=NOTES)
+        notes=NOTES, linear=LINEAR_DERIVED)
     p.add_argument('data', nargs='+', help='CSV / phyphox export (.csv, .zip) or .wav files')
     p.add_argument('--law', action='append', choices=LAW_NAMES,
                    help='force law, repeatable (default: all four)')
+    p.add_argument('--column', action='append', metavar='COL',
+                   help='read only this column of the CSV files: its header or its number from '
+                        '1 (repeatable; default every time column)')
     p.add_argument('--height', action='append', type=_float_list, metavar='H',
                    help='release height in m of each sequence, in order (repeatable)')
     p.add_argument('--height-error', type=float, default=0.01, metavar='DH',
@@ -74,6 +109,15 @@ def add_parser(sub):
                    help='least-squares loss (default soft_l1: robust against outliers)')
     p.add_argument('--confidence', type=float, default=0.95,
                    help='confidence level of the intervals, 0 < C < 1 (default 0.95)')
+    p.add_argument('--micro-bounce-ratio', type=float, default=MICRO_BOUNCE_RATIO, metavar='R',
+                   help='leave out the final clicks from the first impact whose contact time '
+                        '(undamped, of the softest law) exceeds R times the flight before it '
+                        f'(default {MICRO_BOUNCE_RATIO:g}; inf: never)')
+    p.add_argument('--min-flight', type=float, default=0.0, metavar='S',
+                   help='and from the first flight shorter than S seconds (default 0: none)')
+    p.add_argument('--holdout', type=float, metavar='F',
+                   help='fit the laws on the first clicks of each sequence and predict its '
+                        'last share F of clicks, 0 < F < 1; the prediction rms is printed')
     p.add_argument('--plot', metavar='OUT.png',
                    help='also draw e vs speed with each law and the timing residuals')
     p.add_argument('--save-params', metavar='FILE.yaml',
@@ -91,7 +135,7 @@ def _sequences(args):
             sequences.append(ImpactTimes(onsets.times, height_from_label(
                 str(path).rsplit('/', 1)[-1]), f'{path} (audio)'))
         else:
-            sequences.extend(read_impact_times(path))
+            sequences.extend(read_impact_times(path, columns=args.column))
     if args.height:
         if len(args.height) != len(sequences):
             raise ValueError(f'height is given {len(args.height)} time(s) for '
@@ -131,7 +175,9 @@ def _drag(args):
 
 def run(args):
     """Fit the laws to the recordings, print the report (and draw it with --plot, save the
-    node parameters with --save-params); returns the exit status 0."""
+    node parameters with --save-params); returns the exit status: 0, or ``UNTRUSTED_FIT`` when
+    the best fit failed or no law describes the recording (the report is printed all the
+    same)."""
     laws = law_list(args, LAW_NAMES)
     mass = mass_of(args)
     drag = _drag(args)
@@ -139,7 +185,9 @@ def run(args):
     sequences = _sequences(args)
     fit = fit_bounces(sequences, mass, ks, laws=laws, gravity=args.gravity, drag=drag,
                       fit_drag=args.fit_drag, timing_resolution=args.timing_resolution,
-                      height_error=args.height_error, loss=args.loss, confidence=args.confidence)
+                      height_error=args.height_error, loss=args.loss, confidence=args.confidence,
+                      holdout=args.holdout, micro_bounce_ratio=args.micro_bounce_ratio,
+                      min_flight=args.min_flight)
     table = corrected_restitution_table(fit)
     print_report(fit, sequences, args, k_source, table)
     if args.plot:
@@ -147,6 +195,11 @@ def run(args):
     if args.save_params:
         write_params(args.save_params, fit, args)
         print(f'# node parameters written to {args.save_params}')
+    if not fit.trustworthy:
+        why = fit.best.message if not fit.best.success else fit.adequacy.reason
+        print(f'contact-sim: warning: the best fit ({fit.best.law.name}) is not to be trusted: '
+              f'{why}', file=sys.stderr)
+        return UNTRUSTED_FIT
     return 0
 
 
@@ -175,20 +228,19 @@ def print_report(fit, sequences, args, k_source, table):
     print(f'# laws ranked by weighted rms timing residual (equal parameter counts: '
           f'{fit.best.parameters} each); AIC = N ln(SSE/N) + 2P')
     for f in fit.fits:
-        low, high = f.damping_interval
-        print(f'{f.law.name}: lambda = {f.damping:.6e} [{low:.6e}, {high:.6e}] ({level}), '
+        print(f'{f.law.name}: lambda = {f.damping:.6e} {_interval(f.damping_interval, level)}, '
               f'k = {f.stiffness:.6e}, rms = {f.rms * 1e3:.4f} ms, AIC = {f.aic:.2f}')
         if fit.fit_drag:
-            lo, hi = f.drag_interval
-            if 1.001e-3 < f.drag_coefficient < 9.99:
-                print(f'  drag coefficient C_d = {f.drag_coefficient:.4f} [{lo:.4f}, {hi:.4f}]')
-            else:
-                print(f'  drag coefficient C_d = {f.drag_coefficient:.4f} (at its bound: this law '
-                      'needs an implausible drag)')
+            print(f'  drag coefficient C_d = {f.drag_coefficient:.4f} '
+                  f'{_interval(f.drag_interval, level, ".4f")}')
+        print(f'  fit: converged ({f.message})' if f.success else f'  fit: FAILED: {f.message}')
     if math.isfinite(fit.delta_aic):
-        verdict = 'supported' if fit.speed_dependent else 'NOT supported'
+        verdict = ('supported' if fit.speed_dependent else 'NOT supported') \
+            if fit.adequacy.adequate else 'undecided (no law describes the recording)'
         print(f'speed-dependent restitution: {verdict} (constant-restitution AIC minus the best '
               f'speed-dependent law\'s: {fit.delta_aic:.2f}; needs > 10)')
+    print(f'model adequacy: {"adequate" if fit.adequacy.adequate else "INADEQUATE"}: '
+          f'{fit.adequacy.reason}')
     best = fit.best
     print(f'timing noise (robust estimate): {best.noise * 1e3:.4f} ms')
     down = fit.downweighted()
@@ -207,6 +259,35 @@ def print_report(fit, sequences, args, k_source, table):
         for n, t, ri, wi in zip(s.index, s.times, r, w):
             print(f'  {j + 1:3d} {n + 1:6d} {t:13.6f} {t + ri:13.6f} {ri * 1e3:13.4f} {wi:6.2f}')
     print(f'rms predicted - measured: {best.rms * 1e3:.4f} ms')
+    if fit.holdout is not None:
+        print_holdout(fit)
+
+
+def print_holdout(fit):
+    """The hold-out check: the held-out clicks of each sequence predicted by each law."""
+    print('# hold-out: the last clicks of each sequence predicted by the laws fitted on the '
+          'earlier ones')
+    print(f'# {"seq":>3} {"held out":>8} ' + ' '.join(f'{h.law.name + " (ms)":>22}'
+                                                       for h in fit.holdout))
+    for j, seq in enumerate(fit.holdout[0].held):
+        print(f'  {j + 1:3d} {seq.times.size:8d} ' + ' '.join(f'{h.rms[j] * 1e3:22.4f}'
+                                                              for h in fit.holdout))
+    for h in fit.holdout:
+        print(f'hold-out rms ({h.law.name}): {h.overall * 1e3:.4f} ms over '
+              f'{sum(s.times.size for s in h.held)} clicks')
+
+
+def _interval(interval, level, spec='.6e'):
+    """``[low, high] (level)``, or ``(no interval)`` when the fit did not determine one."""
+    low, high = interval
+    if not (math.isfinite(low) and math.isfinite(high)):
+        return '(no interval: see the fit message)'
+    return f'[{low:{spec}}, {high:{spec}}] ({level})'
+
+
+def _yaml_number(value):
+    """A plain YAML float (``21450572.48``, never ``np.float64(...)``), as the node reads it."""
+    return repr(float(value))
 
 
 def write_params(path, fit, args):
@@ -215,27 +296,24 @@ def write_params(path, fit, args):
     heights = [s.height for s in fit.sequences if s.height is not None]
     lines = ['# contact calibrated by `contact-sim bounces` from ' + ', '.join(args.data),
              f'# {best.law.name}: rms timing residual {best.rms * 1e3:.4f} ms; lambda '
-             f'{fit.confidence * 100:g}% interval [{best.damping_interval[0]:.6e}, '
-             f'{best.damping_interval[1]:.6e}]',
+             f'{_interval(best.damping_interval, f"{fit.confidence * 100:g}%")}; fit '
+             f'{"converged" if best.success else "FAILED: " + best.message}',
              'contact_sim:', '  ros__parameters:',
-             f'    contact_law: {best.law.name}',
-             f'    stiffness: {best.stiffness!r}',
-             f'    damping: {best.damping!r}',
-             f'    sphere_mass: {fit.mass!r}',
-             f'    gravity: {fit.gravity!r}']
+             f'    contact_law: {best.law.name}']
+    values = {'stiffness': best.stiffness, 'damping': best.damping, 'sphere_mass': fit.mass,
+              'gravity': fit.gravity}
     if args.radius is not None:
-        lines.append(f'    sphere_radius: {float(args.radius)!r}')
+        values['sphere_radius'] = args.radius
+    if heights:
+        values['initial_height'] = heights[0]
+    if fit.drag is not None:
+        values['air_density'] = fit.drag.air_density
+    values['drag_coefficient'] = best.drag_coefficient if fit.drag is not None else 0.0
+    lines += [f'    {name}: {_yaml_number(value)}' for name, value in values.items()]
     for body in ('sphere', 'plate'):      # library materials only (k and lambda are given)
         chosen = material(args, body)
         if chosen is not None and chosen.name == getattr(args, body):
             lines.append(f'    {body}_material: {chosen.name}')
-    if heights:
-        lines.append(f'    initial_height: {float(heights[0])!r}')
-    if fit.drag is not None:
-        lines.append(f'    air_density: {fit.drag.air_density!r}')
-        lines.append(f'    drag_coefficient: {float(best.drag_coefficient)!r}')
-    else:
-        lines.append('    drag_coefficient: 0.0')
     try:
         with open(path, 'w', encoding='utf-8') as f:
             f.write('\n'.join(lines) + '\n')

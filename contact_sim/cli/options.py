@@ -7,12 +7,15 @@ from contact_sim.model import LAWS, MATERIALS, get_law
 
 LAW_NAMES = list(LAWS)  # azad_featherstone, hunt_crossley, lee_wang, linear
 
+LINEAR_SKIPPED = """\
+with
+               materials and no --stiffness the linear law is skipped with a note on stderr
+               (an error if it is the only law asked for); give --stiffness to include it."""
+
 CONTACT_HELP = """\
 the contact (all SI units):
   stiffness k  --stiffness K, else Hertz k = (4/3) E* sqrt(R) from --sphere, --plate and
-               --radius (eqs. 5, 6, 10).  The Hertz k is for the n = 1.5 laws only: with
-               materials and no --stiffness the linear law is skipped with a note on stderr
-               (an error if it is the only law asked for); give --stiffness to include it.
+               --radius (eqs. 5, 6, 10).  The Hertz k is for the n = 1.5 laws only: {linear}
                --stiffness is used for every law chosen, in that law's units N/m^n.
   mass m       --mass M, else (4/3) pi R1^3 rho of the --sphere of --radius R1.  The plate
                (or second sphere, finite --plate-radius) is fixed; for two free spheres give
@@ -76,9 +79,12 @@ def plot_option(parser, what):
                         help=f'also write a figure of {what} (needs matplotlib)')
 
 
-def contact_command(sub, name, help, description, notes, damping=True):
-    """A subcommand that takes the contact options; its epilog explains them, then ``notes``."""
+def contact_command(sub, name, help, description, notes, damping=True,
+                    linear=LINEAR_SKIPPED):
+    """A subcommand that takes the contact options; its epilog explains them, then ``notes``;
+    ``linear`` says what becomes of the linear law with materials and no --stiffness."""
     return sub.add_parser(
         name, parents=[contact_options(damping=damping)],
         formatter_class=argparse.RawDescriptionHelpFormatter, help=help, description=description,
-        epilog=CONTACT_HELP + (DAMPING_HELP if damping else '') + notes + EXIT_HELP)
+        epilog=CONTACT_HELP.format(linear=linear) + (DAMPING_HELP if damping else '') + notes
+        + EXIT_HELP)

@@ -73,3 +73,12 @@ def test_bad_audio_is_named(tmp_path):
         audio.detect_onsets(np.zeros(1000), 48000, highpass=30000.0)
     with pytest.raises(ValueError, match='bits = 12 is unknown'):
         audio.write_wav(tmp_path / 'x.wav', np.zeros(10), 48000, 12)
+
+
+def test_a_wav_cut_off_inside_its_header_is_refused_by_name(tmp_path):
+    # found: a struct.error traceback, exit 1
+    from contact_sim.calibration import bounce_times_from_audio
+    path = tmp_path / 'cut.wav'
+    path.write_bytes(b'RIFF\x24\x00\x00\x00WAVEfmt \x10\x00')
+    with pytest.raises(ValueError, match="audio = '.*cut.wav' cannot be read as WAV"):
+        bounce_times_from_audio(path)

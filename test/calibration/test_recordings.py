@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from contact_sim.calibration import parse_impact_times, read_impact_times
+from contact_sim.calibration import height_from_label, parse_impact_times, read_impact_times
 
 
 def test_phyphox_exports_read_as_they_are(tmp_path):
@@ -41,3 +41,62 @@ def test_phyphox_exports_read_as_they_are(tmp_path):
         read_impact_times(tmp_path / 'run.xlsx')
     with pytest.raises(ValueError, match='has no impact times'):
         parse_impact_times('"a";"b"\n')
+
+
+def test_heights_in_names_with_decimal_commas_and_units():
+    # found: height_from_label('Lancio1,10cm.csv') gave 0.011 m, silently
+    from contact_sim.calibration.recordings import heights_from_label
+    assert height_from_label('Lancio1,10cm.csv') == pytest.approx(0.10)
+    assert height_from_label('drop_1,5m.csv') == pytest.approx(1.5)
+    assert height_from_label('ball 250mm') == pytest.approx(0.25)
+    assert height_from_label('h=0,8') == pytest.approx(0.8)
+    assert height_from_label('run3.csv') is None
+    assert heights_from_label('golf_80cm_1,2m.csv') == pytest.approx([0.8, 1.2])
+
+
+def test_runs_side_by_side_take_the_heights_in_the_file_name(tmp_path):
+    # found: a file of several runs ignored the height in its name (20 --height flags needed)
+    runs = '"Event time (s)","Event time (s)"\n0.0,0.0\n0.6,0.5\n1.1,0.9\n'
+    one = tmp_path / 'Lancio1,10cm.csv'
+    one.write_text(runs)
+    assert [s.height for s in read_impact_times(one)] == pytest.approx([0.1, 0.1])
+    each = tmp_path / 'golf_80cm_1m.csv'
+    each.write_text(runs)
+    assert [s.height for s in read_impact_times(each)] == pytest.approx([0.8, 1.0])
+    three = tmp_path / 'golf_80cm_1m_2m.csv'
+    three.write_text(runs)
+    with pytest.raises(ValueError, match='names 3 heights for 2 runs'):
+        read_impact_times(three)
+
+
+def test_an_event_index_column_is_not_a_sequence_of_times():
+    # found: `event_index,event_time_s` fitted event_index as times, exit 0
+    text = 'event_index,event_time_s\n0,0.25\n1,0.85\n2,1.35\n3,1.76\n'
+    (seq,) = parse_impact_times(text)
+    assert np.allclose(seq.times, [0.25, 0.85, 1.35, 1.76])
+    (unnamed,) = parse_impact_times('1,0.25\n2,0.85\n3,1.35\n')
+    assert np.allclose(unnamed.times, [0.25, 0.85, 1.35])
+
+
+def test_column_selection_by_header_or_number():
+    text = 'a,b,c\n0.1,0.2,0.3\n0.7,0.9,0.8\n1.2,1.5,1.2\n'
+    assert [s.name for s in parse_impact_times(text, columns=['B', '3'])] == \
+        ['data: b', 'data: c']
+    with pytest.raises(ValueError, match=r"column = 'x' is not in data: allowed a header "
+                                         r"\('a', 'b', 'c'\) or a number 1 to 3"):
+        parse_impact_times(text, columns=['x'])
+
+
+def test_a_last_event_kept_only_as_an_interval_is_read():
+    # found: the interval column was ignored, and with it a sheet's last event
+    text = '"Event time (s)";"Interval (s)"\n1,0;0,5\n1,5;0,4\n1,9;0,3\n'
+    (seq,) = parse_impact_times(text)
+    assert np.allclose(seq.times, [1.0, 1.5, 1.9, 2.2])
+
+
+def test_messages_carry_plain_numbers():
+    # found: `times[1] = np.float64(110.0) is out of range`
+    with pytest.raises(ValueError) as error:
+        parse_impact_times('t\n120\n110\n130\n')
+    assert 'times[1] = 110.0 is out of range' in str(error.value)
+    assert 'np.' not in str(error.value)

@@ -1,0 +1,103 @@
+"""Fits that say when they fail (issue 19): parameters that stay inside their bounds, a success
+flag and message, no interval from too few observations or an undetermined parameter, and the
+model-adequacy check."""
+import math
+
+import numpy as np
+import pytest
+
+import contact_sim as cs
+from contact_sim.calibration import fit_bounces
+from contact_sim.calibration.adequacy import check_adequacy
+from contact_sim.calibration.timing_fit import CD_BOUNDS, drag_coefficient_of, log_interval
+from contact_sim.flight import AirDrag
+
+G = 9.81
+PP_MASS, PP_K, PP_RADIUS = 0.0027, 5e6, 0.02
+
+
+@pytest.fixture(scope='module')
+def heavy_drag_times():
+    """A light ball with C_d = 5: fitted with a third of its radius, it needs C_d = 45 > 10."""
+    lam = cs.damping_for_restitution('azad_featherstone', PP_K, PP_MASS, 0.9, 2.0)
+    result = cs.simulate_drop(cs.Contact('azad_featherstone', PP_K, lam), PP_MASS, 0.5,
+                              duration=2.0, drag=AirDrag(1.2, 5.0, PP_RADIUS))
+    return np.array([imp.time for imp in result.impacts if not imp.permanent])[:10]
+
+
+def test_drag_coefficient_never_leaves_its_bounds():
+    # found: exp(log(10)) = 10.000000000000002, refused by AirDrag
+    assert math.exp(math.log(10.0)) > 10.0
+    assert drag_coefficient_of(math.log(10.0)) == 10.0
+    assert drag_coefficient_of(1e3) == CD_BOUNDS[1] and drag_coefficient_of(-1e3) == CD_BOUNDS[0]
+
+
+def test_fit_drag_at_its_upper_bound_is_a_failed_fit_not_a_crash(heavy_drag_times):
+    # found: fit_bounces(..., fit_drag=True) raised "drag_coefficient = 10.000000000000002 is
+    # out of range"
+    seq = cs.calibration.ImpactTimes(heavy_drag_times, 0.5, 'table tennis')
+    fit = fit_bounces([seq], PP_MASS, PP_K, laws=['azad_featherstone'],
+                      drag=AirDrag(1.2, 0.47, PP_RADIUS / 3.0), fit_drag=True)
+    best = fit.best
+    assert best.drag_coefficient <= CD_BOUNDS[1]
+    assert best.drag_coefficient > 0.99 * CD_BOUNDS[1]
+    assert not best.success and 'at a bound' in best.message
+    assert not fit.trustworthy
+
+
+def test_fewer_observations_than_parameters_are_refused():
+    # found: N <= P printed an interval of zero width with exit 0
+    with pytest.raises(ValueError, match='allowed more observations than parameters'):
+        fit_bounces([np.array([0.0, 0.5, 0.9])], 0.05, 1e8, laws=['hunt_crossley'])
+
+
+def test_degenerate_or_undetermined_intervals_are_no_intervals():
+    # found: lambda collapsing to 0 printed [0, 0]
+    for value, half, word in ((0.0, 1.0, 'collapsed'), (5.0, 0.0, 'zero width'),
+                              (5.0, 1e3, 'undetermined'), (math.nan, 1.0, 'collapsed')):
+        interval, reason = log_interval('lambda', value, half)
+        assert all(math.isnan(x) for x in interval) and word in reason
+    interval, reason = log_interval('lambda', 2.0, math.log(2.0))
+    assert interval == pytest.approx((1.0, 4.0)) and reason == ''
+
+
+def rising_restitution_times(noise=30e-6):
+    """Vacuum flights of a ball whose restitution rises with speed, e = 0.7 + 0.05 s/m v."""
+    v, t = 3.0, [0.0]
+    for _ in range(12):
+        u = (0.7 + 0.05 * v) * v
+        t.append(t[-1] + 2.0 * u / G)
+        v = u
+    return np.array(t) + np.random.default_rng(1).normal(0.0, noise, len(t))
+
+
+def test_no_law_describes_a_restitution_rising_with_speed():
+    # found: the fit's timing noise (tens of ms, a thousand resolutions) was never checked,
+    # and the speed dependence was declared from it
+    fit = fit_bounces([rising_restitution_times()], 0.05, 1e8)
+    assert not fit.adequacy.adequate and not fit.trustworthy
+    assert 'no law here describes this recording' in fit.adequacy.reason
+    assert 'rises with speed' in fit.adequacy.reason
+    assert fit.adequacy.error > 100 * fit.timing_resolution
+
+
+def test_a_recording_of_the_model_itself_is_adequate():
+    lam = cs.damping_for_restitution('hunt_crossley', 1e8, 0.05, 0.8, 3.0)
+    result = cs.simulate_drop(cs.Contact('hunt_crossley', 1e8, lam), 0.05, 0.8, duration=3.0)
+    t = np.array([imp.time for imp in result.impacts if not imp.permanent])[:12]
+    t = t + np.random.default_rng(3).normal(0.0, 50e-6, t.size)
+    fit = fit_bounces([t], 0.05, 1e8)
+    verdict = check_adequacy(fit)
+    assert verdict.adequate and fit.trustworthy, verdict.reason
+    assert 25e-6 < verdict.own_noise < 1e-3      # law-free: at least the 50 us put in
+
+
+def test_recordings_no_bounce_can_make_are_refused_by_name():
+    # found: bounce times 1e12 s apart and 12 clicks 1 ns apart printed a "result", exit 0
+    t = np.array([0.0, 0.8, 1.44, 1.952, 2.36])
+    with pytest.raises(ValueError, match=r'times\[1\] - times\[0\] = 8e\+11 s is out of range: '
+                                         r'allowed flights up to 20387.4 s'):
+        fit_bounces([t * 1e12], 0.05, 1e8)
+    with pytest.raises(ValueError, match=r'= 1e-09 s is out of range: allowed intervals of at '
+                                         r'least the timing resolution 2.08333e-05 s'):
+        fit_bounces([np.arange(12) * 1e-9], 0.05, 1e8)

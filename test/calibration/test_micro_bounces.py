@@ -1,0 +1,61 @@
+"""The micro-bounce cut (issue 19): explicit (contact time against flight time, or a shortest
+flight), physical (the law's own contact time) and the user's to change."""
+import math
+
+import numpy as np
+import pytest
+
+import contact_sim as cs
+from contact_sim.calibration import (MICRO_BOUNCE_RATIO, ImpactTimes, MicroBounceCut,
+                                     prepare_sequence)
+from contact_sim.impact import elastic_limits
+
+G = 9.81
+LAW = cs.get_law('hunt_crossley')
+MASS = 0.058
+
+
+def flights_of(e=0.75, v=4.0, count=20):
+    """Vacuum click times of a ball of constant restitution from impact speed v (m/s)."""
+    t = [0.0]
+    for _ in range(count - 1):
+        v *= e
+        t.append(t[-1] + 2.0 * v / G)
+    return np.array(t)
+
+
+def test_the_cut_is_the_contact_time_against_the_flight_before_it():
+    t = flights_of()
+    k = 1e5                                     # a soft guess: contacts of a few ms
+    prepared, glitches = prepare_sequence(0, ImpactTimes(t), G, 0.0,
+                                          MicroBounceCut(LAW, k, MASS))
+    (cut,) = [g for g in glitches if g.kind == 'micro-bounces']
+    kept = prepared.times.size
+    flights = np.diff(t)
+    v = 0.5 * G * flights
+    contact = elastic_limits(LAW)['duration'] * (MASS * v * v / k) ** 0.4 / v
+    first = int(np.flatnonzero(contact > MICRO_BOUNCE_RATIO * flights)[0])
+    assert kept == first + 2                     # the impact ending that flight is kept
+    assert 'more than 0.016 of the flight' in cut.detail and 'k = 1e+05' in cut.detail
+    # the user's to change: a looser ratio keeps more, inf keeps all, a shortest flight cuts
+    looser, _ = prepare_sequence(0, ImpactTimes(t), G, 0.0, MicroBounceCut(LAW, k, MASS, 0.1))
+    assert looser.times.size > kept
+    every, none = prepare_sequence(0, ImpactTimes(t), G, 0.0,
+                                   MicroBounceCut(LAW, k, MASS, math.inf))
+    assert every.times.size == t.size and not none
+    short, glitches = prepare_sequence(0, ImpactTimes(t), G, 0.0, MicroBounceCut(min_flight=0.1))
+    assert short.times.size == int(np.flatnonzero(flights < 0.1)[0]) + 2
+    assert 'min_flight 100 ms' in glitches[0].detail
+
+
+def test_the_default_cut_is_the_old_gravity_group_for_hertz_laws():
+    # the old fixed cut, G = g Z / v^2 > 0.01, as a contact-time ratio: tau_hat G / 2
+    assert MICRO_BOUNCE_RATIO == pytest.approx(elastic_limits(LAW)['duration'] * 0.01 / 2.0,
+                                               rel=0.01)
+
+
+def test_bad_cuts_are_refused_by_name():
+    with pytest.raises(ValueError, match='micro_bounce_ratio = 0.0 is out of range'):
+        MicroBounceCut(LAW, 1e5, MASS, 0.0)
+    with pytest.raises(ValueError, match='min_flight = -1.0 is out of range'):
+        MicroBounceCut(min_flight=-1.0)
