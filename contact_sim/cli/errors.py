@@ -11,7 +11,8 @@ from contact_sim.validation import InputError
 OPTION_NAMES = {key: '--' + key.replace('_', '-') for key in (
     'law', 'sphere', 'plate', 'radius', 'plate_radius', 'stiffness', 'mass', 'damping',
     'damping_factor', 'height', 'gravity', 'duration', 'sample_rate', 'points', 'confidence',
-    'speed_range')}
+    'speed_range', 'loss', 'air_density', 'drag_coefficient', 'height_error', 'holdout',
+    'micro_bounce_ratio', 'min_flight', 'timing_resolution', 'column')}
 OPTION_NAMES.update(speed='--speeds', material='--sphere/--plate', velocity='--initial-velocity')
 for _body in ('sphere', 'plate'):   # custom materials: --sphere-modulus, --plate-poisson, ...
     OPTION_NAMES.update({f'{_body}_{_o}': f'--{_body}-{_o}' for _o in ('modulus', 'poisson', 'density')})

@@ -68,7 +68,7 @@ def test_cli_bounces_bad_input_exits_2_naming_the_field(golf_csv, tmp_path, caps
     assert cli.main(base + ['--fit-drag']) == 2
     assert 'radius is missing' in capsys.readouterr().err
     assert cli.main(base + ['--timing-resolution', '-1']) == 2
-    assert 'timing_resolution = -1.0 is out of range' in capsys.readouterr().err
+    assert '--timing-resolution = -1.0 is out of range' in capsys.readouterr().err
     assert cli.main(['bounces', str(tmp_path / 'none.csv'), '--mass', '1', '--stiffness',
                      '1e8']) == 2
     assert 'cannot be read' in capsys.readouterr().err
@@ -186,7 +186,7 @@ def test_cli_bounces_micro_bounce_cut_is_adjustable_and_help_is_right(golf_csv, 
     cli.main(base + ['--micro-bounce-ratio', 'inf'])
     assert 'micro-bounces' not in capsys.readouterr().out
     assert cli.main(base + ['--micro-bounce-ratio', '0']) == 2
-    assert 'micro_bounce_ratio = 0.0 is out of range' in capsys.readouterr().err
+    assert '--micro-bounce-ratio = 0.0 is out of range' in capsys.readouterr().err
     with pytest.raises(SystemExit):
         cli.main(['bounces', '--help'])
     text = ' '.join(capsys.readouterr().out.split())
