@@ -48,7 +48,8 @@ from .outbox import Outbox
 from .params import DEFAULTS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, build_model, \
     check_running, descriptor, make_simulation, refusal, table_motion
 from .plate_command import COMMAND_FIELDS, read_plate_command
-from .query import answer_queries
+from .query import MAX_NAMES, answer_queries
+from .refusals import REFUSAL_PERIOD, RefusalLog
 from .startup import ArgumentError, node_arguments, print_usage, spin_until_signal
 
 
@@ -77,6 +78,11 @@ class ContactSimNode(TickLoop, Node):
         self.create_service(Trigger, '~/reset', self._on_reset)
         self._commanded = False   # the plate follows ~/plate_command (until ~/reset or a table)
         self.create_subscription(JointTrajectory, '~/plate_command', self._on_plate_command, 10)
+        # one log a kind of refusal, each at most once a second, the rest counted
+        self._refusals = {kind: RefusalLog(self.get_logger(), what) for kind, what in (
+            ('field', '~/plate_command'), ('command', '~/plate_command'),
+            ('drop', '~/plate_command'), ('query', '~/query_restitution'))}
+        self.create_timer(REFUSAL_PERIOD, self._flush_refusals, clock=self._steady)
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.add_post_set_parameters_callback(self._on_parameters_set)
         if self._out.publishes_clock:
@@ -216,11 +222,11 @@ class ContactSimNode(TickLoop, Node):
                             f'{self._offset + sim.time:.6f} s)', throttle_duration_sec=5.0)
                 return
         except InputError as error:
-            log.warning(f'~/plate_command refused: {error.render(COMMAND_FIELDS)}',
-                        throttle_duration_sec=1.0)
+            self._refusals['field'].refused(
+                f'~/plate_command refused: {error.render(COMMAND_FIELDS)}')
             return
         except ValueError as error:
-            log.warning(f'~/plate_command refused: {error}', throttle_duration_sec=1.0)
+            self._refusals['command'].refused(f'~/plate_command refused: {error}')
             return
         try:
             sim.set_plate(command.motion)
@@ -230,14 +236,24 @@ class ContactSimNode(TickLoop, Node):
                 why = ('the commanded motion (points[].velocities, peak plate speed '
                        f'{command.motion.speed_bound():.6g} m/s) is too fast for the running '
                        f'drop: {why}')
-            log.warning(f'~/plate_command refused: {why}', throttle_duration_sec=1.0)
+            self._refusals['drop'].refused(f'~/plate_command refused: {why}')
             return
         self._commanded = True
 
     # ---- services --------------------------------------------------------------------------
 
+    def _flush_refusals(self):
+        for refusals in self._refusals.values():
+            refusals.flush()
+
     def _on_query(self, request, response):
         model = self._model
+        if len(request.names) > MAX_NAMES:
+            self._refusals['query'].refused(
+                f'~/query_restitution refused: names has {len(request.names)} names: allowed at '
+                f'most {MAX_NAMES} a request (no values returned)')
+            response.values = []
+            return response
         answers = answer_queries(list(request.names), model.contact, model.mass)
         values = []
         for name, (value, reason) in zip(request.names, answers):
