@@ -24,6 +24,9 @@ and ``main``; ``loop`` the tick loop (``TickLoop``: pacing, budgets, a recorder'
 ``outbox`` the publishers and the wait for readers (``Outbox``); ``plate_command`` the
 translation of ~/plate_command (``read_plate_command``).
 """
+import sys
+from dataclasses import replace
+
 import rclpy
 import rclpy.logging
 from rcl_interfaces.msg import ParameterType, ParameterValue, SetParametersResult
@@ -31,20 +34,23 @@ from rcl_interfaces.srv import GetParameters
 from rclpy.clock import Clock, ClockType
 from rclpy.exceptions import ParameterException
 from rclpy.executors import ExternalShutdownException
-from rclpy.experimental.events_executor import EventsExecutor
 from rclpy.node import Node
+from rclpy.signals import SignalHandlerOptions
 from std_srvs.srv import Trigger
 from trajectory_msgs.msg import JointTrajectory
 
 from contact_sim.drop import command_motion
 from contact_sim.validation import InputError
 
+from .clock import CHECK_PERIOD, clock_to_yield_to
 from .loop import TickLoop
 from .outbox import Outbox
 from .params import DEFAULTS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, build_model, \
     check_running, descriptor, make_simulation, refusal, table_motion
 from .plate_command import COMMAND_FIELDS, read_plate_command
-from .query import answer_queries
+from .query import MAX_NAMES, answer_queries
+from .refusals import REFUSAL_PERIOD, RefusalLog
+from .startup import ArgumentError, node_arguments, print_usage, spin_until_signal
 
 
 class StartupError(Exception):
@@ -72,10 +78,31 @@ class ContactSimNode(TickLoop, Node):
         self.create_service(Trigger, '~/reset', self._on_reset)
         self._commanded = False   # the plate follows ~/plate_command (until ~/reset or a table)
         self.create_subscription(JointTrajectory, '~/plate_command', self._on_plate_command, 10)
+        # one log a kind of refusal, each at most once a second, the rest counted
+        self._refusals = {kind: RefusalLog(self.get_logger(), what) for kind, what in (
+            ('field', '~/plate_command'), ('command', '~/plate_command'),
+            ('drop', '~/plate_command'), ('query', '~/query_restitution'))}
+        self.create_timer(REFUSAL_PERIOD, self._flush_refusals, clock=self._steady)
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.add_post_set_parameters_callback(self._on_parameters_set)
+        if self._out.publishes_clock:
+            self._clock_check = self.create_timer(CHECK_PERIOD, self._check_clock,
+                                                  clock=self._steady)
         self._init_loop()
         self.get_logger().info(self._model.summary())
+
+    def _check_clock(self):
+        """Yield /clock to another publisher of it (``clock.clock_to_yield_to``), once."""
+        if not self._out.publishes_clock:
+            return     # a turn of the timer queued before it was destroyed
+        other = clock_to_yield_to(self)
+        if other is None:
+            return
+        self._clock_check.cancel()
+        self._out.stop_clock(self)
+        self.get_logger().warning(f'{other} publishes /clock already: this node does not (one '
+                                  'clock for use_sim_time; publish_clock:=false says so at '
+                                  'start-up)')
 
     # ---- parameters ------------------------------------------------------------------------
 
@@ -99,8 +126,14 @@ class ContactSimNode(TickLoop, Node):
         try:
             values = self._values(ours)
             model = build_model(values)
-            # a new contact acts from the next contact phase of the running drop
-            check_running(self._sim, model, values, self._model)
+            # a new contact acts from the next contact phase of the running drop; one the running
+            # drop refuses waits for the next ~/reset (set one by one, as `ros2 param load` does,
+            # a dump's stiffness comes before the drop it suits), unless a changed table needs it
+            try:
+                check_running(self._sim, model, values, self._model)
+            except ValueError:
+                check_running(self._sim, replace(model, contact=self._sim.contact), values,
+                              self._model)
         except Exception as error:  # any failure rejects the change, never the node
             names = ', '.join(p.name for p in ours)
             return SetParametersResult(successful=False, reason=f'rejected {names}: {error}')
@@ -118,19 +151,31 @@ class ContactSimNode(TickLoop, Node):
             return
         self._model = new
         log = self.get_logger()
+        if new.table != old.table:
+            self._set_table(old.table, new.table)
         if new.contact != old.contact:
-            self._sim.set_contact(new.contact)
-            log.info(f'contact changed, from the next contact phase: {new.summary()}')
+            self._set_contact(new)
         if (new.mass, new.gravity, new.height, new.velocity, new.drag) != \
                 (old.mass, old.gravity, old.height, old.velocity, old.drag):
             log.info(f'mass, gravity, drag or initial conditions changed, from the next ~/reset: '
                      f'{new.summary()}')
-        if new.table != old.table:
-            self._set_table(old.table, new.table)
         if new.real_time_factor != old.real_time_factor:
             self._start_loop()
             log.info(f'real_time_factor = {new.real_time_factor:g}'
                      + (' (as fast as possible)' if new.fast else ''))
+
+    def _set_contact(self, model):
+        """The contact changed: from the next contact phase, or, if the running drop refuses it
+        (it would sink deeper than the sphere's radius from the drop's initial conditions), from
+        the next ~/reset, the running drop going on with the contact it has."""
+        log = self.get_logger()
+        try:
+            self._sim.set_contact(model.contact)
+        except InputError as error:
+            log.warning(f'contact changed, from the next ~/reset: the running drop (from '
+                        f'{self._sim.height:g} m) refuses it: {refusal(error, self._values())}')
+            return
+        log.info(f'contact changed, from the next contact phase: {model.summary()}')
 
     # ---- the plate: vibrating table, ~/plate_command -----------------------------------------
 
@@ -177,11 +222,11 @@ class ContactSimNode(TickLoop, Node):
                             f'{self._offset + sim.time:.6f} s)', throttle_duration_sec=5.0)
                 return
         except InputError as error:
-            log.warning(f'~/plate_command refused: {error.render(COMMAND_FIELDS)}',
-                        throttle_duration_sec=1.0)
+            self._refusals['field'].refused(
+                f'~/plate_command refused: {error.render(COMMAND_FIELDS)}')
             return
         except ValueError as error:
-            log.warning(f'~/plate_command refused: {error}', throttle_duration_sec=1.0)
+            self._refusals['command'].refused(f'~/plate_command refused: {error}')
             return
         try:
             sim.set_plate(command.motion)
@@ -191,14 +236,24 @@ class ContactSimNode(TickLoop, Node):
                 why = ('the commanded motion (points[].velocities, peak plate speed '
                        f'{command.motion.speed_bound():.6g} m/s) is too fast for the running '
                        f'drop: {why}')
-            log.warning(f'~/plate_command refused: {why}', throttle_duration_sec=1.0)
+            self._refusals['drop'].refused(f'~/plate_command refused: {why}')
             return
         self._commanded = True
 
     # ---- services --------------------------------------------------------------------------
 
+    def _flush_refusals(self):
+        for refusals in self._refusals.values():
+            refusals.flush()
+
     def _on_query(self, request, response):
         model = self._model
+        if len(request.names) > MAX_NAMES:
+            self._refusals['query'].refused(
+                f'~/query_restitution refused: names has {len(request.names)} names: allowed at '
+                f'most {MAX_NAMES} a request (no values returned)')
+            response.values = []
+            return response
         answers = answer_queries(list(request.names), model.contact, model.mass)
         values = []
         for name, (value, reason) in zip(request.names, answers):
@@ -229,29 +284,31 @@ class ContactSimNode(TickLoop, Node):
         return response
 
 
-def spin(node, executor):
-    """Spin until the context shuts down (Ctrl-C, SIGTERM), one turn at a time.
-
-    (``EventsExecutor.spin()`` in rclpy 9.1 does not return when the context shuts down; a turn
-    of ``spin_once`` raises ExternalShutdownException then.)
-    """
-    while rclpy.ok(context=node.context):
-        executor.spin_once(timeout_sec=0.5)
-
-
 def main(args=None):
-    """``contact_sim_node``: run until SIGINT/SIGTERM (exit code 0; 2 on bad parameters)."""
-    rclpy.init(args=args)
+    """``contact_sim_node``: run until SIGINT/SIGTERM (exit code 0); ``--help`` prints the usage
+    (exit code 0, ROS not started); an invalid argument, parameter or parameter file is one
+    ``[FATAL]`` line naming it (exit code 2).
+
+    ``args`` is a full argument vector like ``sys.argv`` (default: ``sys.argv``).
+    """
+    argv = sys.argv if args is None else list(args)
+    log = rclpy.logging.get_logger(NODE_NAME)
+    try:
+        if node_arguments(argv) == 'help':
+            print_usage(sys.stdout)
+            return 0
+        rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
+    except ArgumentError as error:
+        log.fatal(str(error))
+        return 2
     node = None
     try:
         node = ContactSimNode()
-        executor = EventsExecutor(context=node.context)
-        executor.add_node(node)
-        spin(node, executor)
+        spin_until_signal(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except StartupError as error:
-        rclpy.logging.get_logger(NODE_NAME).fatal(f'invalid parameters: {error}')
+        log.fatal(f'invalid parameters: {error}')
         return 2
     finally:
         if node is not None:
@@ -261,5 +318,4 @@ def main(args=None):
 
 
 if __name__ == '__main__':
-    import sys
     sys.exit(main())

@@ -60,6 +60,18 @@ class Outbox:
                 self._encode[topic.key] = topic.template(frame_id).packer()
         self.pending = []
 
+    @property
+    def publishes_clock(self):
+        """Whether this outbox publishes /clock."""
+        return 'clock' in self._pub
+
+    def stop_clock(self, node):
+        """Stop publishing /clock (another node publishes it): its publisher is destroyed and
+        the clock messages waiting for a reader are dropped."""
+        self.pending = [(key, data) for key, data in self.pending if key != 'clock']
+        self._encode.pop('clock', None)
+        node.destroy_publisher(self._pub.pop('clock'))
+
     def send(self, key, data):
         """Publish, or keep ``data`` for the next turn if a reliable reader has had no room for
         this topic's samples within the middleware's blocking time (the writer's history is

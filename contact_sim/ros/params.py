@@ -28,6 +28,16 @@ from contact_sim.validation import InputError, require_positive, require_range
 
 NODE_NAME = 'contact_sim'
 INF = math.inf
+# The node's own bounds, beyond the core's: values past them overflow the engine's scales (a
+# stiffness of 1e308 N/m^n leaves no length scale to a contact phase), the stamps (int32 seconds)
+# or the tick arithmetic (real_time_factor 1e9 is 1e7 s of simulated time a tick). The damping
+# needs none: the core bounds it by its damping group (zeta <= 1e8).
+MODULUS_MAX = 1e13            # Pa: 10 TPa, eight times diamond's
+DENSITY_MAX = 1e5             # kg/m^3: four times osmium's
+RADIUS_MAX = 10.0             # m, the sphere
+PLATE_RADIUS_MAX = 1e6        # m, the struck sphere (0 = flat)
+STIFFNESS_MAX = 1e20          # N/m^n
+REAL_TIME_FACTOR_MAX = 1000.0  # above it, 0 or .inf: as fast as possible
 
 
 @dataclass(frozen=True)
@@ -48,9 +58,11 @@ def _custom_material(body, material, density_note=''):
         return Spec(f'{body}_{field}', getattr(material, field),
                     f'{description} of the {body} when {body}_material is custom (otherwise '
                     'checked but unused)', rng, constraints=constraint.format(f'{body}_{field}'))
-    return (spec('youngs_modulus', "Young's modulus E [Pa]", (0.0, INF), '0 < {}'),
+    return (spec('youngs_modulus', "Young's modulus E [Pa]", (0.0, MODULUS_MAX),
+                 '0 < {} <= %g' % MODULUS_MAX),
             spec('poisson_ratio', 'Poisson ratio nu [-]', (-1.0, 0.5), '-1 < {} < 0.5'),
-            spec('density', 'Density rho [kg/m^3]' + density_note, (0.0, INF), '0 < {}'))
+            spec('density', 'Density rho [kg/m^3]' + density_note, (0.0, DENSITY_MAX),
+                 '0 < {} <= %g' % DENSITY_MAX))
 
 
 _LAWS = ', '.join(sorted(cs.LAWS))
@@ -70,7 +82,8 @@ PARAMETERS = (
     *_custom_material('sphere', _STEEL),
     Spec('sphere_radius', 0.0127,
          f'Sphere radius R1 [m]; the Hertz stiffness {_CONTACT_NOTE}, a density-derived mass at '
-         'the next ~/reset', (0.0, INF), constraints='0 < sphere_radius < inf'),
+         'the next ~/reset', (0.0, RADIUS_MAX),
+         constraints=f'0 < sphere_radius <= {RADIUS_MAX:g}'),
     Spec('sphere_mass', 0.0,
          f'Sphere mass [kg]; 0 = from sphere density and radius, (4/3) pi R1^3 rho; {_RESET_NOTE}',
          (0.0, INF), constraints='0 <= sphere_mass < inf'),
@@ -80,11 +93,12 @@ PARAMETERS = (
     *_custom_material('plate', _IRON, ' (the plate is immovable: its mass never enters)'),
     Spec('plate_radius', 0.0,
          f'Radius R2 of the body struck [m]: 0 = flat plate (R2 = inf), > 0 = a fixed second '
-         f'sphere (1/R = 1/R1 + 1/R2, eq. 10); {_CONTACT_NOTE}', (0.0, INF),
-         constraints='plate_radius = 0 (flat) or 0 < plate_radius'),
+         f'sphere (1/R = 1/R1 + 1/R2, eq. 10); {_CONTACT_NOTE}', (0.0, PLATE_RADIUS_MAX),
+         constraints=f'0 < plate_radius <= {PLATE_RADIUS_MAX:g}'),
     Spec('stiffness', 0.0,
          f'Stiffness override k [N/m^n]; 0 = Hertz, k = (4/3) E* sqrt(R) (eqs. 5, 6); '
-         f'{_CONTACT_NOTE}', (0.0, INF), constraints='0 <= stiffness < inf'),
+         f'{_CONTACT_NOTE}', (0.0, STIFFNESS_MAX),
+         constraints=f'0 <= stiffness <= {STIFFNESS_MAX:g}'),
     Spec('damping', 0.0,
          f'Damping override lambda [N s^q/m^(p+q)]; 0 = lambda* sqrt(R) (eq. 9); '
          f'{_CONTACT_NOTE}', (0.0, INF), constraints='0 <= damping < inf'),
@@ -129,13 +143,26 @@ PARAMETERS = (
     Spec('real_time_factor', 1.0,
          'Simulated seconds per wall-clock second [-]; 0 (or .inf) = as fast as possible (each '
          'tick advances 1/publish_rate simulated seconds); takes effect at once',
-         (0.0, INF), constraints='0 <= real_time_factor <= inf'),
+         (0.0, INF), constraints=f'0 <= real_time_factor <= {REAL_TIME_FACTOR_MAX:g}, or .inf'),
     Spec('frame_id', 'plate', 'frame_id of every stamped message: the plate frame, z up, the '
          'plate surface at z = 0', read_only=True, constraints='non-empty'),
     Spec('publish_clock', True, 'Publish the simulated time on /clock (rosgraph_msgs/Clock)',
          read_only=True),
 )
 PARAMETER_NAMES = tuple(spec.name for spec in PARAMETERS)
+# the parameters with one of the node's own caps (MODULUS_MAX ...), which build_model checks (at
+# start-up rclpy checks only the declared default)
+_CAPS = (MODULUS_MAX, DENSITY_MAX, RADIUS_MAX, PLATE_RADIUS_MAX, STIFFNESS_MAX)
+_CAPPED = tuple(spec for spec in PARAMETERS if spec.range is not None and spec.range[1] in _CAPS)
+
+
+def _require_cap(spec, value):
+    """Refuse a finite number above the cap of ``spec`` (the core checks the rest: type, sign,
+    finiteness; ``plate_radius`` .inf is a flat plate), naming the parameter's whole range."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool) \
+            and spec.range[1] < value < INF:
+        raise InputError(spec.name, value, '{n[%s]} = {value} is out of range: allowed %s'
+                         % (spec.name, spec.constraints), value=repr(value))
 DEFAULTS = {spec.name: spec.default for spec in PARAMETERS}
 
 
@@ -255,6 +282,8 @@ def _drag(values, radius):
 def _build_model(values):
     """Validate parameter values (a dict name -> value) and build the Model (InputError keyed by
     the core's field names on a refusal)."""
+    for spec in _CAPPED:
+        _require_cap(spec, values[spec.name])
     radius = require_positive('radius', values['sphere_radius'])
     plate_radius = flat_or_radius(values['plate_radius'])
     sphere = _material(values, 'sphere')
@@ -272,8 +301,7 @@ def _build_model(values):
         contact=contact, mass=cs.build_mass(values['sphere_mass'] or None, sphere, radius),
         radius=radius, gravity=values['gravity'], height=values['initial_height'],
         velocity=values['initial_velocity'],
-        real_time_factor=require_range('real_time_factor', values['real_time_factor'], 0.0,
-                                       allow_inf=True),
+        real_time_factor=real_time_factor(values['real_time_factor']),
         publish_rate=require_range('publish_rate', values['publish_rate'], 0.1, 10000.0),
         frame_id=frame_id, publish_clock=bool(values['publish_clock']),
         sphere=sphere, plate=plate, plate_radius=plate_radius, drag=_drag(values, radius),
@@ -281,6 +309,18 @@ def _build_model(values):
                               values['plate_phase']))
     make_simulation(model)  # the engine's checks: ranges of the drop, and the depth check
     return model
+
+
+def real_time_factor(value):
+    """``real_time_factor``: 0 <= value <= REAL_TIME_FACTOR_MAX, or inf (as fast as possible)."""
+    if isinstance(value, float) and value == INF:
+        return value
+    if isinstance(value, (int, float)) and not isinstance(value, bool) \
+            and REAL_TIME_FACTOR_MAX < value < INF:
+        raise InputError('real_time_factor', value, '{n[real_time_factor]} = {value} is out of '
+                         f'range: allowed 0 <= real_time_factor <= {REAL_TIME_FACTOR_MAX:g} '
+                         '(0 or .inf: as fast as possible)', value=repr(value))
+    return require_range('real_time_factor', value, 0.0, REAL_TIME_FACTOR_MAX)
 
 
 def flat_or_radius(value):

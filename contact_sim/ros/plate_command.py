@@ -4,6 +4,7 @@ velocities given or estimated, the motion's limits) are ``plate.command_motion``
 """
 
 PLATE_JOINT = 'plate_z'  # the one joint of ~/plate_command: prismatic, m, up
+MAX_POINTS = 1000        # points a trajectory: more would stall the node's ticks (100,000: 2.3 s)
 # the core's fields of a plate command (plate.command_motion) as the message spells them
 COMMAND_FIELDS = {'times': 'points[].time_from_start (after header.stamp)',
                   'positions': 'points[].positions', 'velocities': 'points[].velocities'}
@@ -18,6 +19,9 @@ def read_plate_command(msg, now, offset):
     if names != [PLATE_JOINT]:
         raise ValueError(f'joint_names = {names!r} is invalid: allowed [{PLATE_JOINT!r}] (one '
                          'prismatic joint, m, up)')
+    if len(msg.points) > MAX_POINTS:
+        raise ValueError(f'points has {len(msg.points)} points: allowed at most {MAX_POINTS} '
+                         'a message (send a longer motion in pieces)')
     stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
     base = now if stamp == 0.0 else stamp - offset
     times, positions, velocities = [], [], []

@@ -7,6 +7,7 @@ import contact_sim as cs
 from contact_sim.validation import require_positive
 
 QUERY_QUANTITIES = ('restitution', 'contact_duration', 'peak_force', 'max_penetration')
+MAX_NAMES = 1000   # names a request: more would stall the node's ticks (100,000: 1.9 s)
 
 
 def parse_query(name):

@@ -8,58 +8,22 @@ SIGKILL at most the last second is lost, and ``contact_sim_record --recover BAG`
 missing index and metadata (``bag.recover_bag``). A clean stop makes a consistent cut (``cut``).
 """
 import argparse
-import math
-import signal
 import sys
 import time
 from functools import partial
 
 import rclpy
 from rclpy.executors import ExternalShutdownException
-from rclpy.experimental.events_executor import EventsExecutor
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .messages import PROGRESS, RECORD_QOS, TOPICS, clock_msg
 from .params import NODE_NAME
+from .startup import spin_until_signal
 
 FLUSH_PERIOD = 0.5  # s of wall time between flushes of the bag to disk
 REPORT_PERIOD = 0.02  # s of wall time between acknowledgements on ~/recorded
-
-
-def spin_until_signal(node, stop_after=None, drain=None, drain_timeout=10.0):
-    """Spin ``node`` until SIGINT or SIGTERM (or ``stop_after`` wall seconds), then return.
-
-    The signals only set a flag, checked between executor turns, so a callback is never cut off
-    and the context is shut down after spinning has stopped, not under the executor's feet.
-    With ``drain`` (called once at the stop; it returns a predicate that is true when nothing
-    more is needed), spinning goes on after the stop until that predicate holds, for at most
-    ``drain_timeout`` wall seconds; a signal during it (a second one, after a signal) ends it at
-    once. Returns whether the predicate held in the end (True without ``drain``). rclpy must be
-    initialised with ``SignalHandlerOptions.NO``.
-    """
-    stop = []
-    previous = {sig: signal.signal(sig, lambda *_: stop.append(True))
-                for sig in (signal.SIGINT, signal.SIGTERM)}
-    deadline = math.inf if stop_after is None else time.monotonic() + stop_after
-    executor = EventsExecutor(context=node.context)
-    executor.add_node(node)
-    drained = True
-    try:
-        while not stop and node.context.ok() and time.monotonic() < deadline:
-            executor.spin_once(timeout_sec=0.1)
-        if drain is not None:
-            done, limit, signals = drain(), time.monotonic() + drain_timeout, len(stop)
-            while not (drained := done()) and len(stop) == signals and node.context.ok() \
-                    and time.monotonic() < limit:
-                executor.spin_once(timeout_sec=0.05)
-    finally:
-        executor.remove_node(node)
-        executor.shutdown()
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
-    return drained
 
 
 class Recorder(Node):

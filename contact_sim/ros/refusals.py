@@ -1,0 +1,55 @@
+"""Refusals logged at most once a period, the ones held back counted: a burst of bad inputs
+gives one warning and then "3 more refused in the last second", never silence."""
+import time
+
+REFUSAL_PERIOD = 1.0   # s of wall time between two refusal warnings of one kind
+
+
+class RefusalLog:
+    """Warnings of one kind of refusal, at most one per ``period``; the rest counted.
+
+    Parameters
+    ----------
+    logger : object
+        Has ``warning(text)`` (an rclpy logger).
+    what : str
+        What is refused, for the count line (``'~/plate_command'``).
+    period : float
+        Seconds of wall time between two warnings.
+    clock : callable
+        Wall time in s (default ``time.monotonic``).
+
+    Examples
+    --------
+    >>> class Out:
+    ...     def warning(self, text): print(text)
+    >>> log = RefusalLog(Out(), 'x', clock=lambda: 0.0)
+    >>> log.refused('x refused: bad'); log.refused('x refused: worse')
+    x refused: bad
+    """
+
+    def __init__(self, logger, what, period=REFUSAL_PERIOD, clock=time.monotonic):
+        self._logger, self._what, self._period, self._clock = logger, what, period, clock
+        self._last = -float('inf')
+        self._held = 0
+
+    def refused(self, text):
+        """Log ``text`` if the period since the last warning is over, else count it."""
+        now = self._clock()
+        if now - self._last < self._period:
+            self._held += 1
+            return
+        self._logger.warning(text + self._held_text())
+        self._last, self._held = now, 0
+
+    def flush(self):
+        """Log the count of refusals held back once the period is over (call it periodically)."""
+        now = self._clock()
+        if self._held and now - self._last >= self._period:
+            self._logger.warning(f'{self._what}: {self._held} more refused in the last '
+                                 f'{self._period:g} s')
+            self._last, self._held = now, 0
+
+    def _held_text(self):
+        return (f' ({self._held} more {self._what} refused in the last {self._period:g} s)'
+                if self._held else '')

@@ -1,0 +1,176 @@
+"""The start and the stop of the ROS processes: the node's command line (``--help``, arguments
+that are not ROS arguments refused), its ``--params-file`` files checked before rclpy reads them
+(one line naming the file and what is wrong, not an ``RCLError`` traceback), and the spin that
+ends on SIGINT or SIGTERM between two executor turns (no callback cut off, no traceback).
+"""
+import math
+import signal
+import time
+
+import yaml
+from rclpy.experimental.events_executor import EventsExecutor
+
+USAGE = '''\
+usage: contact_sim_node [-h] [--ros-args [-p NAME:=VALUE ...] [--params-file FILE ...]
+                        [-r __node:=NAME] [-r __ns:=NAMESPACE] ...]
+
+Simulate a sphere dropped on a plate (compliant contact, Azad & Featherstone 2014) and publish its
+contact wrench, state, impacts, markers and diagnostics stamped with simulated time, until
+Ctrl-C or SIGTERM. Every parameter is described by `ros2 param describe /contact_sim NAME` and in
+docs/ros.md; config/default.yaml spells out the defaults.
+
+options:
+  -h, --help  show this message and exit (without starting ROS)
+
+exit codes: 0 after SIGINT/SIGTERM, 2 for an invalid argument, parameter or parameter file.
+'''
+
+
+class ArgumentError(Exception):
+    """The command line cannot start the node: the message is one line naming the argument."""
+
+
+def node_arguments(argv):
+    """What the command line asks for: ``'help'`` or ``'run'``; ArgumentError otherwise.
+
+    Parameters
+    ----------
+    argv : list of str
+        The full argument vector (``sys.argv``), ROS arguments included.
+
+    Returns
+    -------
+    str
+        ``'help'`` for ``-h``/``--help`` before ``--ros-args``, else ``'run'``.
+
+    Raises
+    ------
+    ArgumentError
+        For an argument outside ``--ros-args ... [--]`` (the node takes none), or a
+        ``--params-file`` that does not hold ROS parameters (see ``check_params_file``).
+    """
+    from rclpy._rclpy_pybind11 import RCLError
+    from rclpy.utilities import remove_ros_args
+    if any(arg in ('-h', '--help') for arg in _before_ros_args(argv)):
+        return 'help'
+    for path in params_files(argv):
+        check_params_file(path)
+    try:
+        own = remove_ros_args(list(argv))[1:]
+    except RCLError as error:   # rcl's own parse, e.g. -p contact_law:=
+        reason = str(error).splitlines()[0].partition('. Error:')[0]
+        raise ArgumentError(f'invalid ROS arguments: {reason.removeprefix("Failed to parse ROS arguments: ")}'
+                            ' (allowed -p NAME:=VALUE with a YAML VALUE, --params-file FILE)'
+                            ) from None
+    if own:
+        raise ArgumentError(f'unknown argument {own[0]!r}: contact_sim_node takes only ROS '
+                            'arguments (--ros-args -p NAME:=VALUE, --params-file FILE); see '
+                            'contact_sim_node --help')
+    return 'run'
+
+
+def _before_ros_args(argv):
+    """The arguments before the first ``--ros-args`` (the program's own)."""
+    argv = list(argv)[1:]
+    return argv[:argv.index('--ros-args')] if '--ros-args' in argv else argv
+
+
+def params_files(argv):
+    """The FILE of every ``--params-file FILE`` inside ``--ros-args`` (in order)."""
+    files, ros = [], False
+    for i, arg in enumerate(argv):
+        if arg == '--ros-args':
+            ros = True
+        elif arg == '--':
+            ros = False
+        elif ros and arg == '--params-file':
+            if i + 1 >= len(argv):
+                raise ArgumentError('--params-file needs a FILE')
+            files.append(argv[i + 1])
+    return files
+
+
+def check_params_file(path):
+    """Refuse a parameter file rclpy could not read, with one line naming the file and why.
+
+    Parameters
+    ----------
+    path : str
+        The FILE of ``--params-file FILE``.
+
+    Raises
+    ------
+    ArgumentError
+        If the file cannot be read, is not UTF-8 YAML, or is not a mapping of node names
+        (``/**`` for any node) to mappings with a ``ros__parameters`` mapping.
+    """
+    where = f'--params-file {path}'
+    try:
+        with open(path, encoding='utf-8') as file:
+            data = yaml.safe_load(file)
+    except OSError as error:
+        raise ArgumentError(f'{where}: cannot be read ({error.strerror})') from None
+    except UnicodeDecodeError:
+        raise ArgumentError(f'{where}: is not a text (UTF-8 YAML) file') from None
+    except yaml.YAMLError as error:
+        mark = getattr(error, 'problem_mark', None)
+        line = f' at line {mark.line + 1}' if mark is not None else ''
+        raise ArgumentError(f'{where}: is not valid YAML{line} '
+                            f'({getattr(error, "problem", None) or error})') from None
+    expected = ('allowed a mapping of node names (/** for any node) to '
+                '{ros__parameters: {NAME: VALUE, ...}}, as config/default.yaml')
+    if not isinstance(data, dict) or not data:
+        raise ArgumentError(f'{where}: holds no node names: {expected}')
+    for name, section in data.items():
+        if not _holds_parameters(section):
+            raise ArgumentError(f'{where}: {name!s} has no ros__parameters mapping: {expected}')
+
+
+def _holds_parameters(section):
+    """A node's section (with a ``ros__parameters`` mapping) or a namespace of such sections."""
+    if not isinstance(section, dict) or not section:
+        return False
+    if 'ros__parameters' in section:
+        return isinstance(section['ros__parameters'], dict)
+    return all(_holds_parameters(inner) for inner in section.values())
+
+
+def print_usage(file):
+    """Write the node's usage (``USAGE``) to ``file``."""
+    file.write(USAGE)
+
+
+def spin_until_signal(node, stop_after=None, drain=None, drain_timeout=10.0):
+    """Spin ``node`` until SIGINT or SIGTERM (or ``stop_after`` wall seconds), then return.
+
+    The signals only set a flag, checked between executor turns, so a callback is never cut off
+    and the context is shut down after spinning has stopped, not under the executor's feet.
+    With ``drain`` (called once at the stop; it returns a predicate that is true when nothing
+    more is needed), spinning goes on after the stop until that predicate holds, for at most
+    ``drain_timeout`` wall seconds; a signal during it (a second one, after a signal) ends it at
+    once. Returns whether the predicate held in the end (True without ``drain``). rclpy must be
+    initialised with ``SignalHandlerOptions.NO``.
+    """
+    stop = []
+    previous = {sig: signal.signal(sig, lambda *_: stop.append(True))
+                for sig in (signal.SIGINT, signal.SIGTERM)}
+    deadline = math.inf if stop_after is None else time.monotonic() + stop_after
+    executor = EventsExecutor(context=node.context)
+    executor.add_node(node)
+    drained = True
+    try:
+        while not stop and node.context.ok() and time.monotonic() < deadline:
+            executor.spin_once(timeout_sec=0.1)
+        if drain is not None:
+            done, limit, signals = drain(), time.monotonic() + drain_timeout, len(stop)
+            while not (drained := done()) and len(stop) == signals and node.context.ok() \
+                    and time.monotonic() < limit:
+                executor.spin_once(timeout_sec=0.05)
+    finally:
+        executor.remove_node(node)
+        executor.shutdown()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+    return drained
+
+
