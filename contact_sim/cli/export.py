@@ -1,0 +1,77 @@
+"""`contact-sim export ENGINE`: the simulator's parameters that best reproduce a contact's e(v)
+over a speed range, the e(v) the engine gives with them (measured by running MuJoCo or PyBullet,
+predicted from the engine's own law for Drake and Gazebo), and the snippet to paste."""
+import json
+
+from contact_sim.cli.contact import build_setup, describe_contact
+from contact_sim.cli.options import LAW_NAMES, contact_command
+from contact_sim.cli.restitution import _speed_list, _speeds
+from contact_sim.export import ENGINES, export_contact, make_target
+from contact_sim.model import get_law
+from contact_sim.validation import InputError
+
+
+def add_parser(sub):
+    """Register the subcommand on the subparsers ``sub``."""
+    p = contact_command(
+        sub, 'export',
+        help="a contact's parameters for MuJoCo, PyBullet, Drake or Gazebo, with the e(v) "
+             'each gives',
+        description='The engine parameters that best reproduce the contact\'s e(v) over the\n'
+                    'speeds (minimax), the e(v) the engine gives with them and its snippet.\n'
+                    'mujoco and pybullet are run (measured); drake and gazebo are predicted\n'
+                    'from their own law (a member of eq. 1).',
+        notes='\n\nexample:\n  contact-sim export mujoco --law azad_featherstone --sphere steel '
+              '--plate cast_iron\n      --radius 0.0127 --damping-factor 8.87e5 --timestep 1e-3\n')
+    p.add_argument('engine', choices=list(ENGINES), help='the simulator')
+    p.add_argument('--law', choices=LAW_NAMES, default='azad_featherstone',
+                   help='the target force law (default azad_featherstone)')
+    p.add_argument('--timestep', type=float, default=1e-3,
+                   help="the engine's time step in s (default 1e-3), 0 < DT <= 0.1")
+    speeds = p.add_mutually_exclusive_group()
+    speeds.add_argument('--speeds', type=_speed_list, metavar='V1,V2,...',
+                        help='impact speeds in m/s, comma-separated')
+    speeds.add_argument('--speed-range', type=float, nargs=2, metavar=('LOW', 'HIGH'),
+                        default=(0.1, 10.0),
+                        help='log-spaced speeds from LOW to HIGH m/s (default 0.1 10)')
+    p.add_argument('--points', type=int, default=10,
+                   help='number of speeds in --speed-range (default 10), >= 2')
+    p.add_argument('--format', choices=('text', 'json'), default='text',
+                   help='text (a table and the snippet) or json (one record)')
+    p.set_defaults(run=run)
+
+
+def export_of(args):
+    """The ``Export`` the options describe."""
+    speeds = _speeds(args)
+    law = get_law(args.law)
+    setup = build_setup(args, [law])
+    if args.radius is None:
+        raise ValueError('--radius is missing: the engines need the sphere radius R1 in m, '
+                         '0 < R1')
+    target = make_target(setup.contacts[law.name], setup.mass, args.radius, speeds)
+    try:
+        return setup, export_contact(args.engine, target, args.timestep)
+    except InputError as error:   # the export's own field, spelled as the option
+        raise error.rekeyed('--timestep') if error.field == 'timestep' else error from None
+
+
+def run(args):
+    """Print the export (a table and the snippet, or one JSON record); exit status 0."""
+    setup, result = export_of(args)
+    if args.format == 'json':
+        print(json.dumps(result.as_dict(), indent=2))
+        return 0
+    print(f'# {result.engine} {result.engine_version}: parameters for {args.law}, '
+          f'{describe_contact(setup, args)}')
+    for key, value in result.parameters.items():
+        print(f'# {key} = {value}')
+    print(f'# engine e {result.engine_restitution_source}; max |error| = '
+          f'{result.max_abs_error:.4f} (a linear contact gives a nearly constant e)')
+    print(f'# {"speed (m/s)":>13} {"target e":>10} {"engine e":>10} {"error":>10}')
+    for v, target, engine in zip(result.target.speeds, result.target.restitution,
+                                 result.engine_restitution):
+        print(f'{v:15.6g} {target:10.5f} {engine:10.5f} {engine - target:+10.5f}')
+    print('# snippet:')
+    print(result.snippet)
+    return 0
