@@ -3,8 +3,12 @@ over a speed range, the e(v) the engine gives with them (measured by running MuJ
 predicted from the engine's own law for Drake and Gazebo), and the snippet to paste."""
 import json
 
+import numpy as np
+
+from contact_sim.cli import plotting
 from contact_sim.cli.contact import build_setup, describe_contact
-from contact_sim.cli.options import LAW_NAMES, contact_command
+from contact_sim.cli.options import LAW_NAMES, contact_command, plot_option
+from contact_sim.cli.params_file import apply_params_file
 from contact_sim.cli.restitution import _speed_list, _speeds
 from contact_sim.export import ENGINES, export_contact, make_target
 from contact_sim.model import get_law
@@ -24,8 +28,12 @@ def add_parser(sub):
         notes='\n\nexample:\n  contact-sim export mujoco --law azad_featherstone --sphere steel '
               '--plate cast_iron\n      --radius 0.0127 --damping-factor 8.87e5 --timestep 1e-3\n')
     p.add_argument('engine', choices=list(ENGINES), help='the simulator')
-    p.add_argument('--law', choices=LAW_NAMES, default='azad_featherstone',
+    p.add_argument('--law', choices=LAW_NAMES,
                    help='the target force law (default azad_featherstone)')
+    p.add_argument('--params-file', metavar='FILE.yaml',
+                   help='the contact from a node parameter file (contact_sim_node, or the '
+                        '--save-params file of `contact-sim bounces`); options given here '
+                        'take precedence over its keys')
     p.add_argument('--timestep', type=float, default=1e-3,
                    help="the engine's time step in s (default 1e-3), 0 < DT <= 0.1")
     speeds = p.add_mutually_exclusive_group()
@@ -38,36 +46,45 @@ def add_parser(sub):
                    help='number of speeds in --speed-range (default 10), >= 2')
     p.add_argument('--format', choices=('text', 'json'), default='text',
                    help='text (a table and the snippet) or json (one record)')
+    plot_option(p, 'target and engine e vs speed')
     p.set_defaults(run=run)
 
 
 def export_of(args):
     """The ``Export`` the options describe."""
     speeds = _speeds(args)
-    law = get_law(args.law)
-    setup = build_setup(args, [law])
-    if args.radius is None:
-        raise ValueError('--radius is missing: the engines need the sphere radius R1 in m, '
-                         '0 < R1')
-    target = make_target(setup.contacts[law.name], setup.mass, args.radius, speeds)
+    names = {'timestep': '--timestep'}   # core field -> how this call spells it
+    if args.params_file is not None:
+        names.update(apply_params_file(args, args.params_file))
     try:
+        law = get_law(args.law or 'azad_featherstone')
+        setup = build_setup(args, [law])
+        if args.radius is None:
+            raise ValueError('--radius is missing: the engines need the sphere radius R1 in m, '
+                             '0 < R1')
+        target = make_target(setup.contacts[law.name], setup.mass, args.radius, speeds)
         return setup, export_contact(args.engine, target, args.timestep)
-    except InputError as error:   # the export's own field, spelled as the option
-        raise error.rekeyed('--timestep') if error.field == 'timestep' else error from None
+    except InputError as error:   # a field from the file, or the export's own: spelled so
+        raise error.rekeyed(names[error.field]) if error.field in names else error from None
 
 
 def run(args):
     """Print the export (a table and the snippet, or one JSON record); exit status 0."""
     setup, result = export_of(args)
+    law = result.target.contact.law.name
+    if args.plot:
+        _plot(args, setup, result)
     if args.format == 'json':
         print(json.dumps(result.as_dict(), indent=2))
         return 0
-    print(f'# {result.engine} {result.engine_version}: parameters for {args.law}, '
+    print(f'# {result.engine} {result.engine_version}: parameters for {law}, '
           f'{describe_contact(setup, args)}')
     for key, value in result.parameters.items():
         print(f'# {key} = {value}')
+    spread = np.ptp(result.target.restitution) / 2
     print(f'# engine e {result.engine_restitution_source}; max |error| = '
-          f'{result.max_abs_error:.4f} (a linear contact gives a nearly constant e)')
+          f'{result.max_abs_error:.4f} (one constant e: at best {spread:.4f})')
+    print(f'# {ENGINES[result.engine].limit}')
     print(f'# {"speed (m/s)":>13} {"target e":>10} {"engine e":>10} {"error":>10}')
     for v, target, engine in zip(result.target.speeds, result.target.restitution,
                                  result.engine_restitution):
@@ -75,3 +92,18 @@ def run(args):
     print('# snippet:')
     print(result.snippet)
     return 0
+
+
+def _plot(args, setup, result):
+    speeds = result.target.speeds
+    dense = plotting.dense_speeds(speeds, True)
+    target = f'target {result.target.contact.law.name}'
+    engine = f'{result.engine} ({result.engine_restitution_source})'
+    curves = {target: (dense, np.asarray(make_target(result.target.contact, result.target.mass,
+                                                     result.target.radius, dense).restitution)),
+              engine: (speeds, result.engine_restitution)}
+    plotting.restitution_figure(
+        args.plot, curves, {target: (speeds, result.target.restitution)},
+        f'{result.engine} e vs impact speed (no gravity), max |error| '
+        f'{result.max_abs_error:.3f}', describe_contact(setup, args), True)
+    print(f'# plot written to {args.plot}')

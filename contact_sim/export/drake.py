@@ -35,12 +35,19 @@ def export_drake(target, timestep):
     lam, e = fit_minimax(law_e, target, 0.0, k * 20.0 / float(np.median(speeds)))
     d = lam / k
     params = {'point_contact_stiffness': k, 'hunt_crossley_dissipation': d, 'time_step': timestep}
-    snippet = ('<collision name="ball">\n  <geometry><sphere><radius>'
-               f'{target.radius:.6g}</radius></sphere></geometry>\n'
-               '  <drake:proximity_properties>\n'
-               f'    <drake:point_contact_stiffness>{k:.9g}</drake:point_contact_stiffness>\n'
-               f'    <drake:hunt_crossley_dissipation>{d:.9g}</drake:hunt_crossley_dissipation>\n'
-               '  </drake:proximity_properties>\n</collision>\n'
-               f'<!-- MultibodyPlant time_step = {timestep:g} s; the e(v) is exact for the '
-               'continuous point contact -->')
+    snippet = '\n'.join(_collision(name, geometry, 2.0 * k, d) for name, geometry in (
+        ('ball', f'<sphere><radius>{target.radius:.6g}</radius></sphere>'),
+        ('plane', '<plane><normal>0 0 1</normal></plane>'))) + (
+        f'\n<!-- k = {k:.9g} N/m for the pair: Drake combines the two geometries\' stiffnesses '
+        'in series, 2k with 2k; MultibodyPlant time_step = '
+        f'{timestep:g} s (the e(v) is exact for the continuous point contact) -->')
     return params, snippet, e
+
+
+def _collision(name, geometry, stiffness, dissipation):
+    """An SDFormat ``<collision>`` with Drake's point-contact properties."""
+    return (f'<collision name="{name}">\n  <geometry>{geometry}</geometry>\n'
+            '  <drake:proximity_properties>\n'
+            f'    <drake:point_contact_stiffness>{stiffness:.9g}</drake:point_contact_stiffness>\n'
+            f'    <drake:hunt_crossley_dissipation>{dissipation:.9g}'
+            '</drake:hunt_crossley_dissipation>\n  </drake:proximity_properties>\n</collision>')

@@ -11,12 +11,13 @@ from contact_sim.validation import InputError
 @dataclass(frozen=True)
 class Engine:
     """One simulator: ``export(target, timestep) -> (parameters, snippet, e)``, ``version()``,
-    and ``source`` ('measured' or 'predicted')."""
+    ``source`` ('measured' or 'predicted') and ``limit``: what its contact cannot do."""
 
     name: str
     export: object
     version: object
     source: str
+    limit: str
 
 
 def _distribution_version(name):
@@ -28,11 +29,17 @@ def _distribution_version(name):
     return version
 
 
+LINEAR_LIMIT = ('a linear spring-damper gives one e at every speed: the best choice misses a '
+                'speed-dependent target by half its spread, at any time step')
 ENGINES = {engine.name: engine for engine in (
-    Engine('mujoco', mujoco_engine.export_mujoco, mujoco_engine.version, 'measured'),
-    Engine('pybullet', pybullet_engine.export_pybullet, pybullet_engine.version, 'measured'),
-    Engine('drake', drake.export_drake, _distribution_version('drake'), 'predicted'),
-    Engine('gazebo', gazebo.export_gazebo, lambda: 'ODE (kp/kd)', 'predicted'))}
+    Engine('mujoco', mujoco_engine.export_mujoco, mujoco_engine.version, 'measured',
+           LINEAR_LIMIT),
+    Engine('pybullet', pybullet_engine.export_pybullet, pybullet_engine.version, 'measured',
+           LINEAR_LIMIT),
+    Engine('drake', drake.export_drake, _distribution_version('drake'), 'predicted',
+           'Hunt-Crossley on a linear spring: e is a function of d v alone, falling from 1, '
+           'with a shape of its own'),
+    Engine('gazebo', gazebo.export_gazebo, lambda: 'ODE (kp/kd)', 'predicted', LINEAR_LIMIT))}
 
 
 def export_contact(engine, target, timestep):

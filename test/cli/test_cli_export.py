@@ -1,11 +1,14 @@
 """`contact-sim export`: the JSON record has exactly the issue's keys, the table and snippet are
 printed, and bad input is refused naming the option."""
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from contact_sim import cli
+
+CONFIG = Path(__file__).resolve().parents[2] / 'config' / 'fig5_b_steel_cast_iron.yaml'
 
 STEEL_ON_CAST_IRON = ['--law', 'azad_featherstone', '--sphere', 'steel', '--plate', 'cast_iron',
                       '--radius', '0.0127', '--damping-factor', '8.87e5']
@@ -63,3 +66,52 @@ def test_radius_is_needed(capsys):
     code, _, err = run(capsys, ['export', 'gazebo', '--stiffness', '1e9', '--mass', '0.1',
                                 '--damping', '1e4', '--law', 'azad_featherstone'])
     assert code == 2 and '--radius' in err
+
+
+def test_params_file_is_the_same_contact_as_the_options(capsys):
+    common = ['export', 'gazebo', '--speeds', '0.5,2', '--format', 'json']
+    _, by_options, _ = run(capsys, [*common, *STEEL_ON_CAST_IRON])
+    code, by_file, _ = run(capsys, [*common, '--params-file', str(CONFIG)])
+    assert code == 0
+    assert json.loads(by_file) == json.loads(by_options)
+
+
+BOUNCES_RESULT = """\
+# contact calibrated by `contact-sim bounces` from drops.csv
+contact_sim:
+  ros__parameters:
+    contact_law: hunt_crossley
+    stiffness: 2.0e+8
+    damping: 1.5e+7
+    sphere_mass: 0.0459
+    gravity: 9.81
+    sphere_radius: {radius}
+    drag_coefficient: 0.0
+"""
+
+
+def test_a_bounces_result_is_exported(capsys, tmp_path):
+    path = tmp_path / 'golf.yaml'
+    path.write_text(BOUNCES_RESULT.format(radius=0.02135))
+    code, out, _ = run(capsys, ['export', 'drake', '--params-file', str(path), '--speeds',
+                                '0.5,2', '--format', 'json'])
+    assert code == 0
+    assert json.loads(out)['target'] == {'law': 'hunt_crossley', 'stiffness': 2e8,
+                                         'damping': 1.5e7, 'mass': 0.0459, 'radius': 0.02135}
+
+
+def test_a_bad_value_in_the_file_is_named_by_its_key(capsys, tmp_path):
+    path = tmp_path / 'bad.yaml'
+    path.write_text(BOUNCES_RESULT.format(radius=-1.0))
+    code, _, err = run(capsys, ['export', 'drake', '--params-file', str(path)])
+    assert code == 2
+    assert f'{path}: sphere_radius = -1.0 is out of range' in err
+
+
+@pytest.mark.parametrize('text', [None, 'not: [yaml', 'a: 1\n'])
+def test_an_unusable_params_file_is_refused(capsys, tmp_path, text):
+    path = tmp_path / 'params.yaml'
+    if text is not None:
+        path.write_text(text)
+    code, _, err = run(capsys, ['export', 'drake', '--params-file', str(path)])
+    assert code == 2 and '--params-file' in err
