@@ -83,8 +83,9 @@ def run(args):
         print(f'# {key} = {value}')
     spread = np.ptp(result.target.restitution) / 2
     print(f'# engine e {result.engine_restitution_source}; max |error| = '
-          f'{result.max_abs_error:.4f} (one constant e: at best {spread:.4f})')
+          f'{result.max_abs_error:.4f} (half the target\'s spread: {spread:.4f})')
     print(f'# {ENGINES[result.engine].limit}')
+    print(f'# {result.note}')
     print(f'# {"speed (m/s)":>13} {"target e":>10} {"engine e":>10} {"error":>10}')
     for v, target, engine in zip(result.target.speeds, result.target.restitution,
                                  result.engine_restitution):

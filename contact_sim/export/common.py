@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from contact_sim.impact import contact_duration, restitution
+from contact_sim.impact import contact_duration, max_penetration, restitution
 from contact_sim.model import Contact, require_contact
 from contact_sim.validation import require_positive, require_range
 
@@ -77,6 +77,7 @@ class Export:
     snippet: str
     engine_restitution: np.ndarray
     engine_restitution_source: str
+    note: str = ''   # what the parameters do to the contact's duration and depth (text only)
 
     @property
     def max_abs_error(self):
@@ -111,6 +112,18 @@ def resolved_frequency(target, timestep, steps_per_radian):
     """The target's frequency, lowered to 1 / (``steps_per_radian`` ``timestep``) when the
     engine's step cannot resolve it (rad/s)."""
     return min(target_frequency(target), 1.0 / (steps_per_radian * timestep))
+
+
+def linear_contact_note(target, frequency):
+    """What a linear contact of angular ``frequency`` w (rad/s) does, beside the target: it
+    lasts about pi / w and sinks about v / w at the top speed v."""
+    top = float(target.speeds.max())
+    middle = math.sqrt(target.speeds.min() * top)
+    duration = float(contact_duration(target.contact, target.mass, [middle])[0])
+    depth = float(max_penetration(target.contact, target.mass, [top])[0])
+    return (f'the engine\'s contact lasts about {math.pi / frequency:.3g} s (the target: '
+            f'{duration:.3g} s at {middle:.3g} m/s) and sinks about {top / frequency:.3g} m at '
+            f'{top:g} m/s (the target: {depth:.3g} m)')
 
 
 def fit_minimax(engine_restitution, target, low, high):

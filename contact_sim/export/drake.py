@@ -2,8 +2,8 @@
 of eq. 1; its e(v) is this library's exact restitution of that law (predicted, not measured)."""
 import numpy as np
 
-from contact_sim.export.common import fit_minimax, law_restitution, require_timestep, \
-    target_frequency
+from contact_sim.export.common import (fit_minimax, law_restitution, linear_contact_note,
+                                        require_timestep, target_frequency)
 from contact_sim.model import ContactLaw
 
 # Drake: f = k x (1 + d xdot) = k x + (k d) x xdot, i.e. n = 1, p = 1, q = 1 with lambda = k d
@@ -25,8 +25,9 @@ def export_drake(target, timestep):
 
     Returns
     -------
-    (dict, str, numpy.ndarray)
-        The parameters, the SDFormat snippet and the predicted e(v).
+    (dict, str, numpy.ndarray, str)
+        The parameters, the SDFormat snippet the predicted e(v) and
+        what the contact's duration and depth become.
     """
     timestep = require_timestep(timestep)
     k = target.mass * target_frequency(target) ** 2
@@ -41,7 +42,7 @@ def export_drake(target, timestep):
         f'\n<!-- k = {k:.9g} N/m for the pair: Drake combines the two geometries\' stiffnesses '
         'in series, 2k with 2k; MultibodyPlant time_step = '
         f'{timestep:g} s (the e(v) is exact for the continuous point contact) -->')
-    return params, snippet, e
+    return params, snippet, e, linear_contact_note(target, target_frequency(target))
 
 
 def _collision(name, geometry, stiffness, dissipation):

@@ -10,7 +10,7 @@ from contact_sim.validation import InputError
 
 @dataclass(frozen=True)
 class Engine:
-    """One simulator: ``export(target, timestep) -> (parameters, snippet, e)``, ``version()``,
+    """One simulator: ``export(target, timestep) -> (parameters, snippet, e, note)``, ``version()``,
     ``source`` ('measured' or 'predicted') and ``limit``: what its contact cannot do."""
 
     name: str
@@ -66,5 +66,5 @@ def export_contact(engine, target, timestep):
         raise InputError('engine', engine, '{n[engine]} = {value} is unknown: allowed '
                          + ', '.join(ENGINES), value=repr(engine))
     chosen = ENGINES[engine]
-    parameters, snippet, e = chosen.export(target, timestep)
-    return Export(engine, chosen.version(), target, parameters, snippet, e, chosen.source)
+    parameters, snippet, e, note = chosen.export(target, timestep)
+    return Export(engine, chosen.version(), target, parameters, snippet, e, chosen.source, note)

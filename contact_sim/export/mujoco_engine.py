@@ -7,8 +7,8 @@ on the speed: one linear choice.  K = w^2 with w the target's contact frequency,
 step is at most 0.1 rad of it; B = 2 zeta w, with zeta fitted to the measured e."""
 import numpy as np
 
-from contact_sim.export.common import fit_minimax, require_timestep, resolved_frequency
-
+from contact_sim.export.common import (fit_minimax, linear_contact_note, require_timestep,
+                                        resolved_frequency)
 STEPS_PER_RADIAN = 10.0           # w dt <= 0.1: e then moves < 0.01 with the impact's phase
 SOLIMP = (0.95, 0.95, 0.001, 0.5, 2.0)   # constant impedance: the contact stays linear
 INTEGRATOR = 'Euler'
@@ -66,8 +66,9 @@ def export_mujoco(target, timestep):
 
     Returns
     -------
-    (dict, str, numpy.ndarray)
-        The parameters, the MJCF ``<geom>`` and the measured e(v).
+    (dict, str, numpy.ndarray, str)
+        The parameters, the MJCF ``<geom>`` the measured e(v) and
+        what the contact's duration and depth become.
     """
     timestep = require_timestep(timestep)
     w = resolved_frequency(target, timestep, STEPS_PER_RADIAN)
@@ -83,7 +84,7 @@ def export_mujoco(target, timestep):
     snippet = (f'<option timestep="{timestep:g}" integrator="{INTEGRATOR}"/>\n'
                f'<geom name="ball" type="sphere" size="{target.radius:g}" '
                f'mass="{target.mass:.6g}" {geom_attributes(solref(zeta), SOLIMP)}/>')
-    return params, snippet, e
+    return params, snippet, e, linear_contact_note(target, w)
 
 
 def version():

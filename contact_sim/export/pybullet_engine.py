@@ -6,8 +6,8 @@ contactStiffness = m w^2 with w the target's contact frequency, lowered until a 
 0.05 rad of it; contactDamping = 2 zeta m w, with zeta fitted to the measured e."""
 import numpy as np
 
-from contact_sim.export.common import fit_minimax, require_timestep, resolved_frequency
-
+from contact_sim.export.common import (fit_minimax, linear_contact_note, require_timestep,
+                                        resolved_frequency)
 STEPS_PER_RADIAN = 20.0    # w dt <= 0.05: e then moves < 0.01 with the impact's phase
 PHASES = 4                 # start offsets within one step, averaged
 START_GAP = 0.03           # m: the ball starts beyond Bullet's contact margins
@@ -66,8 +66,9 @@ def export_pybullet(target, timestep):
 
     Returns
     -------
-    (dict, str, numpy.ndarray)
-        The parameters, the ``changeDynamics`` call and the measured e(v).
+    (dict, str, numpy.ndarray, str)
+        The parameters, the ``changeDynamics`` call the measured e(v) and
+        what the contact's duration and depth become.
     """
     timestep = require_timestep(timestep)
     w = resolved_frequency(target, timestep, STEPS_PER_RADIAN)
@@ -83,7 +84,7 @@ def export_pybullet(target, timestep):
     arguments = ', '.join(f'{key}={value!r}' for key, value in kwargs(zeta).items())
     snippet = (f'p.setTimeStep({timestep!r})\n'
                f'p.changeDynamics(ball_id, -1, {arguments})')
-    return params, snippet, e
+    return params, snippet, e, linear_contact_note(target, w)
 
 
 def version():
