@@ -36,6 +36,15 @@ def add_parser(sub):
                         'take precedence over its keys')
     p.add_argument('--timestep', type=float, default=1e-3,
                    help="the engine's time step in s (default 1e-3), 0 < DT <= 0.1")
+    add_speed_options(p)
+    p.add_argument('--format', choices=('text', 'json'), default='text',
+                   help='text (a table and the snippet) or json (one record)')
+    plot_option(p, 'target and engine e vs speed')
+    p.set_defaults(run=run)
+
+
+def add_speed_options(p):
+    """--speeds, or --speed-range with --points, as `restitution` takes them."""
     speeds = p.add_mutually_exclusive_group()
     speeds.add_argument('--speeds', type=_speed_list, metavar='V1,V2,...',
                         help='impact speeds in m/s, comma-separated')
@@ -44,10 +53,6 @@ def add_parser(sub):
                         help='log-spaced speeds from LOW to HIGH m/s (default 0.1 10)')
     p.add_argument('--points', type=int, default=10,
                    help='number of speeds in --speed-range (default 10), >= 2')
-    p.add_argument('--format', choices=('text', 'json'), default='text',
-                   help='text (a table and the snippet) or json (one record)')
-    plot_option(p, 'target and engine e vs speed')
-    p.set_defaults(run=run)
 
 
 def export_of(args):
@@ -90,9 +95,14 @@ def run(args):
     for v, target, engine in zip(result.target.speeds, result.target.restitution,
                                  result.engine_restitution):
         print(f'{v:15.6g} {target:10.5f} {engine:10.5f} {engine - target:+10.5f}')
-    print('# snippet:')
-    print(result.snippet)
+    print_snippet(result)
     return 0
+
+
+def print_snippet(result):
+    """The engine's snippet, after a comment line."""
+    print(f'# snippet ({result.engine}):')
+    print(result.snippet)
 
 
 def _plot(args, setup, result):

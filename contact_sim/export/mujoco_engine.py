@@ -5,10 +5,14 @@ With ``solref = (-K, -B)`` (the direct form) and ``solimp`` with dmin = dmax, th
 obeys r'' = -(B r' + K r) per unit mass (the constraint force never pulls), so e does not depend
 on the speed: one linear choice.  K = w^2 with w the target's contact frequency, lowered until a
 step is at most 0.1 rad of it; B = 2 zeta w, with zeta fitted to the measured e."""
+from dataclasses import dataclass
+
 import numpy as np
 
 from contact_sim.export.common import (fit_minimax, linear_contact_note, require_timestep,
                                         resolved_frequency)
+from contact_sim.validation import InputError
+
 STEPS_PER_RADIAN = 10.0           # w dt <= 0.1: e then moves < 0.01 with the impact's phase
 SOLIMP = (0.95, 0.95, 0.001, 0.5, 2.0)   # constant impedance: the contact stays linear
 INTEGRATOR = 'Euler'
@@ -90,3 +94,58 @@ def export_mujoco(target, timestep):
 def version():
     """The installed MuJoCo's version."""
     return _mujoco().__version__
+
+
+# MuJoCo's integrator enum -> its MJCF name
+INTEGRATORS = {'mjINT_EULER': 'Euler', 'mjINT_RK4': 'RK4', 'mjINT_IMPLICIT': 'implicit',
+               'mjINT_IMPLICITFAST': 'implicitfast'}
+
+
+@dataclass(frozen=True)
+class GeomContact:
+    """What a user's MuJoCo model gives a sphere geom's contact: its radius (m), its body's mass
+    (kg), ``solref``, ``solimp``, the model's time step (s) and integrator."""
+
+    radius: float
+    mass: float
+    solref: tuple
+    solimp: tuple
+    timestep: float
+    integrator: str
+
+
+def geom_contact(path, geom):
+    """The contact of the sphere ``geom`` (a name) in the MJCF file ``path``.
+
+    Raises
+    ------
+    InputError
+        Keyed ``model`` if the file does not load, ``geom`` if the geom is not a sphere of it.
+    """
+    mujoco = _mujoco()
+    try:
+        model = mujoco.MjModel.from_xml_path(str(path))
+    except ValueError as error:   # MuJoCo's parse and compile errors
+        raise InputError('model', path, '{n[model]} = {value} does not load in MuJoCo: '
+                         f'{str(error).strip()}', value=repr(str(path))) from None
+    index = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
+    if index < 0 or model.geom_type[index] != mujoco.mjtGeom.mjGEOM_SPHERE:
+        raise InputError('geom', geom, '{n[geom]} = {value} is not a sphere geom of the model: '
+                         'allowed the name of a sphere geom on a free body', value=repr(geom))
+    integrator = mujoco.mjtIntegrator(model.opt.integrator).name
+    if integrator not in INTEGRATORS:
+        raise InputError('model', path, '{n[model]} = {value} uses the integrator '
+                         f'{integrator}: allowed ' + ', '.join(INTEGRATORS.values()),
+                         value=repr(str(path)))
+    return GeomContact(float(model.geom_size[index][0]),
+                       float(model.body_mass[model.geom_bodyid[index]]),
+                       tuple(map(float, model.geom_solref[index])),
+                       tuple(map(float, model.geom_solimp[index])),
+                       float(model.opt.timestep), INTEGRATORS[integrator])
+
+
+def audit(contact, speeds):
+    """MuJoCo's e at ``speeds`` (m/s) of a ``GeomContact`` (a free sphere thrown at a plane at
+    MuJoCo's defaults, gravity off, as ``measure``)."""
+    return measure(contact.radius, contact.mass, speeds, contact.timestep, contact.solref,
+                   contact.solimp, contact.integrator)

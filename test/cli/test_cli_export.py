@@ -47,7 +47,7 @@ def test_text_table_and_snippet(capsys):
     code, out, _ = run(capsys, ['export', 'gazebo', *STEEL_ON_CAST_IRON, '--speed-range', '0.1',
                                 '10', '--points', '3'])
     assert code == 0
-    rows = [line.split() for line in out.split('# snippet:')[0].splitlines() if line[:1] == ' ']
+    rows = [line.split() for line in out.split('# snippet')[0].splitlines() if line[:1] == ' ']
     assert [float(r[0]) for r in rows] == pytest.approx([0.1, 1.0, 10.0])
     assert '<surface>' in out and 'predicted' in out
 
@@ -115,3 +115,18 @@ def test_an_unusable_params_file_is_refused(capsys, tmp_path, text):
         path.write_text(text)
     code, _, err = run(capsys, ['export', 'drake', '--params-file', str(path)])
     assert code == 2 and '--params-file' in err
+
+
+def test_audit_prints_the_models_e_and_the_suggestion(capsys, tmp_path):
+    path = tmp_path / 'ball.xml'
+    path.write_text('<mujoco><option timestep="0.0005"/><worldbody><geom type="plane" '
+                    'size="1 1 0.1"/><body pos="0 0 0.1"><freejoint/><geom name="ball" '
+                    'type="sphere" size="0.0127" mass="0.0673549" solref="-40000 -60"/></body>'
+                    '</worldbody></mujoco>')
+    code, out, _ = run(capsys, ['audit', 'mujoco', str(path), '--geom', 'ball',
+                                *STEEL_ON_CAST_IRON, '--speeds', '0.5,2'])
+    assert code == 0
+    assert 'solref = [-40000.0, -60.0]' in out and 'timestep="0.0005"' in out
+    code, _, err = run(capsys, ['audit', 'mujoco', str(path), '--geom', 'nope',
+                                *STEEL_ON_CAST_IRON])
+    assert code == 2 and "--geom = 'nope'" in err
