@@ -3,7 +3,8 @@ model gives (MuJoCo run: the sphere thrown at a plane, gravity off), beside a ta
 with the export's suggestion for the model's time step."""
 import numpy as np
 
-from contact_sim.cli.export import add_speed_options, export_of, print_snippet
+from contact_sim.cli.export import export_of, print_snippet
+from contact_sim.cli.restitution import add_speed_options
 from contact_sim.cli.options import LAW_NAMES, contact_command
 from contact_sim.export import audit, geom_contact
 
@@ -24,7 +25,7 @@ def add_parser(sub):
     p.add_argument('--geom', required=True, metavar='NAME', help='the sphere geom to audit')
     p.add_argument('--law', choices=LAW_NAMES,
                    help='the target force law (default azad_featherstone)')
-    add_speed_options(p)
+    add_speed_options(p, (0.1, 10.0), 10)
     p.set_defaults(run=run, params_file=None, plot=None)
 
 

@@ -9,7 +9,7 @@ from contact_sim.cli import plotting
 from contact_sim.cli.contact import build_setup, describe_contact
 from contact_sim.cli.options import LAW_NAMES, contact_command, plot_option
 from contact_sim.cli.params_file import apply_params_file
-from contact_sim.cli.restitution import _speed_list, _speeds
+from contact_sim.cli.restitution import _speeds, add_speed_options
 from contact_sim.export import ENGINES, export_contact, make_target
 from contact_sim.model import get_law
 from contact_sim.validation import InputError
@@ -36,23 +36,11 @@ def add_parser(sub):
                         'take precedence over its keys')
     p.add_argument('--timestep', type=float, default=1e-3,
                    help="the engine's time step in s (default 1e-3), 0 < DT <= 0.1")
-    add_speed_options(p)
+    add_speed_options(p, (0.1, 10.0), 10)
     p.add_argument('--format', choices=('text', 'json'), default='text',
                    help='text (a table and the snippet) or json (one record)')
     plot_option(p, 'target and engine e vs speed')
     p.set_defaults(run=run)
-
-
-def add_speed_options(p):
-    """--speeds, or --speed-range with --points, as `restitution` takes them."""
-    speeds = p.add_mutually_exclusive_group()
-    speeds.add_argument('--speeds', type=_speed_list, metavar='V1,V2,...',
-                        help='impact speeds in m/s, comma-separated')
-    speeds.add_argument('--speed-range', type=float, nargs=2, metavar=('LOW', 'HIGH'),
-                        default=(0.1, 10.0),
-                        help='log-spaced speeds from LOW to HIGH m/s (default 0.1 10)')
-    p.add_argument('--points', type=int, default=10,
-                   help='number of speeds in --speed-range (default 10), >= 2')
 
 
 def export_of(args):
