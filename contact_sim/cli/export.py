@@ -59,6 +59,9 @@ def export_of(args):
         return setup, export_contact(args.engine, target, args.timestep)
     except InputError as error:   # a field from the file, or the export's own: spelled so
         raise error.rekeyed(names[error.field]) if error.field in names else error from None
+    except ImportError as error:   # a measured engine whose package is absent
+        raise ValueError(f'engine {args.engine} is not installed ({error}): pip install '
+                         "'contact_sim[engines]'") from None
 
 
 def run(args):
