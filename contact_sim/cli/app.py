@@ -5,10 +5,11 @@ Subcommands: materials, restitution, drop, fit, bounces.  Run `contact-sim <subc
 import argparse
 import sys
 
-from contact_sim.cli import bounces, drop, errors, fit, materials, plotting, restitution
+from contact_sim.cli import (audit, bounces, drop, errors, export, fit, materials, plotting,
+                             restitution)
 from contact_sim.cli.options import EXIT_HELP
 
-SUBCOMMANDS = (materials, restitution, drop, fit, bounces)   # in the order of --help
+SUBCOMMANDS = (materials, restitution, drop, fit, bounces, export, audit)   # in the order of --help
 
 
 def build_parser():

@@ -24,6 +24,19 @@ def _speed_list(text):
         ) from None
 
 
+def add_speed_options(p, speed_range, points):
+    """--speeds, or --speed-range (default ``speed_range``, m/s) with --points (default
+    ``points``): the speeds of `restitution`, and of every subcommand that takes them so."""
+    speeds = p.add_mutually_exclusive_group()
+    speeds.add_argument('--speeds', type=_speed_list, metavar='V1,V2,...',
+                        help='impact speeds in m/s, comma-separated')
+    speeds.add_argument('--speed-range', type=float, nargs=2, metavar=('LOW', 'HIGH'),
+                        default=speed_range, help='log-spaced speeds from LOW to HIGH m/s '
+                        f'(default {speed_range[0]:g} {speed_range[1]:g})')
+    p.add_argument('--points', type=int, default=points,
+                   help=f'number of speeds in --speed-range (default {points}), >= 2')
+
+
 def add_parser(sub):
     """Register the subcommand on the subparsers ``sub``."""
     p = contact_command(
@@ -35,14 +48,7 @@ def add_parser(sub):
               '--radius 0.0127 --damping-factor 8.87e5\n')
     p.add_argument('--law', action='append', choices=LAW_NAMES,
                    help='force law, repeatable (default: all four)')
-    speeds = p.add_mutually_exclusive_group()
-    speeds.add_argument('--speeds', type=_speed_list, metavar='V1,V2,...',
-                        help='impact speeds in m/s, comma-separated')
-    speeds.add_argument('--speed-range', type=float, nargs=2, metavar=('LOW', 'HIGH'),
-                        default=(0.01, 10.0),
-                        help='log-spaced speeds from LOW to HIGH m/s (default 0.01 10)')
-    p.add_argument('--points', type=int, default=20,
-                   help='number of speeds in --speed-range (default 20), >= 2')
+    add_speed_options(p, (0.01, 10.0), 20)
     plot_option(p, 'e vs speed')
     p.add_argument('--log-speed', action='store_true',
                    help='logarithmic speed axis in the plot (the new law is near-linear there)')

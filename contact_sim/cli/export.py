@@ -1,0 +1,111 @@
+"""`contact-sim export ENGINE`: the simulator's parameters that best reproduce a contact's e(v)
+over a speed range, the e(v) the engine gives with them (measured by running MuJoCo or PyBullet,
+predicted from the engine's own law for Drake and Gazebo), and the snippet to paste."""
+import json
+
+import numpy as np
+
+from contact_sim.cli import plotting
+from contact_sim.cli.contact import build_setup, describe_contact
+from contact_sim.cli.options import LAW_NAMES, contact_command, plot_option
+from contact_sim.cli.params_file import apply_params_file
+from contact_sim.cli.restitution import _speeds, add_speed_options
+from contact_sim.export import ENGINES, export_contact, make_target
+from contact_sim.model import get_law
+from contact_sim.validation import InputError
+
+
+def add_parser(sub):
+    """Register the subcommand on the subparsers ``sub``."""
+    p = contact_command(
+        sub, 'export',
+        help="a contact's parameters for MuJoCo, PyBullet, Drake or Gazebo, with the e(v) "
+             'each gives',
+        description='The engine parameters that best reproduce the contact\'s e(v) over the\n'
+                    'speeds (minimax), the e(v) the engine gives with them and its snippet.\n'
+                    'mujoco and pybullet are run (measured); drake and gazebo are predicted\n'
+                    'from their own law (a member of eq. 1).',
+        notes='\n\nexample:\n  contact-sim export mujoco --law azad_featherstone --sphere steel '
+              '--plate cast_iron\n      --radius 0.0127 --damping-factor 8.87e5 --timestep 1e-3\n')
+    p.add_argument('engine', choices=list(ENGINES), help='the simulator')
+    p.add_argument('--law', choices=LAW_NAMES,
+                   help='the target force law (default azad_featherstone)')
+    p.add_argument('--params-file', metavar='FILE.yaml',
+                   help='the contact from a node parameter file (contact_sim_node, or the '
+                        '--save-params file of `contact-sim bounces`); options given here '
+                        'take precedence over its keys')
+    p.add_argument('--timestep', type=float, default=1e-3,
+                   help="the engine's time step in s (default 1e-3), 0 < DT <= 0.1")
+    add_speed_options(p, (0.1, 10.0), 10)
+    p.add_argument('--format', choices=('text', 'json'), default='text',
+                   help='text (a table and the snippet) or json (one record)')
+    plot_option(p, 'target and engine e vs speed')
+    p.set_defaults(run=run)
+
+
+def export_of(args):
+    """The ``Export`` the options describe."""
+    speeds = _speeds(args)
+    names = {'timestep': '--timestep'}   # core field -> how this call spells it
+    if args.params_file is not None:
+        names.update(apply_params_file(args, args.params_file))
+    try:
+        law = get_law(args.law or 'azad_featherstone')
+        setup = build_setup(args, [law])
+        if args.radius is None:
+            raise ValueError('--radius is missing: the engines need the sphere radius R1 in m, '
+                             '0 < R1')
+        target = make_target(setup.contacts[law.name], setup.mass, args.radius, speeds)
+        return setup, export_contact(args.engine, target, args.timestep)
+    except InputError as error:   # a field from the file, or the export's own: spelled so
+        raise error.rekeyed(names[error.field]) if error.field in names else error from None
+    except ImportError as error:   # a measured engine whose package is absent
+        raise ValueError(f'engine {args.engine} is not installed ({error}): pip install '
+                         "'contact_sim[engines]'") from None
+
+
+def run(args):
+    """Print the export (a table and the snippet, or one JSON record); exit status 0."""
+    setup, result = export_of(args)
+    law = result.target.contact.law.name
+    if args.plot:
+        _plot(args, setup, result)
+    if args.format == 'json':
+        print(json.dumps(result.as_dict(), indent=2))
+        return 0
+    print(f'# {result.engine} {result.engine_version}: parameters for {law}, '
+          f'{describe_contact(setup, args)}')
+    for key, value in result.parameters.items():
+        print(f'# {key} = {value}')
+    spread = np.ptp(result.target.restitution) / 2
+    print(f'# engine e {result.engine_restitution_source}; max |error| = '
+          f'{result.max_abs_error:.4f} (half the target\'s spread: {spread:.4f})')
+    print(f'# {ENGINES[result.engine].limit}')
+    print(f'# {result.note}')
+    print(f'# {"speed (m/s)":>13} {"target e":>10} {"engine e":>10} {"error":>10}')
+    for v, target, engine in zip(result.target.speeds, result.target.restitution,
+                                 result.engine_restitution):
+        print(f'{v:15.6g} {target:10.5f} {engine:10.5f} {engine - target:+10.5f}')
+    print_snippet(result)
+    return 0
+
+
+def print_snippet(result):
+    """The engine's snippet, after a comment line."""
+    print(f'# snippet ({result.engine}):')
+    print(result.snippet)
+
+
+def _plot(args, setup, result):
+    speeds = result.target.speeds
+    dense = plotting.dense_speeds(speeds, True)
+    target = f'target {result.target.contact.law.name}'
+    engine = f'{result.engine} ({result.engine_restitution_source})'
+    curves = {target: (dense, np.asarray(make_target(result.target.contact, result.target.mass,
+                                                     result.target.radius, dense).restitution)),
+              engine: (speeds, result.engine_restitution)}
+    plotting.restitution_figure(
+        args.plot, curves, {target: (speeds, result.target.restitution)},
+        f'{result.engine} e vs impact speed (no gravity), max |error| '
+        f'{result.max_abs_error:.3f}', describe_contact(setup, args), True)
+    print(f'# plot written to {args.plot}')

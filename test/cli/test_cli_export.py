@@ -1,0 +1,132 @@
+"""`contact-sim export`: the JSON record has exactly the issue's keys, the table and snippet are
+printed, and bad input is refused naming the option."""
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from contact_sim import cli
+
+CONFIG = Path(__file__).resolve().parents[2] / 'config' / 'fig5_b_steel_cast_iron.yaml'
+
+STEEL_ON_CAST_IRON = ['--law', 'azad_featherstone', '--sphere', 'steel', '--plate', 'cast_iron',
+                      '--radius', '0.0127', '--damping-factor', '8.87e5']
+KEYS = {'engine', 'engine_version', 'target', 'parameters', 'snippet', 'speeds',
+        'target_restitution', 'engine_restitution', 'engine_restitution_source', 'max_abs_error'}
+PARAMETERS = {'mujoco': {'solref', 'solimp', 'timestep', 'integrator'},
+              'pybullet': {'restitution', 'contactStiffness', 'contactDamping', 'timestep'},
+              'drake': {'point_contact_stiffness', 'hunt_crossley_dissipation', 'time_step'},
+              'gazebo': {'kp', 'kd', 'restitution_coefficient', 'threshold'}}
+SNIPPET = {'mujoco': 'solref="', 'pybullet': 'changeDynamics(', 'gazebo': '<kp>',
+           'drake': '<drake:hunt_crossley_dissipation>'}
+
+
+def run(capsys, argv):
+    code = cli.main(argv)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.mark.parametrize('engine', sorted(PARAMETERS))
+def test_json_has_exactly_the_keys(capsys, engine):
+    code, out, _ = run(capsys, ['export', engine, *STEEL_ON_CAST_IRON, '--speeds', '0.5,2',
+                                '--format', 'json'])
+    assert code == 0
+    record = json.loads(out)
+    assert set(record) == KEYS
+    assert set(record['target']) == {'law', 'stiffness', 'damping', 'mass', 'radius'}
+    assert set(record['parameters']) == PARAMETERS[engine]
+    assert SNIPPET[engine] in record['snippet']
+    assert record['speeds'] == [0.5, 2.0]
+    error = np.abs(np.subtract(record['engine_restitution'], record['target_restitution']))
+    assert record['max_abs_error'] == pytest.approx(error.max())
+
+
+def test_text_table_and_snippet(capsys):
+    code, out, _ = run(capsys, ['export', 'gazebo', *STEEL_ON_CAST_IRON, '--speed-range', '0.1',
+                                '10', '--points', '3'])
+    assert code == 0
+    rows = [line.split() for line in out.split('# snippet')[0].splitlines() if line[:1] == ' ']
+    assert [float(r[0]) for r in rows] == pytest.approx([0.1, 1.0, 10.0])
+    assert '<surface>' in out and 'predicted' in out
+
+
+@pytest.mark.parametrize('argv, option', [
+    (['--timestep', '0'], '--timestep'), (['--timestep', '1'], '--timestep'),
+    (['--speed-range', '2', '1'], 'speed_range'), (['--points', '1'], '--points'),
+    (['--mass', '-1'], '--mass')])
+def test_bad_input_names_the_option(capsys, argv, option):
+    code, _, err = run(capsys, ['export', 'gazebo', *STEEL_ON_CAST_IRON, *argv])
+    assert code == 2
+    assert option in err and 'allowed' in err
+
+
+def test_radius_is_needed(capsys):
+    code, _, err = run(capsys, ['export', 'gazebo', '--stiffness', '1e9', '--mass', '0.1',
+                                '--damping', '1e4', '--law', 'azad_featherstone'])
+    assert code == 2 and '--radius' in err
+
+
+def test_params_file_is_the_same_contact_as_the_options(capsys):
+    common = ['export', 'gazebo', '--speeds', '0.5,2', '--format', 'json']
+    _, by_options, _ = run(capsys, [*common, *STEEL_ON_CAST_IRON])
+    code, by_file, _ = run(capsys, [*common, '--params-file', str(CONFIG)])
+    assert code == 0
+    assert json.loads(by_file) == json.loads(by_options)
+
+
+BOUNCES_RESULT = """\
+# contact calibrated by `contact-sim bounces` from drops.csv
+contact_sim:
+  ros__parameters:
+    contact_law: hunt_crossley
+    stiffness: 2.0e+8
+    damping: 1.5e+7
+    sphere_mass: 0.0459
+    gravity: 9.81
+    sphere_radius: {radius}
+    drag_coefficient: 0.0
+"""
+
+
+def test_a_bounces_result_is_exported(capsys, tmp_path):
+    path = tmp_path / 'golf.yaml'
+    path.write_text(BOUNCES_RESULT.format(radius=0.02135))
+    code, out, _ = run(capsys, ['export', 'drake', '--params-file', str(path), '--speeds',
+                                '0.5,2', '--format', 'json'])
+    assert code == 0
+    assert json.loads(out)['target'] == {'law': 'hunt_crossley', 'stiffness': 2e8,
+                                         'damping': 1.5e7, 'mass': 0.0459, 'radius': 0.02135}
+
+
+def test_a_bad_value_in_the_file_is_named_by_its_key(capsys, tmp_path):
+    path = tmp_path / 'bad.yaml'
+    path.write_text(BOUNCES_RESULT.format(radius=-1.0))
+    code, _, err = run(capsys, ['export', 'drake', '--params-file', str(path)])
+    assert code == 2
+    assert f'{path}: sphere_radius = -1.0 is out of range' in err
+
+
+@pytest.mark.parametrize('text', [None, 'not: [yaml', 'a: 1\n'])
+def test_an_unusable_params_file_is_refused(capsys, tmp_path, text):
+    path = tmp_path / 'params.yaml'
+    if text is not None:
+        path.write_text(text)
+    code, _, err = run(capsys, ['export', 'drake', '--params-file', str(path)])
+    assert code == 2 and '--params-file' in err
+
+
+def test_audit_prints_the_models_e_and_the_suggestion(capsys, tmp_path):
+    path = tmp_path / 'ball.xml'
+    path.write_text('<mujoco><option timestep="0.0005"/><worldbody><geom type="plane" '
+                    'size="1 1 0.1"/><body pos="0 0 0.1"><freejoint/><geom name="ball" '
+                    'type="sphere" size="0.0127" mass="0.0673549" solref="-40000 -60"/></body>'
+                    '</worldbody></mujoco>')
+    code, out, _ = run(capsys, ['audit', 'mujoco', str(path), '--geom', 'ball',
+                                *STEEL_ON_CAST_IRON, '--speeds', '0.5,2'])
+    assert code == 0
+    assert 'solref = [-40000.0, -60.0]' in out and 'timestep="0.0005"' in out
+    code, _, err = run(capsys, ['audit', 'mujoco', str(path), '--geom', 'nope',
+                                *STEEL_ON_CAST_IRON])
+    assert code == 2 and "--geom = 'nope'" in err
