@@ -43,3 +43,4 @@ class Forcing:
                 self.angular_frequency * start_time + self.phase,
                 self.linear_drag * time / mass,
                 self.quadratic_drag * length / mass)
+
