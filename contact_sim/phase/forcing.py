@@ -43,4 +43,3 @@ class Forcing:
                 self.angular_frequency * start_time + self.phase,
                 self.linear_drag * time / mass,
                 self.quadratic_drag * length / mass)
-
