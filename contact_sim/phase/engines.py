@@ -2,7 +2,8 @@
 
 Two engines integrate a phase with the same mathematics: ``CompiledPhase`` (the default) and
 ``PhaseIntegrator`` (the scipy reference).  The reference integrates stiff phases (ζ >
-STIFF_DAMPING that creep: under gravity, or out to the surface, ``lift_off.is_stiff``) with Radau; the compiled engine keeps DOP853 up to
+STIFF_DAMPING that creep: into rest under gravity, or out to the surface,
+``lift_off.is_stiff``) with Radau; the compiled engine keeps DOP853 up to
 COMPILED_STIFF_DAMPING and hands the phases above to ``PhaseIntegrator`` and Radau.
 ``use_engine("scipy")`` (or CONTACT_SIM_ENGINE=scipy in the environment) makes the reference
 path the default.
