@@ -2,9 +2,9 @@
 
 The mathematics of ``phase`` (the integration in σ = √τ, lift-off at x = 0 or φ = 0 as
 ``lift_off`` says, events located on the dense output by Brent's method), written plainly:
-the path the compiled engine is tested against.  Heavily damped phases that creep (into rest under gravity, or out to
-the surface when the force cannot vanish inside) are stiff: above ζ = STIFF_DAMPING they are
-integrated with scipy's Radau.
+the path the compiled engine is tested against.  Heavily damped phases that creep (into rest
+under gravity, or out to the surface when the force cannot vanish inside) are stiff: above
+ζ = STIFF_DAMPING they are integrated with scipy's Radau.
 """
 import math
 
