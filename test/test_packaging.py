@@ -122,8 +122,11 @@ def test_the_checkout_builds_and_tests_with_plain_colcon_in_a_ros_workspace(tmp_
         result = subprocess.run([colcon, 'test-result', '--all'], cwd=tmp_path, env=env,
                                 capture_output=True, text=True)
         return run.returncode, result.stdout
-    # (a part of the suite: the whole of it runs here already; colcon runs it with pytest)
-    code, result = colcon_test('test/model/test_core.py', 'test/test_packaging.py')
+    # (a part of the suite: the whole of it runs here already; colcon runs it with pytest),
+    # with the test that needs setup.sh's build/ folder: it skips here (issue 16)
+    code, result = colcon_test('test/model/test_core.py', 'test/test_packaging.py',
+                               'test/phase/test_compiled.py::'
+                               'test_the_colcon_symlink_install_loads_the_same_cache')
     assert code == 0, result
     match = re.search(r'Summary: (\d+) tests?, (\d+) errors?, (\d+) failures?, (\d+) skipped',
                       result)

@@ -21,7 +21,10 @@ equation with constant coefficients and has an exact solution:
 
 The next touch of a level (the plate, y = 0) on the way down is exact in closed form for
 quadratic drag (β = 0): the speed after a fall D from s₀ is s₁² = s₀² e^(-2κD) + v_t² (1 - e^(-2κD))
-and the time atanh(v_t (s₁ - s₀) / (v_t² - s₀ s₁)) / (κ v_t).  With a linear term (β > 0) the
+and the time (D + ln((v_t + s₁) / (v_t + s₀)) / κ) / v_t.  This is atanh(s₁/v_t) - atanh(s₀/v_t)
+(coth for s₀ > v_t) times v_t / g, with 1 - (s₁/v_t)² = (1 - (s₀/v_t)²) e^(-2κD) taken out of the
+logarithms: no argument rounds to 1 near terminal speed, so a fall of any length lands (the atanh
+form gave inf beyond about 120 m for a ping-pong ball).  With a linear term (β > 0) the
 fall is an explicit function of time but its inverse is not: the touch is then the root of the
 closed-form fall on a bracket [0, t_hi] grown by doubling from the vacuum time (the fall grows
 monotonically without bound), located by Brent's method to 1e-15 relative.
@@ -161,12 +164,11 @@ def fall_time(distance, s0, g, kappa, beta):
     if beta == 0.0:
         if kappa > 0.0:
             vt = math.sqrt(g / kappa)
-            f2 = np.exp(-2.0 * kappa * d)
-            s1 = np.sqrt(s0 * s0 * f2 - vt * vt * np.expm1(-2.0 * kappa * d))
-            den = vt * vt - s0 * s1
-            with np.errstate(divide='ignore', invalid='ignore'):
-                t = np.arctanh(vt * (s1 - s0) / den) / (kappa * vt)
-            t = np.where(den == 0.0, d / np.maximum(s0, 1e-300), t)   # at terminal speed
+            em = -np.expm1(-2.0 * kappa * d)                   # 1 - e^(-2κD)
+            s1 = np.sqrt(s0 * s0 + (vt * vt - s0 * s0) * em)
+            with np.errstate(invalid='ignore'):                # 0/0 at D = s0 = 0: no gain
+                gain = np.where(em > 0.0, (vt - s0) * (vt + s0) * em / (s1 + s0), 0.0)
+            t = (d + np.log1p(gain / (vt + s0)) / kappa) / vt
             return t, s1
         s1 = np.sqrt(s0 * s0 + 2.0 * g * d)
         return 2.0 * d / (s0 + s1), s1                  # = (s1 - s0)/g without cancellation

@@ -74,6 +74,15 @@ class ContactLaw:
         return self.p == 0.0
 
     @property
+    def force_vanishes_inside(self):
+        """True if the force can fall to zero while z > 0 (n > p): F = zᵖ φ with
+        φ = k z^(n-p) + λ ż|ż|^(q-1).  With n = p (Hunt-Crossley) φ obeys
+        φ̇ = λ q |ż|^(q-1) (a - zⁿ φ / m), a the other forces per unit mass, so under gravity and
+        drag (a >= 0 on the way out) φ only decays towards zero and the sphere leaves at z = 0:
+        a force-zero root inside is round-off (``phase`` then tests the surface alone)."""
+        return self.n > self.p
+
+    @property
     def constant_restitution(self):
         """True if the restitution does not depend on the impact speed (the linear
         spring-damper, n = q = 1, p = 0: its damping group ζ has no speed in it)."""

@@ -14,11 +14,14 @@ carries a t^(5/2) term): a high-order integrator loses its order there.  Integra
 instead makes every term a power series in σ (z ≈ v σ², σ⁵, σ⁷, ...), so DOP853 keeps its 8th
 order from the first step.  Lift-off is the first instant the clamped force returns to zero:
 x = 0 or φ = x^(n-p) + ζ x'|x'|^(q-1) = 0 (the force is xᵖ φ and φ is smooth where the force
-is not); both are located on the dense output to machine precision.
+is not); both are located on the dense output to machine precision.  The root of φ is tested
+only where the force can vanish inside (n > p, or a forcing that pulls: ``lift_off``); with
+n = p φ only decays towards zero, and a root of it would be round-off.
 
 Modules, one job each: ``scales`` (Z, T, γ, ζ of a phase, the tolerances, the force at its
 start), ``forcing`` (plate motion and drag beyond gravity), ``energy`` (the energy above rest and
-the lift-off bound), ``reference`` (``PhaseIntegrator``: scipy's DOP853 or Radau stepped from
+the lift-off bound), ``lift_off`` (which roots end a phase, and when its end is a stiff
+creep), ``reference`` (``PhaseIntegrator``: scipy's DOP853 or Radau stepped from
 Python, the reference path), ``compiled_phase`` (``CompiledPhase``, the default engine) over
 ``compiled`` (the numba kernels: DOP853 with dense output and located events) and
 ``_dop853_coefficients`` (the generated tableau), ``engines`` (the engine switch and

@@ -53,7 +53,8 @@ P_STIFFNESS, P_DAMPING, P_MASS = 13, 14, 15              # k, λ, m (SI)
 P_ENERGY_GRAVITY, P_REST_POTENTIAL = 16, 17    # g (m/s²) and k z₀^(n+1)/(n+1) - m g z₀ (J)
 P_RTOL, P_ATOL = 18, 19
 P_KIND = 20                                              # the law's short form (ContactLaw.kernel)
-NPAR = 21
+P_LIFT_EVENTS = 21        # 2: lift-off at x = 0 or φ = 0; 1: at x = 0 alone (φ cannot reach 0)
+NPAR = 22
 # (n, p, q) -> kind: the right-hand side of these spends no pow() (sqrt at most)
 
 # -- the integrator state (float64[NSTATE]) -----------------------------------------------------
@@ -380,7 +381,7 @@ def _events(st, K, F, par, pts, npts):
     s0, x0, u0 = st[S_S_OLD], st[S_X_OLD], st[S_U_OLD]
     s1, x1, u1 = st[S_S], st[S_X], st[S_U]
     s_end = np.inf
-    for which in range(2):                                    # lift-off: the first root of x or φ
+    for which in range(int(par[P_LIFT_EVENTS])):              # lift-off: the first root of x or φ
         if _event(which, s0, x0, u0, par) > 0.0 and _event(which, s1, x1, u1, par) <= 0.0:
             _build_dense(st, K, F, par)
             s_end = min(s_end, _root(which, s0, s1, st, F, par))

@@ -10,6 +10,7 @@ import numpy as np
 
 from contact_sim.phase import compiled
 from contact_sim.phase.energy import potential
+from contact_sim.phase.lift_off import force_can_vanish_inside
 from contact_sim.phase.scales import (DEFAULT_ATOL, DEFAULT_RTOL, FIRST_STEP, phase_scales,
                                       start_peak_force)
 
@@ -44,7 +45,8 @@ class CompiledPhase:
                         sc.gravity, *extra,
                         start_time, sc.time, sc.length,
                         k, contact.damping, mass, g, rest_potential, rtol, atol,
-                        float(law.kernel)])
+                        float(law.kernel),
+                        2.0 if force_can_vanish_inside(law, g, forcing) else 1.0])
         self._par = par
         self._st, self._k, self._f = compiled.new_state(
             penetration / sc.length, penetration_rate * sc.time / sc.length, FIRST_STEP)

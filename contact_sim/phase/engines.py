@@ -2,7 +2,8 @@
 
 Two engines integrate a phase with the same mathematics: ``CompiledPhase`` (the default) and
 ``PhaseIntegrator`` (the scipy reference).  The reference integrates stiff phases (ζ >
-STIFF_DAMPING under gravity) with Radau; the compiled engine keeps DOP853 up to
+STIFF_DAMPING that creep: into rest under gravity, or out to the surface,
+``lift_off.is_stiff``) with Radau; the compiled engine keeps DOP853 up to
 COMPILED_STIFF_DAMPING and hands the phases above to ``PhaseIntegrator`` and Radau.
 ``use_engine("scipy")`` (or CONTACT_SIM_ENGINE=scipy in the environment) makes the reference
 path the default.
@@ -11,6 +12,7 @@ import contextlib
 import os
 
 from contact_sim.phase.compiled_phase import CompiledPhase
+from contact_sim.phase.lift_off import is_stiff
 from contact_sim.phase.reference import PhaseIntegrator
 from contact_sim.phase.scales import DEFAULT_ATOL, DEFAULT_RTOL, phase_scales
 
@@ -61,8 +63,8 @@ def contact_phase(contact, mass, gravity, start_time, penetration, penetration_r
     the phase with DOP853 even when it is stiff.
 
     ``engine`` ('compiled' or 'scipy', default ``get_engine()``) picks ``CompiledPhase`` or
-    ``PhaseIntegrator``; a heavily damped phase under gravity (ζ > COMPILED_STIFF_DAMPING, stiff)
-    always gets ``PhaseIntegrator`` and its Radau method.
+    ``PhaseIntegrator``; a heavily damped phase that creeps (ζ > COMPILED_STIFF_DAMPING, stiff:
+    ``lift_off.is_stiff``) always gets ``PhaseIntegrator`` and its Radau method.
     """
     engine = get_engine() if engine is None else _check_engine(engine)
     if forcing is not None and forcing.active:
@@ -73,7 +75,7 @@ def contact_phase(contact, mass, gravity, start_time, penetration, penetration_r
                              rtol=rtol, atol=atol, keep_points=keep_points, forcing=forcing)
     if engine == 'compiled':
         scales = phase_scales(contact, mass, gravity, penetration, penetration_rate)
-        if not (gravity > 0.0 and scales.damping > COMPILED_STIFF_DAMPING):
+        if not is_stiff(contact.law, gravity, scales.damping, COMPILED_STIFF_DAMPING):
             return CompiledPhase(contact, mass, gravity, start_time, penetration,
                                  penetration_rate, rtol=rtol, atol=atol, scales=scales,
                                  keep_points=keep_points)

@@ -1,9 +1,10 @@
 """The reference path of one contact phase: scipy's DOP853 (Radau when stiff) stepped from Python.
 
-The mathematics of ``phase`` (the integration in σ = √τ, lift-off at x = 0 or φ = 0, events
-located on the dense output by Brent's method), written plainly: the path the compiled engine
-is tested against.  Heavily damped phases under gravity are stiff: above ζ = STIFF_DAMPING
-they are integrated with scipy's Radau.
+The mathematics of ``phase`` (the integration in σ = √τ, lift-off at x = 0 or φ = 0 as
+``lift_off`` says, events located on the dense output by Brent's method), written plainly:
+the path the compiled engine is tested against.  Heavily damped phases that creep (into rest
+under gravity, or out to the surface when the force cannot vanish inside) are stiff: above
+ζ = STIFF_DAMPING they are integrated with scipy's Radau.
 """
 import math
 
@@ -12,6 +13,7 @@ from scipy.integrate import DOP853, Radau
 from scipy.optimize import brentq
 
 from contact_sim.phase.energy import energy_above_rest
+from contact_sim.phase.lift_off import force_can_vanish_inside, is_stiff
 from contact_sim.phase.scales import (DEFAULT_ATOL, DEFAULT_RTOL, FIRST_STEP, phase_scales,
                                       start_peak_force)
 
@@ -36,12 +38,16 @@ class PhaseIntegrator:
         self._n, self._p, self._q = law.n, law.p, law.q
         self._linear_in_rate = law.linear_in_rate      # q = 1: the rate term is u itself
         self._gamma, self._zeta = sc.gravity, sc.damping
+        self._lift_events = ((lambda yy: yy[0], lambda yy: self._phi(yy[0], yy[1]))
+                             if force_can_vanish_inside(law, gravity) else
+                             (lambda yy: yy[0],))
         x0, u0 = penetration / sc.length, penetration_rate * sc.time / sc.length
         # The first step is FIRST_STEP (the right-hand side vanishes at σ = 0).
-        # Under gravity, heavy damping (ζ >> 1) makes the phase stiff: the sphere creeps into
-        # its rest position on the damper's time scale.  Then the implicit Radau method, which
-        # also provides step() and dense output.  (Without gravity DOP853 stays cheaper.)
-        method = Radau if gravity > 0.0 and sc.damping > STIFF_DAMPING else DOP853
+        # Heavy damping (ζ >> 1) makes a phase stiff where the sphere creeps on the damper's
+        # time scale: into rest under gravity, or out to the surface when its force cannot
+        # vanish inside (Hunt-Crossley).  Then the implicit Radau method, which also provides
+        # step() and dense output.  (A phase that ends at a force zero stays cheaper on DOP853.)
+        method = Radau if is_stiff(law, gravity, sc.damping, STIFF_DAMPING) else DOP853
         self._solver = method(self._rhs, 0.0, np.array([x0, u0]), math.inf,
                               rtol=rtol, atol=atol, first_step=FIRST_STEP)
         self._last_dense = None
@@ -127,9 +133,9 @@ class PhaseIntegrator:
         self._last_dense = None
         s1, y1 = solver.t, solver.y
 
-        # lift-off: the first root of x or φ going down in this step
+        # lift-off: the first root of x or φ (if it can vanish inside) going down in this step
         roots = []
-        for g in (lambda yy: yy[0], lambda yy: self._phi(yy[0], yy[1])):
+        for g in self._lift_events:
             if g(y0) > 0.0 and g(y1) <= 0.0:
                 roots.append(self._root(g, s0, s1))
         s_end = min(roots) if roots else s1

@@ -45,7 +45,9 @@ def test_paper_drop_reproduces_section_ii_c(paper):
     first_micro = int(np.argmax(apexes < 1e-3))
     t_below = result.impacts[first_micro].time + result.impacts[first_micro].contact_duration
     assert 2.3 < t_below < 2.5                                # paper: 2.4 s
-    assert len(apexes) - first_micro == 26                    # paper: 26 microscopic bounces
+    # paper: 26 microscopic bounces; exact, with a margin beyond rounding: the apexes either
+    # side of 1 mm are 1.024 mm and 0.654 mm, and the last bounce rebounds at 9.5e-4 m/s
+    assert len(apexes) - first_micro == 26
     assert result.impacts[-1].permanent
     assert result.impacts[-1].rebound_speed == 0.0
     assert sum(not imp.permanent for imp in result.impacts) == len(apexes)

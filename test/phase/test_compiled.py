@@ -150,7 +150,9 @@ def test_paper_drop_is_the_reference_bounce_for_bounce():
         with phase.use_engine(engine):
             results[engine] = cs.simulate_drop(PAPER, 0.066, 1.0, gravity=10.0, duration=5.0)
     fast, ref = results['compiled'], results['scipy']
-    assert len(fast.impacts) == len(ref.impacts) == 38          # 37 bounces + permanent contact
+    # 37 bounces + permanent contact: an exact count, with a margin far beyond rounding (the
+    # same 38 impacts and 26 microscopic bounces for heights 1 m ± 1e-6 relative, issue 16)
+    assert len(fast.impacts) == len(ref.impacts) == 38
     # step counts differ by the controller's flipped accept/reject decisions (see above), over
     # 38 phases and their flights: a couple of steps a phase, or 1 % (issue 16)
     assert abs(fast.steps - ref.steps) <= 2 * len(ref.impacts) + 0.01 * ref.steps
@@ -191,6 +193,8 @@ def test_peers_problem_bounces_378_times_as_the_reference():
     lam = cs.damping_for_restitution(cs.HUNT_CROSSLEY, hertz.stiffness, mass, 0.8, 1.0)
     contact = cs.Contact(cs.HUNT_CROSSLEY, hertz.stiffness, lam)
     fast = cs.simulate_drop(contact, mass, 1.0, gravity=9.81, duration=5.0)
+    # an exact count with a margin: the last apex comes 0.9 ms before the 5 s end, the impact
+    # times agree to 1e-10 relative across paths, and 1 m ± 1e-9 gives 378 too (issue 16)
     assert len(fast.apex_heights) == 378
     with phase.use_engine('scipy'):
         ref = cs.simulate_drop(contact, mass, 1.0, gravity=9.81, duration=2.5)
@@ -223,7 +227,9 @@ def test_the_harmonic_slot_of_the_forcing_at_zero_frequency_is_gravity():
     alt._par[compiled.P_PHASE] = math.pi / 2.0
     ref.run()
     alt.run()
-    assert alt.steps == ref.steps
+    # the same forcing to the last bit only if sin(π/2) rounds to 1: a step or two either way
+    # (a flipped accept/reject of the step controller) where it does not (issue 16)
+    assert abs(alt.steps - ref.steps) <= 2
     np.testing.assert_allclose(alt.end, ref.end, rtol=1e-13)
 
 
@@ -280,6 +286,9 @@ def test_the_colcon_symlink_install_loads_the_same_cache():
     # scripts/setup.sh's `colcon build --symlink-install` links build/contact_sim/contact_sim to
     # the sources; imported from there (as ros2 run would), the kernels come from the same cache
     linked = ROOT / 'build' / 'contact_sim'
+    if not (linked / 'contact_sim').is_dir():
+        pytest.skip(f'no colcon --symlink-install build at {linked} (scripts/setup.sh leaves '
+                    'one; a colcon workspace builds elsewhere)')
     code = ('import sys; '
             'sys.meta_path[:] = [f for f in sys.meta_path if "editable" not in repr(f).lower()]; '
             f'sys.path.insert(0, {str(linked)!r}); '

@@ -18,6 +18,10 @@ import yaml
 ROOT = Path(__file__).resolve().parents[2]
 CONFIG = ROOT / 'config'
 TIMEOUT = 20.0          # s, for anything that waits on DDS discovery or on the node
+# s, for a wait on the node's real-time progress as this client sees it (poses, impacts, the
+# recorder): a few s of simulated time idle, but on two cores at a load of 10 the node and this
+# client each get a fifth of a core, and the client drains its backlog of samples last (issue 16)
+PROGRESS_TIMEOUT = 6 * TIMEOUT
 NODE = '/contact_sim'
 
 rclpy = pytest.importorskip('rclpy')

@@ -21,7 +21,7 @@ from rclpy.serialization import serialize_message  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
 from std_msgs.msg import Float64MultiArray  # noqa: E402
 from .harness import (  # noqa: E402
-    TIMEOUT, NODE, TOPICS, TYPE_NAMES, FIELDS, Process, assert_clean_exit, stamp_ns,
+    TIMEOUT, PROGRESS_TIMEOUT, NODE, TOPICS, TYPE_NAMES, FIELDS, Process, assert_clean_exit, stamp_ns,
     impacts_after, reset)
 
 
@@ -40,14 +40,17 @@ def test_recorder_writes_a_bag_that_reads_back(sim, client, ros_env, workdir):
         client.spin_until(receiving, 'the recorder to receive')
         assert recorder.popen.poll() is None, recorder.output()
         t0 = reset(client)
-        client.spin_until(lambda: len(impacts_after(client, t0)) >= 3, 'three impacts')
+        client.spin_until(lambda: len(impacts_after(client, t0)) >= 3, 'three impacts',
+                          PROGRESS_TIMEOUT)
         n = client.count(f'{NODE}/pose')
-        client.spin_until(lambda: client.count(f'{NODE}/pose') >= n + 10, 'ten more poses')
+        client.spin_until(lambda: client.count(f'{NODE}/pose') >= n + 10, 'ten more poses',
+                          PROGRESS_TIMEOUT)
 
         def recorded_impacts():  # the recorder may lag behind this client: wait for it too
             times = re.findall(r'recorded the impact at t = ([0-9.]+) s', recorder.output())
             return sum(cs_msgs.to_ns(float(t)) >= t0 for t in times)
-        client.spin_until(lambda: recorded_impacts() >= 3, 'the recorder to record 3 impacts')
+        client.spin_until(lambda: recorded_impacts() >= 3, 'the recorder to record 3 impacts',
+                          PROGRESS_TIMEOUT)
     finally:
         assert_clean_exit(recorder)
     assert (bag / 'metadata.yaml').is_file() and list(bag.glob('*.mcap'))
@@ -79,7 +82,7 @@ def test_recorder_writes_a_bag_that_reads_back(sim, client, ros_env, workdir):
         if topic.endswith('impact'):
             assert len(window) >= 3
     # --duration stops by itself; an sqlite3 bag reads back too
-    assert timed.popen.wait(TIMEOUT) == 0, timed.output()
+    assert timed.popen.wait(PROGRESS_TIMEOUT) == 0, timed.output()
     assert list((workdir / 'timed').glob('*.db3'))
     with AnyReader([workdir / 'timed']) as reader:
         # (what it got depends on how much of its 4 s discovery took)
