@@ -8,7 +8,7 @@ import pytest
 
 from contact_sim import cli
 
-CONFIG = Path(__file__).resolve().parents[2] / 'config' / 'fig5_b_steel_cast_iron.yaml'
+CONFIG = Path(__file__).resolve().parents[2] / 'config' / 'fig5_geometry_b_steel_cast_iron.yaml'
 
 STEEL_ON_CAST_IRON = ['--law', 'azad_featherstone', '--sphere', 'steel', '--plate', 'cast_iron',
                       '--radius', '0.0127', '--damping-factor', '8.87e5']
