@@ -8,12 +8,12 @@ from contact_sim.drop.mode import Event, Mode, Move
 from contact_sim.drop.mode_carried import CarryWatch
 from contact_sim.drop.mode_rest import RestWatch
 from contact_sim.drop.records import ImpactRecord
-from contact_sim.phase import contact_phase, energy_above_rest
+from contact_sim.phase import contact_phase, potential_at
 
 
 def energy_bounded_rate(sim, start, z, zdot):
     """The rate ż (m/s) at a lift-off at (z, ż) on the fixed plate, with the energy above rest
-    no higher than at the phase's ``start`` point (t, z, ż, F).
+    (½ m ż² + ``phase.potential_at``) no higher than at the phase's ``start`` point (t, z, ż, F).
 
     On the fixed plate the damper only dissipates and gravity and the spring conserve: the
     energy cannot grow during a contact.  The integrator's error (about rtol a phase) can make
@@ -22,11 +22,11 @@ def energy_bounded_rate(sim, start, z, zdot):
     Unchanged wherever the energy did not grow.
     """
     contact, mass, g = sim.contact, sim.mass, sim.gravity
-    e_start = float(energy_above_rest(contact, mass, g, start[1], start[2]))
-    if not float(energy_above_rest(contact, mass, g, z, zdot)) > e_start:
+    e_start = 0.5 * mass * start[2] * start[2] + potential_at(contact, mass, g, start[1])
+    potential = potential_at(contact, mass, g, z)
+    if not 0.5 * mass * zdot * zdot + potential > e_start:
         return zdot
-    kinetic = e_start - float(energy_above_rest(contact, mass, g, z, 0.0))
-    return math.copysign(math.sqrt(max(2.0 * kinetic / mass, 0.0)), zdot)
+    return math.copysign(math.sqrt(max(2.0 * (e_start - potential) / mass, 0.0)), zdot)
 
 
 class Contact(Mode):

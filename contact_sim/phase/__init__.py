@@ -28,7 +28,7 @@ Python, the reference path), ``compiled_phase`` (``CompiledPhase``, the default 
 ``contact_phase``, which picks one).
 """
 from contact_sim.phase.compiled_phase import CompiledPhase
-from contact_sim.phase.energy import energy_above_rest, lift_off_energy
+from contact_sim.phase.energy import energy_above_rest, lift_off_energy, potential_at
 from contact_sim.phase.engines import (COMPILED_STIFF_DAMPING, ENGINES, contact_phase, get_engine,
                                        set_engine, use_engine)
 from contact_sim.phase.forcing import Forcing
@@ -37,5 +37,6 @@ from contact_sim.phase.scales import DEFAULT_ATOL, DEFAULT_RTOL, PhaseScales, ph
 
 __all__ = ['COMPILED_STIFF_DAMPING', 'DEFAULT_ATOL', 'DEFAULT_RTOL', 'ENGINES', 'STIFF_DAMPING',
            'CompiledPhase', 'Forcing', 'PhaseIntegrator', 'PhaseScales', 'contact_phase',
-           'energy_above_rest', 'get_engine', 'lift_off_energy', 'phase_scales', 'set_engine',
+           'energy_above_rest', 'get_engine', 'lift_off_energy', 'phase_scales', 'potential_at',
+           'set_engine',
            'use_engine']

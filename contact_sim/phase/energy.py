@@ -13,6 +13,13 @@ def potential(contact, mass, gravity, z):
     return contact.stiffness * np.maximum(z, 0.0) ** (n + 1.0) / (n + 1.0) - mass * gravity * z
 
 
+def potential_at(contact, mass, gravity, z):
+    """``potential`` at one depth z (m), as a float (J): the same formula without the array
+    overhead, for the drop engine's once-a-bounce energy bound."""
+    n = contact.law.n
+    return contact.stiffness * max(z, 0.0) ** (n + 1.0) / (n + 1.0) - mass * gravity * z
+
+
 def energy_above_rest(contact, mass, gravity, z, zdot):
     """½ m ż² + potential(z) - potential(z0): a Lyapunov function of the contact (J).
 
