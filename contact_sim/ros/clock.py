@@ -8,6 +8,11 @@ and none competes with another clock (a simulator, ``ros2 bag play --clock``).
 """
 CLOCK_TOPIC = '/clock'
 CHECK_PERIOD = 0.5    # s of wall time between looks at the publishers of /clock
+# s of wall time a later-named publisher of /clock must have been seen, still not looking like an
+# instance of this node, before it counts as a foreign clock: discovery of a new instance's
+# ~/impact and ~/query_restitution trails that of its /clock publisher (taking it for a foreign
+# clock at once made the first instance yield to the second, and then none published)
+FOREIGN_GRACE = 5.0
 
 
 def full_name(namespace, name):
@@ -28,24 +33,33 @@ def is_contact_sim(node, namespace, name):
     return f'{own}/impact' in topics and f'{own}/query_restitution' in services
 
 
-def clock_to_yield_to(node):
+def clock_to_yield_to(node, first_seen, now):
     """The fully qualified name of the other /clock publisher ``node`` yields to, or None.
 
     Parameters
     ----------
     node : rclpy.node.Node
         A node publishing /clock.
+    first_seen : dict
+        Fully qualified name -> the wall time (s) it was first seen publishing /clock; updated.
+    now : float
+        The wall time (s, any steady clock).
 
     Returns
     -------
     str or None
-        The first (by name) other publisher of /clock that is not an instance of this node, or
-        an instance whose name sorts before ``node``'s; None if there is none.
+        The first (by name) other publisher of /clock that sorts before ``node``, or one seen
+        for at least ``FOREIGN_GRACE`` s that is not an instance of this node; None if none.
     """
     me = full_name(node.get_namespace(), node.get_name())
     others = sorted({(full_name(info.node_namespace, info.node_name), info.node_namespace,
                       info.node_name) for info in node.get_publishers_info_by_topic(CLOCK_TOPIC)})
     for other, namespace, name in others:
-        if other != me and (other < me or not is_contact_sim(node, namespace, name)):
+        if other == me:
+            continue
+        if other < me:
+            return other
+        seen = first_seen.setdefault(other, now)
+        if now - seen >= FOREIGN_GRACE and not is_contact_sim(node, namespace, name):
             return other
     return None

@@ -85,6 +85,7 @@ class ContactSimNode(TickLoop, Node):
         self.create_timer(REFUSAL_PERIOD, self._flush_refusals, clock=self._steady)
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.add_post_set_parameters_callback(self._on_parameters_set)
+        self._clock_seen = {}       # other publishers of /clock: when first seen (s)
         if self._out.publishes_clock:
             self._clock_check = self.create_timer(CHECK_PERIOD, self._check_clock,
                                                   clock=self._steady)
@@ -95,7 +96,8 @@ class ContactSimNode(TickLoop, Node):
         """Yield /clock to another publisher of it (``clock.clock_to_yield_to``), once."""
         if not self._out.publishes_clock:
             return     # a turn of the timer queued before it was destroyed
-        other = clock_to_yield_to(self)
+        other = clock_to_yield_to(self, self._clock_seen,
+                                  self._steady.now().nanoseconds * 1e-9)
         if other is None:
             return
         self._clock_check.cancel()

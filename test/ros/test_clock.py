@@ -33,3 +33,60 @@ def test_namespaced_instances_leave_clock_to_one_and_it_never_goes_backwards(
     finally:
         for process in processes:
             assert_clean_exit(process)
+
+
+class _Info:
+    def __init__(self, full):
+        self.node_namespace, _, self.node_name = full.rpartition('/')
+        self.node_namespace = self.node_namespace or '/'
+
+
+class _Graph:
+    """A node's view of the graph: the /clock publishers, and the instances whose ~/impact and
+    ~/query_restitution it has discovered so far."""
+
+    def __init__(self, me, clocks, instances=()):
+        self.me, self.clocks, self.instances = me, clocks, set(instances)
+
+    def get_namespace(self):
+        return self.me.rpartition('/')[0] or '/'
+
+    def get_name(self):
+        return self.me.rpartition('/')[2]
+
+    def get_publishers_info_by_topic(self, topic):
+        return [_Info(full) for full in self.clocks]
+
+    def get_publisher_names_and_types_by_node(self, name, namespace):
+        full = full_name(namespace, name)
+        return [(f'{full}/impact', ['std_msgs/msg/Float64MultiArray'])] \
+            if full in self.instances else []
+
+    def get_service_names_and_types_by_node(self, name, namespace):
+        full = full_name(namespace, name)
+        return [(f'{full}/query_restitution', ['rcl_interfaces/srv/GetParameters'])] \
+            if full in self.instances else []
+
+
+from contact_sim.ros.clock import FOREIGN_GRACE, clock_to_yield_to, full_name  # noqa: E402
+
+
+def test_a_new_instance_seen_before_its_topics_is_not_taken_for_a_foreign_clock():
+    # the race of a fresh-clone CI run: /x1's /clock publisher was discovered before its
+    # ~/impact, so /contact_sim yielded to it, and /x1 then had nothing to yield to
+    seen = {}
+    graph = _Graph('/contact_sim', ['/contact_sim', '/x1/contact_sim'])
+    assert clock_to_yield_to(graph, seen, 0.0) is None
+    graph.instances.add('/x1/contact_sim')              # its topics arrive
+    assert clock_to_yield_to(graph, seen, FOREIGN_GRACE + 1.0) is None
+    # the later instance yields to the earlier one at once
+    later = _Graph('/x1/contact_sim', ['/contact_sim', '/x1/contact_sim'])
+    assert clock_to_yield_to(later, {}, 0.0) == '/contact_sim'
+
+
+def test_a_foreign_clock_is_yielded_to_once_it_has_been_seen_for_the_grace_time():
+    seen = {}
+    graph = _Graph('/contact_sim', ['/contact_sim', '/rosbag2_player'])
+    assert clock_to_yield_to(graph, seen, 10.0) is None
+    assert clock_to_yield_to(graph, seen, 10.0 + FOREIGN_GRACE - 0.1) is None
+    assert clock_to_yield_to(graph, seen, 10.0 + FOREIGN_GRACE) == '/rosbag2_player'
