@@ -2,37 +2,65 @@
 /clock, and with three in namespaces it went backwards 262 times in 5 s): an instance that finds
 another publisher of /clock says so and does not publish it, so /clock never goes backwards.
 """
+import os
+import time
+
 import pytest
 
 rclpy = pytest.importorskip('rclpy')
 
-from .harness import NODE, Process, assert_clean_exit, stamp_ns  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: E402
+from rosgraph_msgs.msg import Clock  # noqa: E402
+
+from .harness import Process, assert_clean_exit, stamp_ns  # noqa: E402
 
 MESSAGE = '/contact_sim publishes /clock already: this node does not'
+TIMEOUT = 60.0
 
 
-def test_namespaced_instances_leave_clock_to_one_and_it_never_goes_backwards(
-        sim, client, ros_env, workdir):
-    namespaces = ['/x1', '/x2', '/x3']       # their names sort after the package's /contact_sim
-    processes = [Process('contact_sim_node', ['--ros-args', '-r', f'__ns:={ns}'], ros_env,
-                         workdir) for ns in namespaces]
+def test_namespaced_instances_leave_clock_to_one_and_it_never_goes_backwards(ros_env, workdir):
+    # in a domain of its own (the module's node, which other tests read /clock from, never sees
+    # these instances): /contact_sim and three instances whose names sort after it
+    env = {**ros_env, 'ROS_DOMAIN_ID': str(221 + os.getpid() % 11)}
+    context = rclpy.Context()
+    context.init(domain_id=int(env['ROS_DOMAIN_ID']))
+    watch = rclpy.create_node('contact_sim_clock_watch', context=context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(watch)
+    clock = []
+    watch.create_subscription(Clock, '/clock', lambda m: clock.append(stamp_ns(m.clock)),
+                              QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE))
+
+    def spin_until(condition, what):
+        deadline = time.monotonic() + TIMEOUT
+        while not condition():
+            if time.monotonic() > deadline:
+                pytest.fail(f'timed out after {TIMEOUT} s waiting for {what}')
+            executor.spin_once(timeout_sec=0.05)
+
+    first = Process('contact_sim_node', [], env, workdir)
+    processes = [Process('contact_sim_node', ['--ros-args', '-r', f'__ns:={ns}'], env, workdir)
+                 for ns in ('/x1', '/x2', '/x3')]
     try:
-        client.spin_until(lambda: all(MESSAGE in p.output() or p.popen.poll() is not None
-                                      for p in processes), 'every instance to yield /clock',
-                          timeout=60.0)
+        spin_until(lambda: all(MESSAGE in p.output() or p.popen.poll() is not None
+                               for p in processes), 'every instance to yield /clock')
         for process in processes:
             assert process.popen.poll() is None and MESSAGE in process.output(), process.output()
-        infos = client.node.get_publishers_info_by_topic('/clock')
-        assert [(i.node_namespace, i.node_name) for i in infos] == [('/', NODE[1:])]
-        clock = client.messages['/clock']
+        spin_until(lambda: [(i.node_namespace, i.node_name) for i in
+                            watch.get_publishers_info_by_topic('/clock')] == [('/', 'contact_sim')],
+                   'one publisher of /clock')
         start = len(clock)
-        client.spin_until(lambda: len(clock) >= start + 300, '300 more /clock messages')
-        stamps = [stamp_ns(m.clock) for m in clock[start:]]
+        spin_until(lambda: len(clock) >= start + 300, '300 more /clock messages')
+        stamps = clock[start:]
         assert all(b > a for a, b in zip(stamps, stamps[1:])), 'the clock went backwards'
-        assert 'yield' not in sim.output() and 'publishes /clock already' not in sim.output()
+        assert first.popen.poll() is None
+        assert 'yield' not in first.output() and 'publishes /clock already' not in first.output()
     finally:
-        for process in processes:
+        for process in [*processes, first]:
             assert_clean_exit(process)
+        watch.destroy_node()
+        context.try_shutdown()
 
 
 class _Info:
