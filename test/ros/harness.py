@@ -131,6 +131,26 @@ def assert_clean_exit(process):
 # the client side
 # ------------------------------------------------------------------------------------------
 
+def spin_until(executor, condition, what, timeout=TIMEOUT):
+    """Spin ``executor`` until ``condition()`` holds; fail the test after ``timeout`` s."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            pytest.fail(f'timed out after {timeout} s waiting for {what}')
+        executor.spin_once(timeout_sec=0.05)
+
+
+def domain_node(domain_id, name):
+    """(context, node, executor): an rclpy node ``name`` in ROS domain ``domain_id`` of its own
+    (no module node there); ``context.try_shutdown()`` ends it."""
+    context = rclpy.Context()
+    context.init(domain_id=domain_id)
+    node = rclpy.create_node(name, context=context)
+    executor = SingleThreadedExecutor(context=context)
+    executor.add_node(node)
+    return context, node, executor
+
+
 class Client:
     """An rclpy node in the test process with helpers that wait on conditions."""
 
@@ -146,11 +166,7 @@ class Client:
         self._clients = {}
 
     def spin_until(self, condition, what, timeout=TIMEOUT):
-        deadline = time.monotonic() + timeout
-        while not condition():
-            if time.monotonic() > deadline:
-                pytest.fail(f'timed out after {timeout} s waiting for {what}')
-            self.executor.spin_once(timeout_sec=0.05)
+        spin_until(self.executor, condition, what, timeout)
 
     def spin_for(self, seconds):
         """Keep receiving for a while (used only to collect more data, never to wait for DDS)."""

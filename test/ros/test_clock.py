@@ -3,17 +3,16 @@
 another publisher of /clock says so and does not publish it, so /clock never goes backwards.
 """
 import os
-import time
 
 import pytest
 
 rclpy = pytest.importorskip('rclpy')
 
-from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
 
-from .harness import Process, assert_clean_exit, stamp_ns  # noqa: E402
+from . import harness  # noqa: E402
+from .harness import Process, assert_clean_exit, domain_node, stamp_ns  # noqa: E402
 
 MESSAGE = '/contact_sim publishes /clock already: this node does not'
 TIMEOUT = 60.0
@@ -23,21 +22,13 @@ def test_namespaced_instances_leave_clock_to_one_and_it_never_goes_backwards(ros
     # in a domain of its own (the module's node, which other tests read /clock from, never sees
     # these instances): /contact_sim and three instances whose names sort after it
     env = {**ros_env, 'ROS_DOMAIN_ID': str(221 + os.getpid() % 11)}
-    context = rclpy.Context()
-    context.init(domain_id=int(env['ROS_DOMAIN_ID']))
-    watch = rclpy.create_node('contact_sim_clock_watch', context=context)
-    executor = SingleThreadedExecutor(context=context)
-    executor.add_node(watch)
+    context, watch, executor = domain_node(int(env['ROS_DOMAIN_ID']), 'contact_sim_clock_watch')
     clock = []
     watch.create_subscription(Clock, '/clock', lambda m: clock.append(stamp_ns(m.clock)),
                               QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE))
 
     def spin_until(condition, what):
-        deadline = time.monotonic() + TIMEOUT
-        while not condition():
-            if time.monotonic() > deadline:
-                pytest.fail(f'timed out after {TIMEOUT} s waiting for {what}')
-            executor.spin_once(timeout_sec=0.05)
+        harness.spin_until(executor, condition, what, TIMEOUT)
 
     first = Process('contact_sim_node', [], env, workdir)
     processes = [Process('contact_sim_node', ['--ros-args', '-r', f'__ns:={ns}'], env, workdir)

@@ -15,34 +15,26 @@ rclpy = pytest.importorskip('rclpy')
 
 from contact_sim.ros import messages as cs_msgs  # noqa: E402
 from contact_sim.ros import params as cs_params  # noqa: E402
-from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
+from . import harness  # noqa: E402
 from .harness import (  # noqa: E402
     TIMEOUT, NODE, TOPICS, TYPE_NAMES, executable, clean_shm, Process, assert_clean_exit,
-    stamp_ns)
+    stamp_ns, domain_node)
 
 
 @pytest.fixture(scope='module')
 def own_domain(ros_env):
     """Environment and a client context in another ROS domain (no module node there)."""
     env = {**ros_env, 'ROS_DOMAIN_ID': str(120 + os.getpid() % 101)}
-    context = rclpy.Context()
-    context.init(domain_id=int(env['ROS_DOMAIN_ID']))
-    node = rclpy.create_node('contact_sim_test_watch', context=context)
-    executor = SingleThreadedExecutor(context=context)
-    executor.add_node(node)
+    context, node, executor = domain_node(int(env['ROS_DOMAIN_ID']), 'contact_sim_test_watch')
     clock = []
     node.create_subscription(Clock, '/clock', lambda m: clock.append(stamp_ns(m.clock)),
                              QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
 
     def spin_until(condition, what, timeout=TIMEOUT):
-        deadline = time.monotonic() + timeout
-        while not condition():
-            if time.monotonic() > deadline:
-                pytest.fail(f'timed out after {timeout} s waiting for {what}')
-            executor.spin_once(timeout_sec=0.05)
+        harness.spin_until(executor, condition, what, timeout)
     reset_client = node.create_client(Trigger, f'{NODE}/reset')
 
     def reset_drop():
