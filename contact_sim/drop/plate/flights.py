@@ -16,6 +16,31 @@ from contact_sim.drop.plate.roots import EPS, first_gap_root, first_upward_root
 from contact_sim.flight import FlightPath
 
 
+def _power(x, e):
+    """x ** e for x >= 0 as numpy's ``array ** e`` computes it (its exact cases 0, 1/2, 1, 2)."""
+    if e == 1.0:
+        return x
+    if e == 0.5:
+        return math.sqrt(x)
+    if e == 0.0:
+        return 1.0
+    if e == 2.0:
+        return x * x
+    return x ** e
+
+
+def reduced_force_scalar(contact):
+    """φ(z, ż) of ``contact`` (``ContactLaw.reduced_force``) on floats: the same numbers
+    without numpy's overhead on one value, for the root refinements of a flight."""
+    law, k, lam = contact.law, contact.stiffness, contact.damping
+    e_spring, q = law.n - law.p, law.q
+
+    def phi(z, zdot):
+        rate = 0.0 if zdot == 0.0 else math.copysign(_power(abs(zdot), q), zdot)
+        return k * _power(max(z, 0.0), e_spring) + lam * rate
+    return phi
+
+
 def surface_time(z, zdot, gravity):
     """Ballistic time (s) to rise from z > 0 (m) at ż (m/s) to the undeformed surface of the
     fixed plate under ``gravity`` (m/s²); inf: never."""
@@ -37,11 +62,15 @@ def touch_time(z, zdot, gravity, contact):
         else:
             t_search = -z / zdot if zdot < 0.0 else 0.0
         if t_search > 0.0:
+            phi_at = reduced_force_scalar(contact)
+
             def phi(dt):
+                return phi_at(z + zdot * dt + 0.5 * g * dt * dt, zdot + g * dt)
+
+            def phi_many(dt):
                 zz = z + zdot * dt + 0.5 * g * dt * dt
-                return float(law.reduced_force(zz, zdot + g * dt, contact.stiffness,
-                                               contact.damping))
-            root = first_upward_root(phi, t_search)
+                return law.reduced_force(zz, zdot + g * dt, contact.stiffness, contact.damping)
+            root = first_upward_root(phi, t_search, func_many=phi_many)
             if root is not None:
                 return root
         if g == 0.0:
@@ -118,7 +147,7 @@ def gap_touch_time(plate, flight, z0, zdot0, contact, drag_rates):
 
     t = t0
     if z0 > 0.0:
-        law = contact.law
+        law, phi_at = contact.law, reduced_force_scalar(contact)
         stretch = 2.0 * abs(zdot0) / g + 1e-9
 
         def inside(t):
@@ -134,10 +163,14 @@ def gap_touch_time(plate, flight, z0, zdot0, contact, drag_rates):
             t_stop = out[0] if out is not None else t + stretch
 
             def phi(dt, start=t):
-                zz, rate = flight.state(start + dt)
-                return float(law.reduced_force(zz, rate, contact.stiffness, contact.damping))
+                return phi_at(*flight.state(start + dt))
 
-            root = first_upward_root(phi, t_stop - t)
+            def phi_many(dt, start=t):
+                y, v = flight.absolute(start + dt)
+                p, pv = plate.search_states(start + dt)
+                return law.reduced_force(p - y, pv - v, contact.stiffness, contact.damping)
+
+            root = first_upward_root(phi, t_stop - t, func_many=phi_many)
             if root is not None:
                 return t + root
             t = t_stop

@@ -23,7 +23,9 @@ A plate motion is any object with the methods of ``PlateMotion``:
   one lets it come to rest);
 * ``plan_flight(flight, ...)``: the flight's touch time and apex (``flights``);
 * ``samples(t)`` -> (p, ṗ, p̈) over an array of times, and ``states(t)`` -> (p, ṗ) arrays for
-  the engine's vectorised tick ends, or ``None`` where only ``state`` gives the exact numbers.
+  the engine's vectorised tick ends, or ``None`` where only ``state`` gives the exact numbers;
+  ``search_states(t)`` -> (p, ṗ) arrays for a flight's sampled root search (vectorised where
+  the motion can be, equal to round-off).
 
 Four are provided:
 
@@ -106,6 +108,13 @@ class PlateMotion:
         """(p, ṗ) arrays at the times t (s) for vectorised closed forms; ``None``: ``state``
         alone gives the numbers of the scalar path."""
         return None
+
+    def search_states(self, t):
+        """(p, ṗ) arrays (m, m/s) at the times t (s, an array) for a flight's sampled root
+        search (only the samples' signs are used; the root is refined with ``state``): numpy
+        where the motion has a vectorised formula, one ``state`` call each otherwise."""
+        rows = [self.state(float(ti))[:2] for ti in t]
+        return np.array([r[0] for r in rows]), np.array([r[1] for r in rows])
 
 
 @dataclass(frozen=True)
@@ -213,6 +222,11 @@ class SinusoidalPlate(PlateMotion):
         th = w * t + self.phase
         s, c = math.sin(th), math.cos(th)
         return a * s, a * w * c, -a * w * w * s
+
+    def search_states(self, t):
+        w, a = self.angular_frequency, self.amplitude
+        th = w * np.asarray(t, dtype=float) + self.phase
+        return a * np.sin(th), a * w * np.cos(th)
 
     def jerk(self, t):
         """d p̈ / dt (m/s³)."""

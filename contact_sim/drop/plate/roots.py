@@ -56,10 +56,22 @@ def first_gap_root(gap, t0, curvature_bound, t_max=math.inf, max_steps=100000,
         t = t_next
 
 
-def first_upward_root(func, t_max, samples=64):
+def first_upward_root(func, t_max, samples=64, func_many=None):
     """First t in (0, t_max] (s) where ``func`` goes from <= 0 to > 0, looked for on ``samples``
-    equal stretches and refined by Brent's method; ``None`` if none is seen."""
-    ts = np.linspace(0.0, t_max, samples + 1)
+    equal stretches and refined by Brent's method; ``None`` if none is seen.
+
+    ``func_many`` (optional) is ``func`` over an array of times, the same numbers elementwise:
+    the samples are then evaluated in one call, and ``func`` only refines the bracket.
+    """
+    ts = np.arange(samples + 1.0) * (t_max / samples)    # np.linspace's numbers, cheaper
+    ts[-1] = t_max
+    if func_many is not None:
+        values = np.asarray(func_many(ts), dtype=float)
+        up = np.flatnonzero((values[1:] > 0.0) & (values[:-1] <= 0.0))
+        if up.size == 0:
+            return None
+        i = int(up[0])
+        return brentq(func, ts[i], ts[i + 1], xtol=1e-18, rtol=1e-15)
     prev_t, prev_v = ts[0], func(ts[0])
     for t in ts[1:]:
         v = func(t)
