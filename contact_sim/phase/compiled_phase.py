@@ -9,7 +9,7 @@ import math
 import numpy as np
 
 from contact_sim.phase import compiled
-from contact_sim.phase.energy import potential
+from contact_sim.phase.energy import potential_at
 from contact_sim.phase.lift_off import force_can_vanish_inside
 from contact_sim.phase.scales import (DEFAULT_ATOL, DEFAULT_RTOL, FIRST_STEP, phase_scales,
                                       start_peak_force)
@@ -38,7 +38,7 @@ class CompiledPhase:
         k, mass_g = contact.stiffness, mass * sc.gravity * sc.length / sc.time ** 2
         g = mass_g / mass                           # as PhaseIntegrator.energy_above_rest
         z0 = contact.static_penetration(mass_g)
-        rest_potential = float(potential(contact, mass, g, z0))
+        rest_potential = potential_at(contact, mass, g, z0)
         # the layout of compiled.P_*; the forcing: gravity, and the terms of ``forcing``
         extra = (0.0,) * 5 if forcing is None else forcing.dimensionless(mass, sc, start_time)
         par = np.array([law.n, law.p, law.q, sc.damping,

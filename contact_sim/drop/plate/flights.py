@@ -12,6 +12,7 @@ z > 0 is penetration, ż > 0 approach.
 """
 import math
 
+from contact_sim.drop.plate.compiled_flight import NO_EXIT, sinusoid_touch_time
 from contact_sim.drop.plate.roots import EPS, first_gap_root, first_upward_root
 from contact_sim.flight import FlightPath
 
@@ -120,6 +121,23 @@ def gap_flight(plate, flight, z, zdot, contact, drag_rates, after_lift_off):
     if after_lift_off and flight.v0 > 0.0:
         path = flight.path
         return path.apex_height if path is not None else flight.y0 + 0.5 * flight.v0 * flight.v0 / g
+    return None
+
+
+def table_flight(plate, flight, z, zdot, contact, after_lift_off):
+    """``gap_flight`` over a ``SinusoidalPlate`` in vacuum, its touch time in compiled code
+    (``compiled_flight.sinusoid_touch_time``: the algorithm of ``gap_touch_time``, step for
+    step); returns the apex height (m) of a rising flight ``after_lift_off``, or ``None``."""
+    g, law = flight.gravity, contact.law
+    t = sinusoid_touch_time(flight.start, flight.y0, flight.v0, g, z, zdot, plate.amplitude,
+                            plate.angular_frequency, plate.phase, contact.stiffness,
+                            contact.damping, law.n - law.p, law.q,
+                            g + plate.acceleration_bound())
+    if t == NO_EXIT:
+        raise RuntimeError(f'no exit from the plate surface found after t = {flight.start!r}')
+    flight.contact_time = t
+    if after_lift_off and flight.v0 > 0.0:
+        return flight.y0 + 0.5 * flight.v0 * flight.v0 / g
     return None
 
 

@@ -48,12 +48,13 @@ C¹ bridge; ``commands.command_motion`` turns a trajectory command (timed set-po
 ``CommandedPlate`` that starts from the plate's current state and brakes to rest after the last
 point.
 """
+import functools
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from contact_sim.drop.plate.flights import ballistic_flight, gap_flight
+from contact_sim.drop.plate.flights import ballistic_flight, gap_flight, table_flight
 from contact_sim.phase import Forcing
 from contact_sim.validation import InputError, require_instance, require_range, require_real
 
@@ -223,6 +224,13 @@ class SinusoidalPlate(PlateMotion):
         s, c = math.sin(th), math.cos(th)
         return a * s, a * w * c, -a * w * w * s
 
+    def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
+        """In vacuum the touch time comes from compiled code (``flights.table_flight``), with
+        drag from ``flights.gap_flight`` (the reference path of both)."""
+        if drag_rates is None:
+            return table_flight(self, flight, z, zdot, contact, after_lift_off)
+        return gap_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off)
+
     def search_states(self, t):
         w, a = self.angular_frequency, self.amplitude
         th = w * np.asarray(t, dtype=float) + self.phase
@@ -254,8 +262,13 @@ class SinusoidalPlate(PlateMotion):
         return lo, hi
 
     def forcing_piece(self, t):
+        return self._forcing, math.inf
+
+    @functools.cached_property
+    def _forcing(self):
+        """The table's acceleration as a ``Forcing``, the same at every t (built once)."""
         w = self.angular_frequency
-        return Forcing(-self.amplitude * w * w, w, self.phase), math.inf
+        return Forcing(-self.amplitude * w * w, w, self.phase)
 
     def next_acceleration_below(self, t, level):
         """First t' >= t with p̈(t') = -a ω² sin(ω t' + ϕ) <= level (closed form)."""
