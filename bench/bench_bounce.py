@@ -11,6 +11,8 @@ is the figure to compare; the load average is printed beside it):
 * a bounce in a drop on the fixed plate (``simulate_drop``, 20 s of the contact of
   ``examples/bifurcation.py``), µs per bounce and its ratio to one ``simulate_impact`` at the
   drop's mean impact speed (target <= 1.5);
+* the same for the peers' problem of ``bench_peers.py`` (a Hunt-Crossley steel ball dropped from
+  1 m, 5 s);
 * a bounce on a vibrating table (``VibratingTable.run`` at Γ = 2, 400 impacts), µs per bounce and
   its ratio to ``simulate_impact``.
 
@@ -19,6 +21,7 @@ is the figure to compare; the load average is printed beside it):
 import argparse
 import math
 import os
+import sys
 import time
 
 import numpy as np
@@ -27,6 +30,9 @@ import contact_sim as cs
 from contact_sim import phase
 from contact_sim.drop.table import VibratingTable
 from contact_sim.phase import compiled
+
+sys.path.insert(0, os.path.dirname(__file__))
+from bench_peers import peers_contact  # noqa: E402
 
 MASS, STIFFNESS, E_1MS, FREQUENCY = 0.066, 1e10, 0.7, 10.0
 TARGET_IMPACT_OVER_KERNEL, TARGET_BOUNCE_OVER_IMPACT = 3.0, 1.5
@@ -49,9 +55,9 @@ def the_contact():
     return cs.Contact('azad_featherstone', STIFFNESS, lam)
 
 
-def kernel_time(contact, speed, gravity, repeat):
+def kernel_time(contact, mass, speed, gravity, repeat):
     """(s per phase, steps) of ``compiled.run`` alone on a prepared phase, to lift-off."""
-    ph = phase.contact_phase(contact, MASS, gravity, 0.0, 0.0, speed, keep_points=False)
+    ph = phase.contact_phase(contact, mass, gravity, 0.0, 0.0, speed, keep_points=False)
     state0 = ph._st.copy()
     st, k, f, par, buf = ph._st, ph._k, ph._f, ph._par, ph._buffer
     loops = 200
@@ -66,12 +72,12 @@ def kernel_time(contact, speed, gravity, repeat):
     return wall / loops, steps
 
 
-def impact_time(contact, speed, gravity, repeat):
+def impact_time(contact, mass, speed, gravity, repeat):
     loops = 200
 
     def many():
         for _ in range(loops):
-            out = cs.simulate_impact(contact, MASS, speed, gravity=gravity)
+            out = cs.simulate_impact(contact, mass, speed, gravity=gravity)
         return out
 
     wall, out = best_of(many, repeat)
@@ -92,6 +98,12 @@ def main():
                                                       duration=20.0), args.repeat)
     n_drop = len(drop.impacts)
     speed_drop = float(np.mean([i.impact_speed for i in drop.impacts]))
+    # the peers' problem of bench_peers.py (Hunt-Crossley steel ball, 1 m, 5 s, ~378 bounces)
+    hc, hc_mass = peers_contact()
+    wall_hc, hc_drop = best_of(lambda: cs.simulate_drop(hc, hc_mass, 1.0, gravity=g,
+                                                       duration=5.0), args.repeat)
+    n_hc = len(hc_drop.impacts)
+    speed_hc = float(np.mean([i.impact_speed for i in hc_drop.impacts]))
     # a vibrating table at Γ = 2 (period-1), 400 impacts
     table = VibratingTable(contact, MASS, FREQUENCY, bounces=300, transient=100,
                            restitution_guess=E_1MS)
@@ -101,15 +113,18 @@ def main():
 
     print(f'{"case":<34} {"speed (m/s)":>11} {"steps":>6} {"kernel (us)":>12} '
           f'{"impact (us)":>12} {"impact/kernel":>14} {"bounce (us)":>12} {"bounce/impact":>14}')
-    for name, speed, wall, count in (
-            (f'fixed plate, drop 0.2 m ({n_drop} bnc)', speed_drop, wall_drop, n_drop),
-            (f'table 10 Hz, G = 2 ({n_table} bnc)', speed_table, wall_table, n_table)):
-        kernel, steps = kernel_time(contact, speed, g, args.repeat)
-        impact, _ = impact_time(contact, speed, g, args.repeat)
+    for name, c, mass, speed, wall, count in (
+            (f'fixed plate, drop 0.2 m ({n_drop} bnc)', contact, MASS, speed_drop, wall_drop,
+             n_drop),
+            (f'fixed, peers\' HC 1 m ({n_hc} bnc)', hc, hc_mass, speed_hc, wall_hc, n_hc),
+            (f'table 10 Hz, G = 2 ({n_table} bnc)', contact, MASS, speed_table, wall_table,
+             n_table)):
+        kernel, steps = kernel_time(c, mass, speed, g, args.repeat)
+        impact, _ = impact_time(c, mass, speed, g, args.repeat)
         bounce = wall / count
         print(f'{name:<34} {speed:11.4g} {steps:6d} {kernel * 1e6:12.2f} {impact * 1e6:12.2f} '
               f'{impact / kernel:14.1f} {bounce * 1e6:12.1f} {bounce / impact:14.1f}')
-    kernel, steps = kernel_time(contact, 1.0, 0.0, args.repeat)
+    kernel, steps = kernel_time(contact, MASS, 1.0, 0.0, args.repeat)
     print(f'per kernel step (1 m/s, no gravity): {kernel / steps * 1e6:.3f} us '
           f'({steps} steps a phase)')
     print(f'targets: impact/kernel <= {TARGET_IMPACT_OVER_KERNEL:g}, bounce/impact <= '

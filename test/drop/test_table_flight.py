@@ -101,3 +101,33 @@ def test_a_flight_from_inside_the_surface_rising_above_a_fast_table():
         slow = Flight(reference, G, t0, z, zdot, contact, None, True)
         assert fast.contact_time > t0
         assert fast.contact_time == pytest.approx(slow.contact_time, rel=1e-14, abs=1e-13)
+
+
+@pytest.mark.parametrize('law', ['azad_featherstone', 'linear'])   # where φ can return
+def test_the_fixed_plates_force_return_inside_the_surface_is_the_reference_search(law):
+    """``compiled_flight.ballistic_force_return`` (``flights.touch_time``'s search after a
+    lift-off at z > 0) against ``roots.first_upward_root`` on numpy's φ, the Python path."""
+    from contact_sim.drop.plate import first_upward_root, touch_time
+    from contact_sim.drop.plate.compiled_flight import ballistic_force_return
+    from contact_sim.drop.plate.flights import surface_time
+    contact = contact_of(law)
+    k, lam, lw = contact.stiffness, contact.damping, contact.law
+    rng = np.random.default_rng(5)
+    found = 0
+    for _ in range(200):
+        z = 10.0 ** rng.uniform(-10.0, -5.0)     # just past a lift-off: φ(0) < 0
+        zdot = -(k * z ** (lw.n - lw.p) / lam) ** (1.0 / lw.q) * (1.0 + 10.0 ** rng.uniform(-6, -1))
+        t_search = min(surface_time(z, zdot, G), max(-zdot / G, 0.0))
+
+        def phi(dt):
+            return float(lw.reduced_force(z + zdot * dt + 0.5 * G * dt * dt, zdot + G * dt, k,
+                                          lam))
+        slow = first_upward_root(phi, t_search)
+        fast = ballistic_force_return(z, zdot, G, t_search, k, lam, lw.n - lw.p, lw.q)
+        if slow is None:
+            assert fast == -1.0
+        else:
+            found += 1
+            assert fast == pytest.approx(slow, rel=1e-14, abs=1e-18)
+            assert touch_time(z, zdot, G, contact) == fast
+    assert found > 10

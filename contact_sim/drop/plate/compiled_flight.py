@@ -224,3 +224,13 @@ def sinusoid_touch_time(t0, y0, v0, g, z0, zdot0, a, w, ph, k, lam, spring_expon
                 return t_root + nudge
             nudge *= 2.0
         t = t_root + nudge
+
+
+@njit('float64(float64, float64, float64, float64, float64, float64, float64, float64)', **_KW)
+def ballistic_force_return(z, zdot, g, t_search, k, lam, spring_exponent, q):
+    """Over the fixed plate, inside the undeformed surface with zero force (after a lift-off at
+    z > 0 (m), ż (m/s), under g (m/s²)): the first time dt in (0, t_search] (s) at which φ
+    turns positive, as ``flights.touch_time`` looks for it (64 samples, Brent); -1: none.
+    The flight's gap with a plate at rest is exactly z + ż dt + ½ g dt² (negations are exact)."""
+    return _first_upward_root(t_search, 0.0, (0.0, -z, -zdot, g), (0.0, 0.0, 0.0),
+                              (k, lam, spring_exponent, q))

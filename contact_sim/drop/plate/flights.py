@@ -12,7 +12,8 @@ z > 0 is penetration, ż > 0 approach.
 """
 import math
 
-from contact_sim.drop.plate.compiled_flight import NO_EXIT, sinusoid_touch_time
+from contact_sim.drop.plate.compiled_flight import (NO_EXIT, ballistic_force_return,
+                                                   sinusoid_touch_time)
 from contact_sim.drop.plate.roots import EPS, first_gap_root, first_upward_root
 from contact_sim.flight import FlightPath
 
@@ -63,16 +64,10 @@ def touch_time(z, zdot, gravity, contact):
         else:
             t_search = -z / zdot if zdot < 0.0 else 0.0
         if t_search > 0.0:
-            phi_at = reduced_force_scalar(contact)
-
-            def phi(dt):
-                return phi_at(z + zdot * dt + 0.5 * g * dt * dt, zdot + g * dt)
-
-            def phi_many(dt):
-                zz = z + zdot * dt + 0.5 * g * dt * dt
-                return law.reduced_force(zz, zdot + g * dt, contact.stiffness, contact.damping)
-            root = first_upward_root(phi, t_search, func_many=phi_many)
-            if root is not None:
+            # compiled: first_upward_root of φ(z + ż dt + ½ g dt², ż + g dt), step for step
+            root = ballistic_force_return(z, zdot, g, t_search, contact.stiffness,
+                                          contact.damping, law.n - law.p, law.q)
+            if root >= 0.0:
                 return root
         if g == 0.0:
             return math.inf
