@@ -1,7 +1,8 @@
 """The plate under the sphere: its motions (``motions``: the protocol, the fixed plate, the
 vibrating table, a switch; ``commanded``: set-points), the changes of motion at a time
 (``commands``: the table's bridge, trajectory commands, the table's settings), the flights over
-it (``flights``) and the root searches they use (``roots``)."""
+it (``flights``) and the root searches they use (``roots``; ``compiled_flight``: the same
+searches in numba for the vibrating table and the fixed plate)."""
 from contact_sim.drop.plate.commanded import CommandedPlate
 from contact_sim.drop.plate.commands import (BRIDGE_SPEED_MAX, BRIDGE_TIME, COMMAND_ACCELERATION_MAX,
                                              COMMAND_HORIZON, COMMAND_POSITION_MAX,
