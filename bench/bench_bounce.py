@@ -14,12 +14,14 @@ is the figure to compare; the load average is printed beside it):
 * the same for the peers' problem of ``bench_peers.py`` (a Hunt-Crossley steel ball dropped from
   1 m, 5 s);
 * a bounce on a vibrating table (``VibratingTable.run`` at Γ = 2, 400 impacts), µs per bounce and
-  its ratio to ``simulate_impact``.
+  its ratio to ``simulate_impact``; and the same orbit (40 s) with the compiled flights beside the
+  Python reference path they replace (``flights.gap_flight``).
 
     python bench/bench_bounce.py [--repeat 5]
 """
 import argparse
 import math
+from dataclasses import dataclass
 import os
 import sys
 import time
@@ -28,7 +30,9 @@ import numpy as np
 
 import contact_sim as cs
 from contact_sim import phase
-from contact_sim.drop.table import VibratingTable
+from contact_sim.drop.engine import DropSimulation
+from contact_sim.drop.plate import PlateMotion, SinusoidalPlate
+from contact_sim.drop.table import VibratingTable, period_one_threshold
 from contact_sim.phase import compiled
 
 sys.path.insert(0, os.path.dirname(__file__))
@@ -36,6 +40,15 @@ from bench_peers import peers_contact  # noqa: E402
 
 MASS, STIFFNESS, E_1MS, FREQUENCY = 0.066, 1e10, 0.7, 10.0
 TARGET_IMPACT_OVER_KERNEL, TARGET_BOUNCE_OVER_IMPACT = 3.0, 1.5
+
+
+@dataclass(frozen=True)
+class ReferenceTable(SinusoidalPlate):
+    """The table with its flights planned by the Python path (``flights.gap_flight``)."""
+
+    def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
+        return PlateMotion.plan_flight(self, flight, z, zdot, contact, drag_rates,
+                                       after_lift_off)
 
 
 def best_of(func, repeat):
@@ -110,6 +123,19 @@ def main():
     wall_table, (times, _, speeds) = best_of(lambda: table.run(2.0), args.repeat)
     n_table = times.size
     speed_table = float(np.mean(speeds))
+    # the same orbit with every flight planned by the Python reference (flights.gap_flight)
+    w = 2.0 * math.pi * FREQUENCY
+    g1 = period_one_threshold(E_1MS)
+    table_args = (2.0 * g / w ** 2, FREQUENCY, math.acos(g1 / 2.0))
+
+    def table_drop(plate):
+        sim = DropSimulation(contact, MASS, 0.0, velocity=-math.pi * g / w, gravity=g,
+                             plate=plate)
+        sim.advance(40.0)
+        return len(sim.impacts)
+
+    wall_fast, n_fast = best_of(lambda: table_drop(SinusoidalPlate(*table_args)), args.repeat)
+    wall_ref, n_ref = best_of(lambda: table_drop(ReferenceTable(*table_args)), args.repeat)
 
     print(f'{"case":<34} {"speed (m/s)":>11} {"steps":>6} {"kernel (us)":>12} '
           f'{"impact (us)":>12} {"impact/kernel":>14} {"bounce (us)":>12} {"bounce/impact":>14}')
@@ -124,6 +150,9 @@ def main():
         bounce = wall / count
         print(f'{name:<34} {speed:11.4g} {steps:6d} {kernel * 1e6:12.2f} {impact * 1e6:12.2f} '
               f'{impact / kernel:14.1f} {bounce * 1e6:12.1f} {bounce / impact:14.1f}')
+    print(f'table G = 2, 40 s: {wall_fast / n_fast * 1e6:.1f} us a bounce ({n_fast} bounces) '
+          f'with the compiled flights, {wall_ref / n_ref * 1e6:.1f} us ({n_ref}) with the '
+          f'Python reference flights (flights.gap_flight)')
     kernel, steps = kernel_time(contact, MASS, 1.0, 0.0, args.repeat)
     print(f'per kernel step (1 m/s, no gravity): {kernel / steps * 1e6:.3f} us '
           f'({steps} steps a phase)')
