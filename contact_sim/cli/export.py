@@ -23,8 +23,8 @@ def add_parser(sub):
              'each gives',
         description='The engine parameters that best reproduce the contact\'s e(v) over the\n'
                     'speeds (minimax), the e(v) the engine gives with them and its snippet.\n'
-                    'mujoco and pybullet are run (measured); drake and gazebo are predicted\n'
-                    'from their own law (a member of eq. 1).',
+                    'mujoco and pybullet are run (measured); drake is run where pydrake is\n'
+                    'installed (measured), else predicted from its own law, as gazebo is.',
         notes='\n\nexample:\n  contact-sim export mujoco --law azad_featherstone --sphere steel '
               '--plate cast_iron\n      --radius 0.0127 --damping-factor 8.87e5 --timestep 1e-3\n')
     p.add_argument('engine', choices=list(ENGINES), help='the simulator')
@@ -35,7 +35,8 @@ def add_parser(sub):
                         '--save-params file of `contact-sim bounces`); options given here '
                         'take precedence over its keys')
     p.add_argument('--timestep', type=float, default=1e-3,
-                   help="the engine's time step in s (default 1e-3), 0 < DT <= 0.1")
+                   help="the engine's time step in s (default 1e-3), 0 < DT <= 0.1; drake "
+                        'also takes 0, its continuous plant')
     add_speed_options(p, (0.1, 10.0), 10)
     p.add_argument('--format', choices=('text', 'json'), default='text',
                    help='text (a table and the snippet) or json (one record)')

@@ -2,9 +2,11 @@
 e(v) over a speed range, and the e(v) the engine gives with them.
 
 ``common`` (the target, the result, the minimax fit), one module an engine: ``mujoco_engine``
-and ``pybullet_engine`` run the engine (a free sphere thrown at a plane, gravity off: measured),
-``drake`` and ``gazebo`` evaluate the engine's law, a member of eq. 1 (predicted).  MuJoCo and
-PyBullet are optional (``pip install 'contact_sim[engines]'``).  ``geom_contact`` and ``audit``
+and ``pybullet_engine`` run the engine (a free sphere thrown at a plane, gravity off: measured);
+``drake`` runs pydrake's MultibodyPlant (``drake_plant``) where it is installed, else evaluates
+its law, a member of eq. 1 (predicted), as ``gazebo`` does.  MuJoCo and PyBullet are optional
+(``pip install 'contact_sim[engines]'``), Drake too (``pip install 'contact_sim[drake]'``,
+about 420 MB).  ``geom_contact`` and ``audit``
 measure the e(v) a sphere geom of a user's MuJoCo model gives.
 """
 from contact_sim.export.common import Export, Target, make_target

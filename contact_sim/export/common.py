@@ -62,6 +62,23 @@ def make_target(contact, mass, radius, speeds):
 
 
 @dataclass(frozen=True)
+class EngineFit:
+    """What one engine's export found: its ``parameters`` (the engine's own names), the
+    ``snippet`` to paste, the e at the target's speeds, whether that e was ``'measured'`` (the
+    engine run) or ``'predicted'`` (its law evaluated here), a ``note`` on what the parameters do
+    to the contact, and where the engine was run the contact ``duration`` (s) and ``peak_force``
+    (N) it gave at each speed (else None)."""
+
+    parameters: dict
+    snippet: str
+    restitution: np.ndarray
+    source: str
+    note: str
+    duration: object = None
+    peak_force: object = None
+
+
+@dataclass(frozen=True)
 class Export:
     """One engine's parameters for a target, and the e(v) the engine gives with them.
 
@@ -78,6 +95,8 @@ class Export:
     engine_restitution: np.ndarray
     engine_restitution_source: str
     note: str = ''   # what the parameters do to the contact's duration and depth (text only)
+    engine_duration: object = None     # s at each speed where the engine was run (text only)
+    engine_peak_force: object = None   # N at each speed where the engine was run (text only)
 
     @property
     def max_abs_error(self):
@@ -95,10 +114,11 @@ class Export:
                 'max_abs_error': self.max_abs_error}
 
 
-def require_timestep(timestep):
-    """``timestep`` (s) if 0 < timestep <= ``MAX_TIMESTEP``, else ``InputError`` keyed
-    ``timestep``."""
-    return require_range('timestep', timestep, 0.0, MAX_TIMESTEP, low_open=True, unit='s')
+def require_timestep(timestep, continuous=False):
+    """``timestep`` (s) if 0 < timestep <= ``MAX_TIMESTEP`` (0 too if the engine has a
+    ``continuous`` plant), else ``InputError`` keyed ``timestep``."""
+    return require_range('timestep', timestep, 0.0, MAX_TIMESTEP, low_open=not continuous,
+                         unit='s')
 
 
 def target_frequency(target):

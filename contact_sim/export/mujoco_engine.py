@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contact_sim.export.common import (fit_minimax, linear_contact_note, require_timestep,
+from contact_sim.export.common import (EngineFit, fit_minimax, linear_contact_note, require_timestep,
                                         resolved_frequency)
 from contact_sim.validation import InputError
 
@@ -70,9 +70,9 @@ def export_mujoco(target, timestep):
 
     Returns
     -------
-    (dict, str, numpy.ndarray, str)
-        The parameters, the MJCF ``<geom>`` the measured e(v) and
-        what the contact's duration and depth become.
+    EngineFit
+        The parameters, the MJCF ``<geom>``, the measured e(v) and what the contact's
+        duration and depth become.
     """
     timestep = require_timestep(timestep)
     w = resolved_frequency(target, timestep, STEPS_PER_RADIAN)
@@ -88,7 +88,7 @@ def export_mujoco(target, timestep):
     snippet = (f'<option timestep="{timestep:g}" integrator="{INTEGRATOR}"/>\n'
                f'<geom name="ball" type="sphere" size="{target.radius:g}" '
                f'mass="{target.mass:.6g}" {geom_attributes(solref(zeta), SOLIMP)}/>')
-    return params, snippet, e, linear_contact_note(target, w)
+    return EngineFit(params, snippet, e, 'measured', linear_contact_note(target, w))
 
 
 def version():

@@ -6,7 +6,7 @@ contactStiffness = m w^2 with w the target's contact frequency, lowered until a 
 0.05 rad of it; contactDamping = 2 zeta m w, with zeta fitted to the measured e."""
 import numpy as np
 
-from contact_sim.export.common import (fit_minimax, linear_contact_note, require_timestep,
+from contact_sim.export.common import (EngineFit, fit_minimax, linear_contact_note, require_timestep,
                                         resolved_frequency)
 STEPS_PER_RADIAN = 20.0    # w dt <= 0.05: e then moves < 0.01 with the impact's phase
 PHASES = 4                 # start offsets within one step, averaged
@@ -66,9 +66,9 @@ def export_pybullet(target, timestep):
 
     Returns
     -------
-    (dict, str, numpy.ndarray, str)
-        The parameters, the ``changeDynamics`` call the measured e(v) and
-        what the contact's duration and depth become.
+    EngineFit
+        The parameters, the ``changeDynamics`` call, the measured e(v) and what the contact's
+        duration and depth become.
     """
     timestep = require_timestep(timestep)
     w = resolved_frequency(target, timestep, STEPS_PER_RADIAN)
@@ -84,7 +84,7 @@ def export_pybullet(target, timestep):
     arguments = ', '.join(f'{key}={value!r}' for key, value in kwargs(zeta).items())
     snippet = (f'p.setTimeStep({timestep!r})\n'
                f'p.changeDynamics(ball_id, -1, {arguments})')
-    return params, snippet, e, linear_contact_note(target, w)
+    return EngineFit(params, snippet, e, 'measured', linear_contact_note(target, w))
 
 
 def version():

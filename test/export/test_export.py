@@ -34,18 +34,13 @@ def ode_restitution(force, mass, speed):
     return -out.y_events[0][0][1] / speed
 
 
-@pytest.mark.parametrize('engine', ['drake', 'gazebo'])
-def test_predicted_law_is_the_engines_law(engine):
+def test_gazebo_law_is_odes_kp_kd_law():
     target = steel_on_cast_iron()
-    result = export_contact(engine, target, 1e-3)
+    result = export_contact('gazebo', target, 1e-3)
     p = result.parameters
-    if engine == 'drake':   # f = k x (1 + d xdot)
-        k, d = p['point_contact_stiffness'], p['hunt_crossley_dissipation']
-        force = lambda x, xd: k * x * (1.0 + d * xd)   # noqa: E731
-    else:                   # ODE kp/kd: f = kp x + kd xdot
-        force = lambda x, xd: p['kp'] * x + p['kd'] * xd   # noqa: E731
     # impacts toward the plate: x is the penetration, xdot its rate (positive inward)
-    direct = [ode_restitution(lambda x, xd: force(x, xd), target.mass, v) for v in SPEEDS]
+    direct = [ode_restitution(lambda x, xd: p['kp'] * x + p['kd'] * xd, target.mass, v)
+              for v in SPEEDS]
     assert result.engine_restitution_source == 'predicted'
     np.testing.assert_allclose(result.engine_restitution, direct, atol=1e-6)
 
