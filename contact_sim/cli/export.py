@@ -11,6 +11,7 @@ from contact_sim.cli.options import LAW_NAMES, contact_command, plot_option
 from contact_sim.cli.params_file import apply_params_file
 from contact_sim.cli.restitution import _speeds, add_speed_options
 from contact_sim.export import ENGINES, export_contact, make_target
+from contact_sim.impact import contact_duration, peak_force
 from contact_sim.model import get_law
 from contact_sim.validation import InputError
 
@@ -83,12 +84,28 @@ def run(args):
           f'{result.max_abs_error:.4f} (half the target\'s spread: {spread:.4f})')
     print(f'# {ENGINES[result.engine].limit}')
     print(f'# {result.note}')
-    print(f'# {"speed (m/s)":>13} {"target e":>10} {"engine e":>10} {"error":>10}')
-    for v, target, engine in zip(result.target.speeds, result.target.restitution,
-                                 result.engine_restitution):
-        print(f'{v:15.6g} {target:10.5f} {engine:10.5f} {engine - target:+10.5f}')
+    print_table(result)
     print_snippet(result)
     return 0
+
+
+def print_table(result):
+    """speed, target e, engine e, error; then the contact duration (s) and peak force (N) of
+    the target and of the engine, where the engine's are known."""
+    target = result.target
+    columns = [target.restitution, result.engine_restitution,
+               result.engine_restitution - target.restitution]
+    header = f'# {"speed (m/s)":>13} {"target e":>10} {"engine e":>10} {"error":>10}'
+    if result.engine_duration is not None:
+        columns += [contact_duration(target.contact, target.mass, target.speeds),
+                    result.engine_duration, peak_force(target.contact, target.mass,
+                                                       target.speeds), result.engine_peak_force]
+        header += (f' {"target T (s)":>12} {"engine T (s)":>12} {"target F (N)":>12} '
+                   f'{"engine F (N)":>12}')
+    print(header)
+    for v, *row in zip(target.speeds, *columns):
+        e_row = f'{v:15.6g} {row[0]:10.5f} {row[1]:10.5f} {row[2]:+10.5f}'
+        print(e_row + ''.join(f' {x:12.4g}' for x in row[3:]))
 
 
 def print_snippet(result):

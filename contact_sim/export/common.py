@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from contact_sim.impact import contact_duration, max_penetration, restitution
+from contact_sim.impact import contact_duration, max_penetration, peak_force, restitution
 from contact_sim.model import Contact, require_contact
 from contact_sim.validation import require_positive, require_range
 
@@ -66,8 +66,8 @@ class EngineFit:
     """What one engine's export found: its ``parameters`` (the engine's own names), the
     ``snippet`` to paste, the e at the target's speeds, whether that e was ``'measured'`` (the
     engine run) or ``'predicted'`` (its law evaluated here), a ``note`` on what the parameters do
-    to the contact, and where the engine was run the contact ``duration`` (s) and ``peak_force``
-    (N) it gave at each speed (else None)."""
+    to the contact, and the contact ``duration`` (s) and ``peak_force`` (N) the engine gives at
+    each speed (measured or from its law, as e; None where neither is known)."""
 
     parameters: dict
     snippet: str
@@ -95,8 +95,8 @@ class Export:
     engine_restitution: np.ndarray
     engine_restitution_source: str
     note: str = ''   # what the parameters do to the contact's duration and depth (text only)
-    engine_duration: object = None     # s at each speed where the engine was run (text only)
-    engine_peak_force: object = None   # N at each speed where the engine was run (text only)
+    engine_duration: object = None     # s at each speed, as the e (the text table only)
+    engine_peak_force: object = None   # N at each speed, as the e (the text table only)
 
     @property
     def max_abs_error(self):
@@ -167,6 +167,16 @@ def fit_minimax(engine_restitution, target, low, high):
     best = minimize_scalar(worst, bounds=(low, high), method='bounded',
                            options={'xatol': 1e-5 * (high - low)})
     return float(best.x), np.asarray(engine_restitution(best.x))
+
+
+def law_contact(law, stiffness, damping, mass, speeds):
+    """(contact duration in s, peak force in N) at ``speeds`` (m/s) of ``law`` with
+    ``stiffness`` and ``damping``, ``mass`` (kg), exactly: an engine whose law is of eq. 1."""
+    contact = Contact(law, stiffness, damping)
+    with warnings.catch_warnings():   # the exact path is expected here
+        warnings.simplefilter('ignore', RuntimeWarning)
+        return (np.asarray(contact_duration(contact, mass, speeds)),
+                np.asarray(peak_force(contact, mass, speeds)))
 
 
 def law_restitution(law, stiffness, mass, speeds):

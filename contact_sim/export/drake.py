@@ -4,7 +4,7 @@ not, the e(v) is this library's exact restitution of that law (predicted)."""
 import numpy as np
 
 from contact_sim.export import drake_plant
-from contact_sim.export.common import (EngineFit, fit_minimax, law_restitution,
+from contact_sim.export.common import (EngineFit, fit_minimax, law_contact, law_restitution,
                                         linear_contact_note, require_timestep, resolved_frequency,
                                         target_frequency)
 from contact_sim.model import ContactLaw
@@ -46,7 +46,8 @@ def export_drake(target, timestep):
     k = target.mass * w * w
     law_e = law_restitution(DRAKE_POINT_CONTACT, k, target.mass, target.speeds)
     lam, e = fit_minimax(law_e, target, 0.0, k * 20.0 / float(np.median(target.speeds)))
-    d, source, duration, peak = lam / k, 'predicted', None, None
+    d, source = lam / k, 'predicted'
+    duration, peak = law_contact(DRAKE_POINT_CONTACT, k, lam, target.mass, target.speeds)
     if drake_plant.importable():
         def measured(dissipation):
             return drake_plant.measure(target.radius, target.mass, target.speeds, k,

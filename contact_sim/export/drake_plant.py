@@ -81,7 +81,8 @@ def build(radius, mass, stiffness, dissipation, time_step):
 
 def throw(system, radius, speed, gap, chunk):
     """(e, contact duration in s, peak normal force in N) of one throw at ``speed`` (m/s) from
-    ``gap`` (m) above the half-space, the state looked at every ``chunk`` (s)."""
+    ``gap`` (m) above the half-space, the state looked at every ``chunk`` (s): the duration
+    counts the chunks that end with a contact force > 0."""
     d = _pydrake()
     diagram, plant, ball = system
     simulator = d.Simulator(diagram)
@@ -99,9 +100,9 @@ def throw(system, radius, speed, gap, chunk):
         simulator.AdvanceTo(t)
         contacts = results.Eval(context)
         if contacts.num_point_pair_contacts():
-            touching += 1
-            force = contacts.point_pair_contact_info(0).contact_force()
-            peak = max(peak, abs(float(force[2])))
+            force = abs(float(contacts.point_pair_contact_info(0).contact_force()[2]))
+            if force > 0.0:
+                touching, peak = touching + 1, max(peak, force)
         z, vz = plant.GetPositions(context)[6], plant.GetVelocities(context)[5]
         if vz > 0.0 and z > radius + gap:
             return vz / speed, touching * chunk, peak

@@ -24,8 +24,10 @@ def dynamics(stiffness, damping):
 
 
 def throw(client, radius, mass, speed, gap, timestep, kwargs):
-    """e of one throw at ``speed`` (m/s) in the PyBullet ``client``, the ball starting ``gap``
-    (m) above a plane, at ``timestep`` (s), with ``changeDynamics(**kwargs)`` on the ball."""
+    """(e, contact duration in s, peak normal force in N) of one throw at ``speed`` (m/s) in
+    the PyBullet ``client``, the ball starting ``gap`` (m) above a plane, at ``timestep`` (s),
+    with ``changeDynamics(**kwargs)`` on the ball; the duration counts the steps with a contact
+    point of positive normal force."""
     p = _pybullet()
     p.resetSimulation(physicsClientId=client)
     p.setGravity(0, 0, 0, physicsClientId=client)
@@ -38,26 +40,37 @@ def throw(client, radius, mass, speed, gap, timestep, kwargs):
     p.changeDynamics(ball, -1, linearDamping=0.0, angularDamping=0.0, physicsClientId=client,
                      **kwargs)
     p.resetBaseVelocity(ball, [0, 0, -speed], physicsClientId=client)
+    touching, peak = 0, 0.0
     for _ in range(1_000_000):
         p.stepSimulation(physicsClientId=client)
+        force = sum(point[9] for point in p.getContactPoints(ball, physicsClientId=client))
+        if force > 0.0:
+            touching, peak = touching + 1, max(peak, force)
         height = p.getBasePositionAndOrientation(ball, physicsClientId=client)[0][2]
         vz = p.getBaseVelocity(ball, physicsClientId=client)[0][2]
         if vz > 0.0 and height > radius + gap:
-            return vz / speed
+            return vz / speed, touching * timestep, peak
     raise ArithmeticError(f'PyBullet did not rebound at {speed:g} m/s')   # never in tests
 
 
-def measure(radius, mass, speeds, timestep, kwargs):
-    """PyBullet's e at each of ``speeds`` (m/s), the mean over ``PHASES`` start offsets within
-    one step (s), with ``changeDynamics(**kwargs)`` on the ball."""
+def measure_contact(radius, mass, speeds, timestep, kwargs):
+    """PyBullet's (e, duration, peak force) at each of ``speeds`` (m/s), an array (n, 3), the
+    mean over ``PHASES`` start offsets within one step (s), with ``changeDynamics(**kwargs)``
+    on the ball."""
     p = _pybullet()
     client = p.connect(p.DIRECT)
     try:
         fractions = (np.arange(PHASES) + 0.5) / PHASES
         return np.array([np.mean([throw(client, radius, mass, v, START_GAP + f * v * timestep,
-                                        timestep, kwargs) for f in fractions]) for v in speeds])
+                                        timestep, kwargs) for f in fractions], axis=0)
+                         for v in speeds])
     finally:
         p.disconnect(physicsClientId=client)
+
+
+def measure(radius, mass, speeds, timestep, kwargs):
+    """PyBullet's e at each of ``speeds`` (m/s) (``measure_contact``)."""
+    return measure_contact(radius, mass, speeds, timestep, kwargs)[:, 0]
 
 
 def export_pybullet(target, timestep):
@@ -79,12 +92,15 @@ def export_pybullet(target, timestep):
 
     def engine_e(zeta):
         return measure(target.radius, target.mass, target.speeds, timestep, kwargs(zeta))
-    zeta, e = fit_minimax(engine_e, target, 0.0, 1.0)
+    zeta, _ = fit_minimax(engine_e, target, 0.0, 1.0)
+    e, duration, peak = measure_contact(target.radius, target.mass, target.speeds, timestep,
+                                        kwargs(zeta)).T
     params = dict(kwargs(zeta), timestep=timestep)
     arguments = ', '.join(f'{key}={value!r}' for key, value in kwargs(zeta).items())
     snippet = (f'p.setTimeStep({timestep!r})\n'
                f'p.changeDynamics(ball_id, -1, {arguments})')
-    return EngineFit(params, snippet, e, 'measured', linear_contact_note(target, w))
+    return EngineFit(params, snippet, e, 'measured', linear_contact_note(target, w), duration,
+                     peak)
 
 
 def version():

@@ -2,13 +2,12 @@
 'contact_sim[drake]'`): the e(v) the export reports is what Drake gives the snippet's SDFormat
 (this test's own plant, parsed from the snippet) within 0.01, for the discrete plant at 1e-3 s
 and the continuous plant; the continuous plant gives the law f = k x (1 + d xdot), its peak
-force too (so the two geometries' 2k combine to k)."""
+duration and peak force too (so the two geometries' 2k combine to k)."""
 import re
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
-from .test_export import RADIUS, SPEEDS, steel_on_cast_iron
+from .test_export import RADIUS, SPEEDS, ode_contact, steel_on_cast_iron
 
 from contact_sim.export import export_contact
 from contact_sim.export.drake import drake_law_restitution
@@ -71,16 +70,6 @@ def test_drake_gives_what_the_export_says(timestep):
             assert abs(snippet_throw(system, speed, gap) - said) < 0.01
 
 
-def law_peak_force(k, dissipation, mass, speed):
-    """The peak of k x (1 + d xdot) in m x'' = -force from x = 0, x' = speed (this test's own)."""
-    def rhs(_, y):
-        return [y[1], -k * y[0] * (1.0 + dissipation * y[1]) / mass]
-    out = solve_ivp(rhs, (0.0, 10.0 / np.sqrt(k / mass)), [0.0, speed], rtol=1e-10,
-                    atol=1e-14, dense_output=True)
-    x, xd = out.sol(np.linspace(0.0, out.t[-1], 20001))
-    return float(np.max(k * x * (1.0 + dissipation * xd)))
-
-
 def test_continuous_plant_is_the_law():
     target = steel_on_cast_iron()
     result = export_contact('drake', target, 0.0)
@@ -88,5 +77,9 @@ def test_continuous_plant_is_the_law():
     dissipation = result.parameters['hunt_crossley_dissipation']
     law = drake_law_restitution(k, dissipation, target.mass, SPEEDS)
     assert result.engine_restitution == pytest.approx(law, abs=1e-4)
-    peaks = [law_peak_force(k, dissipation, target.mass, v) for v in SPEEDS]
-    assert result.engine_peak_force == pytest.approx(peaks, rel=0.01)
+    # this test's own integration of the law: e, the time the force is > 0 and its peak
+    e, duration, peak = np.transpose([ode_contact(
+        lambda x, xd: k * x * (1.0 + dissipation * xd), target.mass, v) for v in SPEEDS])
+    assert result.engine_restitution == pytest.approx(e, abs=1e-4)
+    assert result.engine_peak_force == pytest.approx(peak, rel=0.01)
+    assert result.engine_duration == pytest.approx(duration, rel=0.03)
