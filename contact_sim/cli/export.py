@@ -10,7 +10,8 @@ from contact_sim.cli.contact import build_setup, describe_contact
 from contact_sim.cli.options import LAW_NAMES, contact_command, plot_option
 from contact_sim.cli.params_file import apply_params_file
 from contact_sim.cli.restitution import _speeds, add_speed_options
-from contact_sim.export import ENGINES, export_contact, make_target
+from contact_sim.export import (ENGINES, TIMESTEPS, export_contact, make_target,
+                                require_tolerance, timestep_for_tolerance)
 from contact_sim.impact import contact_duration, peak_force
 from contact_sim.model import get_law
 from contact_sim.validation import InputError
@@ -39,6 +40,10 @@ def add_parser(sub):
                    help="the engine's time step in s (default 1e-3), 0 < DT <= 0.1; drake "
                         'also takes 0, its continuous plant')
     add_speed_options(p, (0.1, 10.0), 10)
+    p.add_argument('--tolerance', type=float, metavar='TOL',
+                   help='also search the time steps ' + ', '.join(f'{x:g}' for x in TIMESTEPS)
+                        + ' s for the largest whose export misses the target e by at most TOL '
+                        '(text output; a linear law below half the target\'s spread: none)')
     p.add_argument('--format', choices=('text', 'json'), default='text',
                    help='text (a table and the snippet) or json (one record)')
     plot_option(p, 'target and engine e vs speed')
@@ -68,6 +73,14 @@ def export_of(args):
 
 def run(args):
     """Print the export (a table and the snippet, or one JSON record); exit status 0."""
+    if args.tolerance is not None:
+        if args.format == 'json':
+            raise ValueError('--tolerance is reported in the text output: allowed with '
+                             '--format text only')
+        try:
+            require_tolerance(args.tolerance)
+        except InputError as error:
+            raise error.rekeyed('--tolerance') from None
     setup, result = export_of(args)
     law = result.target.contact.law.name
     if args.plot:
@@ -86,7 +99,25 @@ def run(args):
     print(f'# {result.note}')
     print_table(result)
     print_snippet(result)
+    if args.tolerance is not None:
+        print_search(timestep_for_tolerance(result.engine, result.target, args.tolerance))
     return 0
+
+
+def print_search(search):
+    """The time step search's outcome, as comment lines."""
+    for timestep, error in search.tried:
+        print(f'# time step {timestep:g} s: max |error| = {error:.4f}')
+    if search.timestep is not None:
+        print(f'# tolerance {search.tolerance:g}: the largest time step that meets it is '
+              f'{search.timestep:g} s')
+    elif search.floor is not None and not search.tried:
+        print(f'# tolerance {search.tolerance:g}: none does for a linear law: the best '
+              f'achievable max |error| is half the target\'s spread, {search.floor:.4f}, at '
+              'any time step')
+    else:
+        print(f'# tolerance {search.tolerance:g}: none of the time steps meets it; the best '
+              f'max |error| found is {search.best_error:.4f}')
 
 
 def print_table(result):

@@ -12,6 +12,9 @@ measure the e(v) a sphere geom of a user's MuJoCo model gives.
 from contact_sim.export.common import Export, Target, make_target
 from contact_sim.export.engines import ENGINES, Engine, export_contact
 from contact_sim.export.mujoco_engine import GeomContact, audit, geom_contact
+from contact_sim.export.tolerance import (TIMESTEPS, TimestepSearch, require_tolerance,
+                                          timestep_for_tolerance)
 
-__all__ = ['ENGINES', 'Engine', 'Export', 'GeomContact', 'Target', 'audit', 'export_contact',
-           'geom_contact', 'make_target']
+__all__ = ['ENGINES', 'Engine', 'Export', 'GeomContact', 'TIMESTEPS', 'Target', 'TimestepSearch',
+           'audit', 'export_contact', 'geom_contact', 'make_target', 'require_tolerance',
+           'timestep_for_tolerance']

@@ -34,6 +34,14 @@ ENGINES = {engine.name: engine for engine in (
     Engine('gazebo', gazebo.export_gazebo, lambda: 'ODE (kp/kd)', LINEAR_LIMIT, True))}
 
 
+def require_engine(engine):
+    """The ``Engine`` named ``engine``, else ``InputError`` keyed ``engine``."""
+    if engine not in ENGINES:
+        raise InputError('engine', engine, '{n[engine]} = {value} is unknown: allowed '
+                         + ', '.join(ENGINES), value=repr(engine))
+    return ENGINES[engine]
+
+
 def export_contact(engine, target, timestep):
     """Export ``target`` (``common.Target``) to ``engine`` (a name in ``ENGINES``) at
     ``timestep`` (s).
@@ -54,10 +62,7 @@ def export_contact(engine, target, timestep):
     >>> export_contact('gazebo', make_target(contact, mass, 0.0127, [0.1, 1.0]), 1e-3)
     ... # doctest: +SKIP
     """
-    if engine not in ENGINES:
-        raise InputError('engine', engine, '{n[engine]} = {value} is unknown: allowed '
-                         + ', '.join(ENGINES), value=repr(engine))
-    chosen = ENGINES[engine]
+    chosen = require_engine(engine)
     fit = chosen.export(target, timestep)
     return Export(engine, chosen.version(), target, fit.parameters, fit.snippet,
                   np.asarray(fit.restitution), fit.source, fit.note, fit.duration,

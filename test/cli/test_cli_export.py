@@ -62,6 +62,24 @@ def test_bad_input_names_the_option(capsys, argv, option):
     assert option in err and 'allowed' in err
 
 
+def test_tolerance_says_none_does_for_a_linear_law(capsys):
+    code, out, _ = run(capsys, ['export', 'gazebo', *STEEL_ON_CAST_IRON, '--speeds', '0.1,10',
+                                '--tolerance', '0.01'])
+    assert code == 0
+    assert '# tolerance 0.01: none does for a linear law' in out
+    code, out, _ = run(capsys, ['export', 'gazebo', *STEEL_ON_CAST_IRON, '--speeds', '0.1,10',
+                                '--tolerance', '0.2'])
+    assert 'the largest time step that meets it is 0.01 s' in out
+
+
+@pytest.mark.parametrize('argv', [['--tolerance', '0'], ['--tolerance', '0.1', '--format',
+                                                          'json']])
+def test_bad_tolerance_names_the_option(capsys, argv):
+    code, out, err = run(capsys, ['export', 'gazebo', *STEEL_ON_CAST_IRON, *argv])
+    assert code == 2 and out == ''
+    assert '--tolerance' in err and 'allowed' in err
+
+
 def test_radius_is_needed(capsys):
     code, _, err = run(capsys, ['export', 'gazebo', '--stiffness', '1e9', '--mass', '0.1',
                                 '--damping', '1e4', '--law', 'azad_featherstone'])
