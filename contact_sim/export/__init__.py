@@ -7,14 +7,16 @@ and ``pybullet_engine`` run the engine (a free sphere thrown at a plane, gravity
 its law, a member of eq. 1 (predicted), as ``gazebo`` does.  MuJoCo and PyBullet are optional
 (``pip install 'contact_sim[engines]'``), Drake too (``pip install 'contact_sim[drake]'``,
 about 420 MB).  ``geom_contact`` and ``audit``
-measure the e(v) a sphere geom of a user's MuJoCo model gives.
+measure the e(v) a sphere geom of a user's MuJoCo model gives, ``link_contact`` and
+``audit_link`` a sphere link of a URDF in PyBullet.
 """
 from contact_sim.export.common import Export, Target, make_target
 from contact_sim.export.engines import ENGINES, Engine, export_contact
 from contact_sim.export.mujoco_engine import GeomContact, audit, geom_contact
+from contact_sim.export.pybullet_audit import LinkContact, audit_link, link_contact
 from contact_sim.export.tolerance import (TIMESTEPS, TimestepSearch, require_tolerance,
                                           timestep_for_tolerance)
 
-__all__ = ['ENGINES', 'Engine', 'Export', 'GeomContact', 'TIMESTEPS', 'Target', 'TimestepSearch',
-           'audit', 'export_contact', 'geom_contact', 'make_target', 'require_tolerance',
-           'timestep_for_tolerance']
+__all__ = ['ENGINES', 'Engine', 'Export', 'GeomContact', 'LinkContact', 'TIMESTEPS', 'Target',
+           'TimestepSearch', 'audit', 'audit_link', 'export_contact', 'geom_contact',
+           'link_contact', 'make_target', 'require_tolerance', 'timestep_for_tolerance']

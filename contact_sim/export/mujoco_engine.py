@@ -132,6 +132,12 @@ class GeomContact:
     timestep: float
     integrator: str
 
+    def describe(self):
+        """One line: the geom's contact as MuJoCo reads it."""
+        return (f'solref = {list(self.solref)}, solimp = {list(self.solimp)}, timestep = '
+                f'{self.timestep:g} s, integrator {self.integrator}, R = {self.radius:g} m, '
+                f'm = {self.mass:.6g} kg')
+
 
 def geom_contact(path, geom):
     """The contact of the sphere ``geom`` (a name) in the MJCF file ``path``.

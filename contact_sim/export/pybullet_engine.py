@@ -23,17 +23,19 @@ def dynamics(stiffness, damping):
     return {'restitution': 0.0, 'contactStiffness': stiffness, 'contactDamping': damping}
 
 
-def throw(client, radius, mass, speed, gap, timestep, kwargs):
+def throw(client, radius, mass, speed, gap, timestep, kwargs, ground=None):
     """(e, contact duration in s, peak normal force in N) of one throw at ``speed`` (m/s) in
     the PyBullet ``client``, the ball starting ``gap`` (m) above a plane, at ``timestep`` (s),
-    with ``changeDynamics(**kwargs)`` on the ball; the duration counts the steps with a contact
-    point of positive normal force."""
+    with ``changeDynamics(**kwargs)`` on the ball (and ``ground`` on the plane, if given); the
+    duration counts the steps with a contact point of positive normal force."""
     p = _pybullet()
     p.resetSimulation(physicsClientId=client)
     p.setGravity(0, 0, 0, physicsClientId=client)
     p.setTimeStep(timestep, physicsClientId=client)
-    p.createMultiBody(0, p.createCollisionShape(p.GEOM_PLANE, physicsClientId=client),
-                      physicsClientId=client)
+    plane = p.createMultiBody(0, p.createCollisionShape(p.GEOM_PLANE, physicsClientId=client),
+                              physicsClientId=client)
+    if ground:
+        p.changeDynamics(plane, -1, physicsClientId=client, **ground)
     ball = p.createMultiBody(mass, p.createCollisionShape(p.GEOM_SPHERE, radius=radius,
                                                           physicsClientId=client),
                              basePosition=[0, 0, radius + gap], physicsClientId=client)
@@ -53,24 +55,24 @@ def throw(client, radius, mass, speed, gap, timestep, kwargs):
     raise ArithmeticError(f'PyBullet did not rebound at {speed:g} m/s')   # never in tests
 
 
-def measure_contact(radius, mass, speeds, timestep, kwargs):
+def measure_contact(radius, mass, speeds, timestep, kwargs, ground=None):
     """PyBullet's (e, duration, peak force) at each of ``speeds`` (m/s), an array (n, 3), the
     mean over ``PHASES`` start offsets within one step (s), with ``changeDynamics(**kwargs)``
-    on the ball."""
+    on the ball and ``ground`` on the plane."""
     p = _pybullet()
     client = p.connect(p.DIRECT)
     try:
         fractions = (np.arange(PHASES) + 0.5) / PHASES
         return np.array([np.mean([throw(client, radius, mass, v, START_GAP + f * v * timestep,
-                                        timestep, kwargs) for f in fractions], axis=0)
+                                        timestep, kwargs, ground) for f in fractions], axis=0)
                          for v in speeds])
     finally:
         p.disconnect(physicsClientId=client)
 
 
-def measure(radius, mass, speeds, timestep, kwargs):
+def measure(radius, mass, speeds, timestep, kwargs, ground=None):
     """PyBullet's e at each of ``speeds`` (m/s) (``measure_contact``)."""
-    return measure_contact(radius, mass, speeds, timestep, kwargs)[:, 0]
+    return measure_contact(radius, mass, speeds, timestep, kwargs, ground)[:, 0]
 
 
 def export_pybullet(target, timestep):
