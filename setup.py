@@ -17,7 +17,7 @@ setup(
     install_requires=['setuptools', 'numpy', 'scipy', 'numba'],
     extras_require={'plot': ['matplotlib'], 'record': ['rosbags'], 'test': ['pytest'],
                     'dask': ['dask[distributed]'],
-                    'engines': ['mujoco', 'pybullet']},
+                    'engines': ['mujoco', 'pybullet'], 'drake': ['drake']},
     zip_safe=True,
     maintainer='contact_sim developers',
     maintainer_email='dev@contact-sim.local',

@@ -1,28 +1,43 @@
-"""`contact-sim audit mujoco MODEL.xml --geom NAME`: the e(v) a sphere geom of a user's MuJoCo
-model gives (MuJoCo run: the sphere thrown at a plane, gravity off), beside a target contact's,
-with the export's suggestion for the model's time step."""
+"""`contact-sim audit mujoco MODEL.xml --geom NAME` and `contact-sim audit pybullet MODEL.urdf
+--link NAME`: the e(v) a sphere geom of a user's MuJoCo model, or a sphere link of a URDF in
+PyBullet, gives (the engine run: the sphere thrown at a plane, gravity off), beside a target
+contact's, with the export's suggestion for the same time step."""
 import numpy as np
 
 from contact_sim.cli.export import export_of, print_snippet
 from contact_sim.cli.restitution import add_speed_options
 from contact_sim.cli.options import LAW_NAMES, contact_command
-from contact_sim.export import audit, geom_contact
+from contact_sim.export import audit, audit_link, geom_contact, link_contact
+
+# engine -> (read the model's contact, measure its e(v), the option naming the sphere)
+AUDITS = {'mujoco': (lambda args: geom_contact(args.model, args.geom), audit, '--geom'),
+          'pybullet': (lambda args: link_contact(args.model, args.link, args.timestep),
+                       audit_link, '--link')}
 
 
 def add_parser(sub):
     """Register the subcommand on the subparsers ``sub``."""
     p = contact_command(
         sub, 'audit',
-        help="the e(v) a geom of a MuJoCo model gives, beside a target contact's",
+        help="the e(v) a geom of a MuJoCo model or a link of a URDF gives, beside a target's",
         description="The e(v) of a sphere geom in the user's MuJoCo model (its solref, solimp,\n"
                     "the model's time step and integrator; the sphere thrown at a plane at\n"
                     "MuJoCo's defaults, gravity off), beside the target contact's e(v), and the\n"
-                    'parameters `contact-sim export mujoco` suggests for that time step.',
+                    'parameters `contact-sim export mujoco` suggests for that time step.\n'
+                    'pybullet: the sphere link of a URDF (its <contact> restitution, stiffness,\n'
+                    'damping as PyBullet reads them) thrown at a plane of restitution 1 at\n'
+                    '--timestep, beside the target, with `contact-sim export pybullet`\'s.',
         notes='\n\nexample:\n  contact-sim audit mujoco ball.xml --geom ball --law azad_featherstone '
-              '--sphere steel\n      --plate cast_iron --radius 0.0127 --damping-factor 8.87e5\n')
-    p.add_argument('engine', choices=['mujoco'], help='the simulator of the model')
-    p.add_argument('model', metavar='MODEL.xml', help='the MJCF file')
-    p.add_argument('--geom', required=True, metavar='NAME', help='the sphere geom to audit')
+              '--sphere steel\n      --plate cast_iron --radius 0.0127 --damping-factor 8.87e5\n'
+              '  contact-sim audit pybullet ball.urdf --link ball --sphere steel --plate '
+              'cast_iron\n      --radius 0.0127 --damping-factor 8.87e5\n')
+    p.add_argument('engine', choices=list(AUDITS), help='the simulator of the model')
+    p.add_argument('model', metavar='MODEL', help='the MJCF file (mujoco) or URDF (pybullet)')
+    p.add_argument('--geom', metavar='NAME', help='mujoco: the sphere geom to audit')
+    p.add_argument('--link', metavar='NAME', help='pybullet: the sphere link to audit')
+    p.add_argument('--timestep', type=float, default=1.0 / 240.0,
+                   help="pybullet: the step in s (default 1/240, PyBullet's); mujoco uses "
+                        "the model's")
     p.add_argument('--law', choices=LAW_NAMES,
                    help='the target force law (default azad_featherstone)')
     add_speed_options(p, (0.1, 10.0), 10)
@@ -31,18 +46,20 @@ def add_parser(sub):
 
 def run(args):
     """Print the model's e(v) beside the target's, then the export's suggestion; exit 0."""
-    names = {'model': 'MODEL.xml', 'geom': '--geom'}
+    read, measure, option = AUDITS[args.engine]
+    if getattr(args, option[2:]) is None:
+        raise ValueError(f'{option} is missing: audit {args.engine} needs {option} NAME, the '
+                         'sphere to audit')
+    names = {'model': 'MODEL', 'geom': '--geom', 'link': '--link', 'timestep': '--timestep'}
     try:
-        contact = geom_contact(args.model, args.geom)
+        contact = read(args)
     except ValueError as error:   # InputError: spelled as this command's arguments
         raise ValueError(error.render(names)) from None
     args.timestep = contact.timestep
     _, suggestion = export_of(args)
     target = suggestion.target
-    model_e = audit(contact, target.speeds)
-    print(f'# {args.model}, geom {args.geom}: solref = {list(contact.solref)}, solimp = '
-          f'{list(contact.solimp)}, timestep = {contact.timestep:g} s, integrator '
-          f'{contact.integrator}, R = {contact.radius:g} m, m = {contact.mass:.6g} kg')
+    model_e = measure(contact, target.speeds)
+    print(f'# {args.model}, {option[2:]} {getattr(args, option[2:])}: {contact.describe()}')
     print(f'# model e measured; max |error| = '
           f'{float(np.max(np.abs(model_e - target.restitution))):.4f}; the export\'s '
           f'suggestion: {suggestion.max_abs_error:.4f}')

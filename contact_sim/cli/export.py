@@ -10,7 +10,9 @@ from contact_sim.cli.contact import build_setup, describe_contact
 from contact_sim.cli.options import LAW_NAMES, contact_command, plot_option
 from contact_sim.cli.params_file import apply_params_file
 from contact_sim.cli.restitution import _speeds, add_speed_options
-from contact_sim.export import ENGINES, export_contact, make_target
+from contact_sim.export import (ENGINES, TIMESTEPS, export_contact, make_target,
+                                require_tolerance, timestep_for_tolerance)
+from contact_sim.impact import contact_duration, peak_force
 from contact_sim.model import get_law
 from contact_sim.validation import InputError
 
@@ -23,8 +25,8 @@ def add_parser(sub):
              'each gives',
         description='The engine parameters that best reproduce the contact\'s e(v) over the\n'
                     'speeds (minimax), the e(v) the engine gives with them and its snippet.\n'
-                    'mujoco and pybullet are run (measured); drake and gazebo are predicted\n'
-                    'from their own law (a member of eq. 1).',
+                    'mujoco and pybullet are run (measured); drake is run where pydrake is\n'
+                    'installed (measured), else predicted from its own law, as gazebo is.',
         notes='\n\nexample:\n  contact-sim export mujoco --law azad_featherstone --sphere steel '
               '--plate cast_iron\n      --radius 0.0127 --damping-factor 8.87e5 --timestep 1e-3\n')
     p.add_argument('engine', choices=list(ENGINES), help='the simulator')
@@ -35,8 +37,13 @@ def add_parser(sub):
                         '--save-params file of `contact-sim bounces`); options given here '
                         'take precedence over its keys')
     p.add_argument('--timestep', type=float, default=1e-3,
-                   help="the engine's time step in s (default 1e-3), 0 < DT <= 0.1")
+                   help="the engine's time step in s (default 1e-3), 0 < DT <= 0.1; drake "
+                        'also takes 0, its continuous plant')
     add_speed_options(p, (0.1, 10.0), 10)
+    p.add_argument('--tolerance', type=float, metavar='TOL',
+                   help='also search the time steps ' + ', '.join(f'{x:g}' for x in TIMESTEPS)
+                        + ' s for the largest whose export misses the target e by at most TOL '
+                        '(text output; a linear law below half the target\'s spread: none)')
     p.add_argument('--format', choices=('text', 'json'), default='text',
                    help='text (a table and the snippet) or json (one record)')
     plot_option(p, 'target and engine e vs speed')
@@ -66,6 +73,14 @@ def export_of(args):
 
 def run(args):
     """Print the export (a table and the snippet, or one JSON record); exit status 0."""
+    if args.tolerance is not None:
+        if args.format == 'json':
+            raise ValueError('--tolerance is reported in the text output: allowed with '
+                             '--format text only')
+        try:
+            require_tolerance(args.tolerance)
+        except InputError as error:
+            raise error.rekeyed('--tolerance') from None
     setup, result = export_of(args)
     law = result.target.contact.law.name
     if args.plot:
@@ -82,12 +97,46 @@ def run(args):
           f'{result.max_abs_error:.4f} (half the target\'s spread: {spread:.4f})')
     print(f'# {ENGINES[result.engine].limit}')
     print(f'# {result.note}')
-    print(f'# {"speed (m/s)":>13} {"target e":>10} {"engine e":>10} {"error":>10}')
-    for v, target, engine in zip(result.target.speeds, result.target.restitution,
-                                 result.engine_restitution):
-        print(f'{v:15.6g} {target:10.5f} {engine:10.5f} {engine - target:+10.5f}')
+    print_table(result)
     print_snippet(result)
+    if args.tolerance is not None:
+        print_search(timestep_for_tolerance(result.engine, result.target, args.tolerance))
     return 0
+
+
+def print_search(search):
+    """The time step search's outcome, as comment lines."""
+    for timestep, error in search.tried:
+        print(f'# time step {timestep:g} s: max |error| = {error:.4f}')
+    if search.timestep is not None:
+        print(f'# tolerance {search.tolerance:g}: the largest time step that meets it is '
+              f'{search.timestep:g} s')
+    elif search.floor is not None and not search.tried:
+        print(f'# tolerance {search.tolerance:g}: none does for a linear law: the best '
+              f'achievable max |error| is half the target\'s spread, {search.floor:.4f}, at '
+              'any time step')
+    else:
+        print(f'# tolerance {search.tolerance:g}: none of the time steps meets it; the best '
+              f'max |error| found is {search.best_error:.4f}')
+
+
+def print_table(result):
+    """speed, target e, engine e, error; then the contact duration (s) and peak force (N) of
+    the target and of the engine, where the engine's are known."""
+    target = result.target
+    columns = [target.restitution, result.engine_restitution,
+               result.engine_restitution - target.restitution]
+    header = f'# {"speed (m/s)":>13} {"target e":>10} {"engine e":>10} {"error":>10}'
+    if result.engine_duration is not None:
+        columns += [contact_duration(target.contact, target.mass, target.speeds),
+                    result.engine_duration, peak_force(target.contact, target.mass,
+                                                       target.speeds), result.engine_peak_force]
+        header += (f' {"target T (s)":>12} {"engine T (s)":>12} {"target F (N)":>12} '
+                   f'{"engine F (N)":>12}')
+    print(header)
+    for v, *row in zip(target.speeds, *columns):
+        e_row = f'{v:15.6g} {row[0]:10.5f} {row[1]:10.5f} {row[2]:+10.5f}'
+        print(e_row + ''.join(f' {x:12.4g}' for x in row[3:]))
 
 
 def print_snippet(result):

@@ -2,14 +2,21 @@
 e(v) over a speed range, and the e(v) the engine gives with them.
 
 ``common`` (the target, the result, the minimax fit), one module an engine: ``mujoco_engine``
-and ``pybullet_engine`` run the engine (a free sphere thrown at a plane, gravity off: measured),
-``drake`` and ``gazebo`` evaluate the engine's law, a member of eq. 1 (predicted).  MuJoCo and
-PyBullet are optional (``pip install 'contact_sim[engines]'``).  ``geom_contact`` and ``audit``
-measure the e(v) a sphere geom of a user's MuJoCo model gives.
+and ``pybullet_engine`` run the engine (a free sphere thrown at a plane, gravity off: measured);
+``drake`` runs pydrake's MultibodyPlant (``drake_plant``) where it is installed, else evaluates
+its law, a member of eq. 1 (predicted), as ``gazebo`` does.  MuJoCo and PyBullet are optional
+(``pip install 'contact_sim[engines]'``), Drake too (``pip install 'contact_sim[drake]'``,
+about 420 MB).  ``geom_contact`` and ``audit``
+measure the e(v) a sphere geom of a user's MuJoCo model gives, ``link_contact`` and
+``audit_link`` a sphere link of a URDF in PyBullet.
 """
 from contact_sim.export.common import Export, Target, make_target
 from contact_sim.export.engines import ENGINES, Engine, export_contact
 from contact_sim.export.mujoco_engine import GeomContact, audit, geom_contact
+from contact_sim.export.pybullet_audit import LinkContact, audit_link, link_contact
+from contact_sim.export.tolerance import (TIMESTEPS, TimestepSearch, require_tolerance,
+                                          timestep_for_tolerance)
 
-__all__ = ['ENGINES', 'Engine', 'Export', 'GeomContact', 'Target', 'audit', 'export_contact',
-           'geom_contact', 'make_target']
+__all__ = ['ENGINES', 'Engine', 'Export', 'GeomContact', 'LinkContact', 'TIMESTEPS', 'Target',
+           'TimestepSearch', 'audit', 'audit_link', 'export_contact', 'geom_contact',
+           'link_contact', 'make_target', 'require_tolerance', 'timestep_for_tolerance']

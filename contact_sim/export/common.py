@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from contact_sim.impact import contact_duration, max_penetration, restitution
+from contact_sim.impact import contact_duration, max_penetration, peak_force, restitution
 from contact_sim.model import Contact, require_contact
 from contact_sim.validation import require_positive, require_range
 
@@ -62,6 +62,23 @@ def make_target(contact, mass, radius, speeds):
 
 
 @dataclass(frozen=True)
+class EngineFit:
+    """What one engine's export found: its ``parameters`` (the engine's own names), the
+    ``snippet`` to paste, the e at the target's speeds, whether that e was ``'measured'`` (the
+    engine run) or ``'predicted'`` (its law evaluated here), a ``note`` on what the parameters do
+    to the contact, and the contact ``duration`` (s) and ``peak_force`` (N) the engine gives at
+    each speed (measured or from its law, as e; None where neither is known)."""
+
+    parameters: dict
+    snippet: str
+    restitution: np.ndarray
+    source: str
+    note: str
+    duration: object = None
+    peak_force: object = None
+
+
+@dataclass(frozen=True)
 class Export:
     """One engine's parameters for a target, and the e(v) the engine gives with them.
 
@@ -78,6 +95,8 @@ class Export:
     engine_restitution: np.ndarray
     engine_restitution_source: str
     note: str = ''   # what the parameters do to the contact's duration and depth (text only)
+    engine_duration: object = None     # s at each speed, as the e (the text table only)
+    engine_peak_force: object = None   # N at each speed, as the e (the text table only)
 
     @property
     def max_abs_error(self):
@@ -95,10 +114,11 @@ class Export:
                 'max_abs_error': self.max_abs_error}
 
 
-def require_timestep(timestep):
-    """``timestep`` (s) if 0 < timestep <= ``MAX_TIMESTEP``, else ``InputError`` keyed
-    ``timestep``."""
-    return require_range('timestep', timestep, 0.0, MAX_TIMESTEP, low_open=True, unit='s')
+def require_timestep(timestep, continuous=False):
+    """``timestep`` (s) if 0 < timestep <= ``MAX_TIMESTEP`` (0 too if the engine has a
+    ``continuous`` plant), else ``InputError`` keyed ``timestep``."""
+    return require_range('timestep', timestep, 0.0, MAX_TIMESTEP, low_open=not continuous,
+                         unit='s')
 
 
 def target_frequency(target):
@@ -147,6 +167,16 @@ def fit_minimax(engine_restitution, target, low, high):
     best = minimize_scalar(worst, bounds=(low, high), method='bounded',
                            options={'xatol': 1e-5 * (high - low)})
     return float(best.x), np.asarray(engine_restitution(best.x))
+
+
+def law_contact(law, stiffness, damping, mass, speeds):
+    """(contact duration in s, peak force in N) at ``speeds`` (m/s) of ``law`` with
+    ``stiffness`` and ``damping``, ``mass`` (kg), exactly: an engine whose law is of eq. 1."""
+    contact = Contact(law, stiffness, damping)
+    with warnings.catch_warnings():   # the exact path is expected here
+        warnings.simplefilter('ignore', RuntimeWarning)
+        return (np.asarray(contact_duration(contact, mass, speeds)),
+                np.asarray(peak_force(contact, mass, speeds)))
 
 
 def law_restitution(law, stiffness, mass, speeds):

@@ -2,8 +2,8 @@
 eq. 1; its e(v) is this library's exact restitution of that law (predicted, not measured)."""
 import numpy as np
 
-from contact_sim.export.common import (fit_minimax, law_restitution, linear_contact_note,
-                                        require_timestep, target_frequency)
+from contact_sim.export.common import (EngineFit, fit_minimax, law_contact, law_restitution,
+                                        linear_contact_note, require_timestep, target_frequency)
 from contact_sim.model import LINEAR
 
 
@@ -16,9 +16,9 @@ def export_gazebo(target, timestep):
 
     Returns
     -------
-    (dict, str, numpy.ndarray, str)
-        The parameters, the SDFormat ``<surface>`` the predicted e(v) and
-        what the contact's duration and depth become.
+    EngineFit
+        The parameters, the SDFormat ``<surface>``, the predicted e(v) and what the contact's
+        duration and depth become.
     """
     timestep = require_timestep(timestep)
     kp = target.mass * target_frequency(target) ** 2
@@ -32,4 +32,6 @@ def export_gazebo(target, timestep):
                f'      <max_vel>{max_vel:.6g}</max_vel>\n      <min_depth>0</min_depth>\n'
                f'    </ode>\n  </contact>\n</surface>\n<!-- physics max_step_size = {timestep:g} s'
                ' -->')
-    return params, snippet, e, linear_contact_note(target, target_frequency(target))
+    duration, peak = law_contact(LINEAR, kp, kd, target.mass, target.speeds)
+    return EngineFit(params, snippet, e, 'predicted',
+                     linear_contact_note(target, target_frequency(target)), duration, peak)

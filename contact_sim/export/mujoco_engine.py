@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contact_sim.export.common import (fit_minimax, linear_contact_note, require_timestep,
+from contact_sim.export.common import (EngineFit, fit_minimax, linear_contact_note, require_timestep,
                                         resolved_frequency)
 from contact_sim.validation import InputError
 
@@ -41,27 +41,43 @@ def model_xml(radius, mass, timestep, solref, solimp=SOLIMP, integrator=INTEGRAT
 
 
 def throw(model, radius, speed, gap):
-    """e of one throw at ``speed`` (m/s), the ball starting ``gap`` (m) above the plane: the
-    rebound speed over ``speed`` once the ball is back above its start."""
+    """(e, contact duration in s, peak normal force in N) of one throw at ``speed`` (m/s), the
+    ball starting ``gap`` (m) above the plane: e is the rebound speed over ``speed`` once the
+    ball is back above its start, the duration the steps with a contact force > 0 times the
+    step."""
     mujoco = _mujoco()
     data = mujoco.MjData(model)
     data.qpos[2] = radius + gap
     data.qvel[2] = -speed
+    force = np.zeros(6)
+    touching, peak = 0, 0.0
     for _ in range(1_000_000):
         mujoco.mj_step(model, data)
+        if data.ncon:
+            mujoco.mj_contactForce(model, data, 0, force)
+            if force[0] > 0.0:
+                touching, peak = touching + 1, max(peak, float(force[0]))
         if data.qvel[2] > 0.0 and data.qpos[2] > radius + gap:
-            return data.qvel[2] / speed
+            return data.qvel[2] / speed, touching * model.opt.timestep, peak
     raise ArithmeticError(f'MuJoCo did not rebound at {speed:g} m/s')   # never in tests
 
 
-def measure(radius, mass, speeds, timestep, solref, solimp=SOLIMP, integrator=INTEGRATOR):
-    """MuJoCo's e at each of ``speeds`` (m/s), the mean over ``PHASES`` start offsets within
-    one step (s): the e a user gets from the geom ``solref``, ``solimp``."""
+def measure_contact(radius, mass, speeds, timestep, solref, solimp=SOLIMP,
+                    integrator=INTEGRATOR):
+    """MuJoCo's (e, duration, peak force) at each of ``speeds`` (m/s), an array (n, 3), the
+    mean over ``PHASES`` start offsets within one step (s), with the geom ``solref``,
+    ``solimp``."""
     model = _mujoco().MjModel.from_xml_string(
         model_xml(radius, mass, timestep, solref, solimp, integrator))
     offsets = (np.arange(PHASES) + 0.5) / PHASES
-    return np.array([np.mean([throw(model, radius, v, f * v * timestep) for f in offsets])
-                     for v in speeds])
+    return np.array([np.mean([throw(model, radius, v, f * v * timestep) for f in offsets],
+                             axis=0) for v in speeds])
+
+
+def measure(radius, mass, speeds, timestep, solref, solimp=SOLIMP, integrator=INTEGRATOR):
+    """MuJoCo's e at each of ``speeds`` (m/s) (``measure_contact``): the e a user gets from
+    the geom ``solref``, ``solimp``."""
+    return measure_contact(radius, mass, speeds, timestep, solref, solimp, integrator)[:, 0]
 
 
 def export_mujoco(target, timestep):
@@ -70,9 +86,9 @@ def export_mujoco(target, timestep):
 
     Returns
     -------
-    (dict, str, numpy.ndarray, str)
-        The parameters, the MJCF ``<geom>`` the measured e(v) and
-        what the contact's duration and depth become.
+    EngineFit
+        The parameters, the MJCF ``<geom>``, the measured e(v) and what the contact's
+        duration and depth become.
     """
     timestep = require_timestep(timestep)
     w = resolved_frequency(target, timestep, STEPS_PER_RADIAN)
@@ -82,13 +98,16 @@ def export_mujoco(target, timestep):
 
     def engine_e(zeta):
         return measure(target.radius, target.mass, target.speeds, timestep, solref(zeta))
-    zeta, e = fit_minimax(engine_e, target, 0.0, 1.0)
+    zeta, _ = fit_minimax(engine_e, target, 0.0, 1.0)
+    e, duration, peak = measure_contact(target.radius, target.mass, target.speeds, timestep,
+                                        solref(zeta)).T
     params = {'solref': list(solref(zeta)), 'solimp': list(SOLIMP), 'timestep': timestep,
               'integrator': INTEGRATOR}
     snippet = (f'<option timestep="{timestep:g}" integrator="{INTEGRATOR}"/>\n'
                f'<geom name="ball" type="sphere" size="{target.radius:g}" '
                f'mass="{target.mass:.6g}" {geom_attributes(solref(zeta), SOLIMP)}/>')
-    return params, snippet, e, linear_contact_note(target, w)
+    return EngineFit(params, snippet, e, 'measured', linear_contact_note(target, w), duration,
+                     peak)
 
 
 def version():
@@ -112,6 +131,12 @@ class GeomContact:
     solimp: tuple
     timestep: float
     integrator: str
+
+    def describe(self):
+        """One line: the geom's contact as MuJoCo reads it."""
+        return (f'solref = {list(self.solref)}, solimp = {list(self.solimp)}, timestep = '
+                f'{self.timestep:g} s, integrator {self.integrator}, R = {self.radius:g} m, '
+                f'm = {self.mass:.6g} kg')
 
 
 def geom_contact(path, geom):

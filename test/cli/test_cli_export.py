@@ -62,6 +62,24 @@ def test_bad_input_names_the_option(capsys, argv, option):
     assert option in err and 'allowed' in err
 
 
+def test_tolerance_says_none_does_for_a_linear_law(capsys):
+    code, out, _ = run(capsys, ['export', 'gazebo', *STEEL_ON_CAST_IRON, '--speeds', '0.1,10',
+                                '--tolerance', '0.01'])
+    assert code == 0
+    assert '# tolerance 0.01: none does for a linear law' in out
+    code, out, _ = run(capsys, ['export', 'gazebo', *STEEL_ON_CAST_IRON, '--speeds', '0.1,10',
+                                '--tolerance', '0.2'])
+    assert 'the largest time step that meets it is 0.01 s' in out
+
+
+@pytest.mark.parametrize('argv', [['--tolerance', '0'], ['--tolerance', '0.1', '--format',
+                                                          'json']])
+def test_bad_tolerance_names_the_option(capsys, argv):
+    code, out, err = run(capsys, ['export', 'gazebo', *STEEL_ON_CAST_IRON, *argv])
+    assert code == 2 and out == ''
+    assert '--tolerance' in err and 'allowed' in err
+
+
 def test_radius_is_needed(capsys):
     code, _, err = run(capsys, ['export', 'gazebo', '--stiffness', '1e9', '--mass', '0.1',
                                 '--damping', '1e4', '--law', 'azad_featherstone'])
@@ -130,3 +148,22 @@ def test_audit_prints_the_models_e_and_the_suggestion(capsys, tmp_path):
     code, _, err = run(capsys, ['audit', 'mujoco', str(path), '--geom', 'nope',
                                 *STEEL_ON_CAST_IRON])
     assert code == 2 and "--geom = 'nope'" in err
+
+
+def test_audit_pybullet_prints_the_links_e_and_the_suggestion(capsys, tmp_path):
+    path = tmp_path / 'ball.urdf'
+    path.write_text('<?xml version="1.0"?><robot name="b"><link name="ball"><contact><restitution '
+                    'value="0.3"/><stiffness value="400"/><damping value="0.5"/></contact>'
+                    '<inertial><mass value="0.0673549"/><inertia ixx="4e-6" iyy="4e-6" '
+                    'izz="4e-6" ixy="0" ixz="0" iyz="0"/></inertial><collision><geometry>'
+                    '<sphere radius="0.0127"/></geometry></collision></link></robot>')
+    common = ['audit', 'pybullet', str(path), *STEEL_ON_CAST_IRON, '--speeds', '0.5,2']
+    code, out, _ = run(capsys, [*common, '--link', 'ball', '--timestep', '1e-3'])
+    assert code == 0
+    assert 'contactStiffness = 400 N/m' in out and 'p.setTimeStep(0.001)' in out
+    rows = [line.split() for line in out.split('# snippet')[0].splitlines() if line[:1] == ' ']
+    assert [float(r[0]) for r in rows] == [0.5, 2.0]
+    code, _, err = run(capsys, [*common, '--link', 'nope'])
+    assert code == 2 and "--link = 'nope'" in err
+    code, _, err = run(capsys, common)
+    assert code == 2 and '--link is missing' in err

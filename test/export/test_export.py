@@ -23,6 +23,12 @@ def steel_on_cast_iron(speeds=SPEEDS):
 
 def ode_restitution(force, mass, speed):
     """e of m x'' = -force(x, x') from x = 0, x' = speed, to lift-off (force back to 0)."""
+    return ode_contact(force, mass, speed)[0]
+
+
+def ode_contact(force, mass, speed):
+    """(e, duration in s, peak force in N) of m x'' = -force(x, x') from x = 0, x' = speed, to
+    lift-off (force back to 0)."""
     def rhs(_, y):
         return [y[1], -max(force(y[0], y[1]), 0.0) / mass]
 
@@ -30,24 +36,26 @@ def ode_restitution(force, mass, speed):
         return y[0] if y[1] < 0 else 1.0
     lift_off.terminal, lift_off.direction = True, -1
     out = solve_ivp(rhs, (0.0, 1e3), [0.0, speed], events=lift_off, rtol=1e-10, atol=1e-14,
-                    max_step=np.inf)
-    return -out.y_events[0][0][1] / speed
+                    max_step=np.inf, dense_output=True)
+    end = out.t_events[0][0]
+    times = np.linspace(0.0, end, 200001)
+    forces = np.array([force(a, b) for a, b in zip(*out.sol(times))])
+    pushing = np.flatnonzero(forces[1:] <= 0.0)   # the force is back to 0 (or x is)
+    return (-out.y_events[0][0][1] / speed, times[1 + pushing[0]] if pushing.size else end,
+            forces.max())
 
 
-@pytest.mark.parametrize('engine', ['drake', 'gazebo'])
-def test_predicted_law_is_the_engines_law(engine):
+def test_gazebo_law_is_odes_kp_kd_law():
     target = steel_on_cast_iron()
-    result = export_contact(engine, target, 1e-3)
+    result = export_contact('gazebo', target, 1e-3)
     p = result.parameters
-    if engine == 'drake':   # f = k x (1 + d xdot)
-        k, d = p['point_contact_stiffness'], p['hunt_crossley_dissipation']
-        force = lambda x, xd: k * x * (1.0 + d * xd)   # noqa: E731
-    else:                   # ODE kp/kd: f = kp x + kd xdot
-        force = lambda x, xd: p['kp'] * x + p['kd'] * xd   # noqa: E731
     # impacts toward the plate: x is the penetration, xdot its rate (positive inward)
-    direct = [ode_restitution(lambda x, xd: force(x, xd), target.mass, v) for v in SPEEDS]
+    e, duration, peak = np.transpose([ode_contact(lambda x, xd: p['kp'] * x + p['kd'] * xd,
+                                                  target.mass, v) for v in SPEEDS])
     assert result.engine_restitution_source == 'predicted'
-    np.testing.assert_allclose(result.engine_restitution, direct, atol=1e-6)
+    np.testing.assert_allclose(result.engine_restitution, e, atol=1e-6)
+    np.testing.assert_allclose(result.engine_duration, duration, rtol=1e-4)
+    np.testing.assert_allclose(result.engine_peak_force, peak, rtol=1e-5)
 
 
 def test_linear_engine_stays_half_the_targets_spread_away():
@@ -82,6 +90,12 @@ def test_mujoco_gives_what_the_export_says(timestep):
     for speed, said in zip(SPEEDS, result.engine_restitution):
         for gap in (0.0013, 0.37 * speed * timestep):   # phases a user's drop may have
             assert abs(mujoco_throw(geom, timestep, speed, gap) - said) < 0.01
+    # its contact: a linear spring-damper of m w^2 and m 2 zeta w (solref's direct form)
+    stiffness, damping = -np.multiply(result.parameters['solref'], steel_on_cast_iron().mass)
+    e, duration, peak = np.transpose([ode_contact(lambda x, xd: stiffness * x + damping * xd,
+                                                  steel_on_cast_iron().mass, v) for v in SPEEDS])
+    np.testing.assert_allclose(result.engine_peak_force, peak, rtol=0.03)
+    np.testing.assert_allclose(result.engine_duration, duration, rtol=0.03, atol=2 * timestep)
 
 
 def pybullet_throw(parameters, mass, speed):
