@@ -39,7 +39,37 @@ class ContactLaw:
     """One member of the family F = k z^n + λ z^p ż|ż|^(q-1), clamped as in eq. 11.
 
     ``force`` is zero where z <= 0 and ``max(0, k z^n + λ z^p ż|ż|^(q-1))`` elsewhere: the
-    contact can push but never pull.
+    contact can push but never pull.  The named laws are ``AZAD_FEATHERSTONE``,
+    ``HUNT_CROSSLEY``, ``LEE_WANG`` and ``LINEAR`` (``LAWS``).
+
+    Attributes
+    ----------
+    name : str
+        A non-empty name.
+    n : float
+        Stiffness exponent, > 0 (1.5 for the Hertz laws).
+    p : float
+        Penetration exponent of the damping term, 0 <= p <= n.
+    q : float
+        Rate exponent of the damping term, > 0.
+
+    Raises
+    ------
+    InputError
+        Keyed ``n``, ``p`` or ``q``: an exponent out of its range.
+    ValueError
+        An empty or non-string ``name``.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> law = cs.AZAD_FEATHERSTONE
+    >>> law.n, law.p, law.q, law.hertz
+    (1.5, 0.5, 1.0, True)
+    >>> cs.ContactLaw('custom', 1.5, 2.0, 1.0)
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: p = 2.0 is out of range: allowed 0 <= p <= 1.5
     """
 
     name: str
@@ -110,6 +140,29 @@ class ContactLaw:
         """φ = k z^(n-p) + λ ż|ż|^(q-1), so that the unclamped force is z^p φ (z > 0).
 
         φ is smooth where the force is not (at z = 0), which makes it the right lift-off test.
+
+        Parameters
+        ----------
+        z : float or array_like of float
+            Penetration, m (negative values count as 0).
+        zdot : float or array_like of float
+            Penetration rate, m/s (> 0 is approach).
+        k : float
+            Stiffness, N/m^n.
+        damping : float
+            λ, N·s^q/m^(p+q).
+
+        Returns
+        -------
+        numpy.ndarray
+            φ in N/m^p, of the broadcast shape of ``z`` and ``zdot``.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> phi = cs.AZAD_FEATHERSTONE.reduced_force(1e-6, 0.5, 1.095e10, 1e5)
+        >>> print(f"{float(phi):.1f}")
+        60950.0
         """
         z = np.asarray(z, dtype=float)
         zdot = np.asarray(zdot, dtype=float)
@@ -117,8 +170,35 @@ class ContactLaw:
         return k * zp ** (self.n - self.p) + damping * np.sign(zdot) * np.abs(zdot) ** self.q
 
     def force_at(self, z, zdot, k, damping):
-        """``force`` at one state (floats in, a float out): the same numbers without the array
-        overhead, for the engine's once-a-tick state (eq. 11)."""
+        """``force`` at one state (floats in, a float out), eq. 11.
+
+        The same numbers as ``force`` without the array overhead, for the engine's once-a-tick
+        state.
+
+        Parameters
+        ----------
+        z : float
+            Penetration, m.
+        zdot : float
+            Penetration rate, m/s (> 0 is approach).
+        k : float
+            Stiffness, N/m^n.
+        damping : float
+            λ, N·s^q/m^(p+q).
+
+        Returns
+        -------
+        float
+            The clamped force in N, >= 0 (NaN for NaN input).
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> print(f"{cs.AZAD_FEATHERSTONE.force_at(1e-6, 0.5, 1.095e10, 1e5):.3f}")
+        60.950
+        >>> cs.AZAD_FEATHERSTONE.force_at(-1e-6, 0.5, 1.095e10, 1e5)   # no contact
+        0.0
+        """
         if not z > 0.0:
             return 0.0
         rate = math.copysign(abs(zdot) ** self.q, zdot) if zdot != 0.0 else 0.0
@@ -126,12 +206,40 @@ class ContactLaw:
         return 0.0 if unclamped < 0.0 else unclamped     # NaN stays NaN, as np.maximum
 
     def force(self, z, zdot, k, damping):
-        """Clamped normal force in N for arrays of z (m) and ż (m/s) of any broadcastable shape.
+        """Clamped normal force (eq. 11) for arrays of z and ż of any broadcastable shape.
 
         The same operations as ``force_at``, element by element, so both agree to round-off,
         bit for bit where numpy's pow is the C library's (``np.power`` with an array exponent
         calls it, as Python's ``**`` does, except for numpy's AVX-512 code on CPUs that have it;
-        numpy's scalar-exponent fast paths, x**0.5 -> sqrt, round differently)."""
+        numpy's scalar-exponent fast paths, x**0.5 -> sqrt, round differently).
+
+        Parameters
+        ----------
+        z : float or array_like of float
+            Penetration, m (z <= 0: no contact, force 0).
+        zdot : float or array_like of float
+            Penetration rate, m/s (> 0 is approach).
+        k : float
+            Stiffness, N/m^n.
+        damping : float
+            λ, N·s^q/m^(p+q).
+
+        Returns
+        -------
+        numpy.ndarray
+            The force in N, >= 0, of the broadcast shape of ``z`` and ``zdot``.
+
+        See Also
+        --------
+        Contact.force : the same with the contact's own k and λ.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> f = cs.AZAD_FEATHERSTONE.force([0.0, 1e-6, 2e-6], [0.5, 0.5, -0.1], 1.095e10, 1e5)
+        >>> print(*(f"{x:.3f}" for x in f))
+        0.000 60.950 16.829
+        """
         z, zdot = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(zdot, dtype=float))
         inside = z > 0.0
         zz = np.where(inside, z, 1.0)
@@ -146,11 +254,16 @@ class ContactLaw:
 # the compiled kernels' short forms, by exponents (n, p, q): ``ContactLaw.kernel``
 _KERNELS = {(1.5, 0.5, 1.0): 1, (1.5, 1.5, 1.0): 2, (1.5, 1.0, 1.0): 3, (1.0, 0.0, 1.0): 4}
 
+#: The Azad-Featherstone law F = k z^1.5 + λ z^0.5 ż (eq. 8): n = 1.5, p = 0.5, q = 1.
 AZAD_FEATHERSTONE = ContactLaw('azad_featherstone', 1.5, 0.5, 1.0)  # eq. 8
+#: The Hunt-Crossley law F = k z^1.5 + λ z^1.5 ż (eq. 2): n = p = 1.5, q = 1.
 HUNT_CROSSLEY = ContactLaw('hunt_crossley', 1.5, 1.5, 1.0)  # eq. 2
+#: The Lee-Wang law F = k z^1.5 + λ z ż: n = 1.5, p = 1, q = 1.
 LEE_WANG = ContactLaw('lee_wang', 1.5, 1.0, 1.0)
+#: The linear spring-damper F = k z + λ ż: n = q = 1, p = 0 (k in N/m, λ in N·s/m).
 LINEAR = ContactLaw('linear', 1.0, 0.0, 1.0)  # spring-damper: n = q = 1, p = 0
 
+#: The named laws, name -> ``ContactLaw``: azad_featherstone, hunt_crossley, lee_wang, linear.
 LAWS = {law.name: law for law in (AZAD_FEATHERSTONE, HUNT_CROSSLEY, LEE_WANG, LINEAR)}
 
 CLOSED_FORMS = {HUNT_CROSSLEY: HUNT_CROSSLEY_FORM, LINEAR: LINEAR_FORM}   # ContactLaw -> ClosedForm
@@ -176,7 +289,33 @@ def register_closed_form(law, vector, scalar=None, table_duration=None):
 
 
 def get_law(name):
-    """Return the named law, or raise ``ValueError`` listing the known names."""
+    """The named law (a ``ContactLaw`` is returned as is).
+
+    Parameters
+    ----------
+    name : str or ContactLaw
+        A key of ``LAWS``, or a ``ContactLaw``.
+
+    Returns
+    -------
+    ContactLaw
+        The law.
+
+    Raises
+    ------
+    InputError
+        Keyed ``law`` (a ``ValueError``): an unknown name; the message lists the known ones.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> cs.get_law('hunt_crossley') is cs.HUNT_CROSSLEY
+    True
+    >>> cs.get_law('kelvin_voigt')
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: law = 'kelvin_voigt' is unknown: allowed one of azad_featherstone, hunt_crossley, lee_wang, linear
+    """
     if isinstance(name, ContactLaw):
         return name
     try:
