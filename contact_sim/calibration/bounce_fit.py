@@ -113,12 +113,32 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     Returns
     -------
     BounceFit
+        The laws' fits (``LawFit``), best first (``best``), with the glitches found.
 
     Raises
     ------
     InputError, ValueError
         For an unknown law, a value out of range, a missing stiffness, no sequences, a
         sequence ``check_recording`` refuses, or ``fit_drag`` without a drag to fit.
+
+    See Also
+    --------
+    predict_bounces : the forward model, touch times for a contact.
+
+    Examples
+    --------
+    Touch times predicted for λ = 9.996e4 N·s/m^1.5 are fitted back:
+
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> recorded = cs.predict_bounces(contact, mass, height=0.1, count=6).times
+    >>> fit = cs.fit_bounces([recorded], mass, contact.stiffness,
+    ...                      laws=['azad_featherstone', 'hunt_crossley'])
+    >>> best = fit.best
+    >>> print(f"{best.law.name}: lambda = {best.damping:.5e}")
+    azad_featherstone: lambda = 9.99598e+04
     """
     mass = require_positive('mass', mass)
     gravity = require_positive('gravity', gravity)
