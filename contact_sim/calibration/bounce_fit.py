@@ -89,7 +89,7 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         The laws fitted (default: all, or with a mapping ``stiffness`` the laws it has and the
         linear law); names are resolved here, once.
     gravity : float
-        g in m/s^2.
+        Gravity g, m/s^2.
     drag : AirDrag, optional
         The air drag in flight (its C_d the start value when ``fit_drag``); None: vacuum.
     fit_drag : bool
@@ -102,13 +102,13 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         The robust least-squares loss (``impact.LOSSES``).
     confidence : float
         The level of the intervals, 0 < confidence < 1.
+    holdout : float, optional
+        Hold out this share of each sequence's last clicks, 0 < holdout < 1: the laws are
+        fitted on the others and predict them (``holdout`` module; ``BounceFit.holdout``).
     micro_bounce_ratio, min_flight : float
         Where the final micro-bounces are cut (``glitches.MicroBounceCut``): a contact time
         (of the softest law given) above this share of the flight before it, or a flight
         shorter than ``min_flight`` s.
-    holdout : float, optional
-        Hold out this share of each sequence's last clicks, 0 < holdout < 1: the laws are
-        fitted on the others and predict them (``holdout`` module; ``BounceFit.holdout``).
 
     Returns
     -------
@@ -123,7 +123,7 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
 
     See Also
     --------
-    predict_bounces : the forward model, touch times for a contact.
+    predict_bounces : The forward model, touch times for a contact.
 
     Examples
     --------

@@ -223,7 +223,7 @@ def predict_bounces(contact, mass, height=None, first_flight=None, count=10, gra
     count : int, optional
         Impacts predicted, 1 to 1e6 (default 10).
     gravity : float, optional
-        g, m/s², > 0 (default 9.81).
+        Gravity g, m/s², > 0 (default 9.81).
     drag : AirDrag, optional
         Air drag in flight; ``None`` (default): vacuum.
     start_time : float, optional
@@ -245,7 +245,7 @@ def predict_bounces(contact, mass, height=None, first_flight=None, count=10, gra
 
     See Also
     --------
-    fit_bounces : the inverse, λ from recorded touch times.
+    fit_bounces : The inverse, λ from recorded touch times.
 
     Examples
     --------

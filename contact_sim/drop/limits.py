@@ -68,7 +68,7 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
     mass : float
         The sphere's (reduced) mass, kg, within ``MASS_RANGE`` (1e-12 to 1e9).
     gravity : float
-        g, m/s², 0 <= g <= ``GRAVITY_MAX`` (1e6).
+        Gravity g, m/s², 0 <= g <= ``GRAVITY_MAX`` (1e6).
     height : float
         Release height of the lowest point above the plate, m, 0 <= h <= ``HEIGHT_MAX`` (1e6).
     velocity : float
@@ -91,7 +91,7 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
 
     See Also
     --------
-    DropSimulation : makes these checks when built and at each change of contact or plate.
+    DropSimulation : Makes these checks when built and at each change of contact or plate.
 
     Examples
     --------

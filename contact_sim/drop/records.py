@@ -16,17 +16,17 @@ class DropState:
     Attributes
     ----------
     time : float
-        t, s.
+        Time t, s.
     penetration : float
-        z, m (> 0 in contact; -z is the height of the sphere's lowest point above the plate).
+        Penetration z, m (> 0 in contact; -z: the height of the lowest point above the plate).
     penetration_rate : float
-        ż, m/s (> 0 is approach).
+        Penetration rate ż, m/s (> 0 is approach).
     force : float
-        F, N, on the sphere (up), >= 0.
+        Force F, N, on the sphere (up), >= 0.
     plate_position : float
-        p, m (0 for the fixed plate).
+        Plate position p, m (0 for the fixed plate).
     plate_velocity : float
-        ṗ, m/s (0 for the fixed plate).
+        Plate velocity ṗ, m/s (0 for the fixed plate).
 
     Examples
     --------
@@ -68,13 +68,13 @@ class Samples:
     Attributes
     ----------
     time : numpy.ndarray
-        t, s, non-decreasing.
+        Time t, s, non-decreasing.
     penetration : numpy.ndarray
-        z, m.
+        Penetration z, m.
     penetration_rate : numpy.ndarray
-        ż, m/s (> 0 is approach).
+        Penetration rate ż, m/s (> 0 is approach).
     force : numpy.ndarray
-        F, N, on the sphere.
+        Force F, N, on the sphere.
 
     Examples
     --------

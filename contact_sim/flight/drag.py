@@ -57,13 +57,13 @@ class AirDrag:
     Attributes
     ----------
     air_density : float
-        ρ, kg/m³, 0 <= ρ <= 100 (default 1.204: dry air at 20 °C, 101.325 kPa).
+        Air density ρ, kg/m³, 0 <= ρ <= 100 (default 1.204: dry air at 20 °C, 101.325 kPa).
     drag_coefficient : float
-        C_d, dimensionless, 0 <= C_d <= 10 (default 0.47: a smooth sphere).
+        Drag coefficient C_d, dimensionless, 0 <= C_d <= 10 (default 0.47: a smooth sphere).
     radius : float
         The sphere's radius R₁, m, > 0 (default 0.02).
     linear_coefficient : float
-        b, N·s/m, >= 0 (default 0).
+        Linear drag coefficient b, N·s/m, >= 0 (default 0).
 
     Raises
     ------
@@ -72,7 +72,7 @@ class AirDrag:
 
     See Also
     --------
-    FlightPath : a flight with these drag rates, in closed form.
+    FlightPath : A flight with these drag rates, in closed form.
 
     Examples
     --------
@@ -102,7 +102,7 @@ class AirDrag:
 
     @property
     def quadratic_coefficient(self):
-        """c = ½ ρ C_d π R₁² (kg/m): the drag force is c v²."""
+        """The quadratic drag coefficient c = ½ ρ C_d π R₁² (kg/m): the drag force is c v²."""
         return 0.5 * self.air_density * self.drag_coefficient * math.pi * self.radius ** 2
 
     def rates(self, mass, gravity):
@@ -113,7 +113,7 @@ class AirDrag:
         mass : float
             The sphere's mass, kg, > 0.
         gravity : float
-            g, m/s², > 0.
+            Gravity g, m/s², > 0.
 
         Returns
         -------
@@ -259,11 +259,11 @@ class FlightPath:
     velocity : float
         The start velocity, m/s, up positive.
     gravity : float
-        g, m/s², > 0.
+        Gravity g, m/s², > 0.
     kappa : float
-        κ = c / m, 1/m, >= 0 (default 0: no quadratic drag).
+        Quadratic drag rate κ = c / m, 1/m, >= 0 (default 0: no quadratic drag).
     beta : float
-        β = b / m, 1/s, >= 0, below 2 √(κ g) (default 0).
+        Linear drag rate β = b / m, 1/s, >= 0, below 2 √(κ g) (default 0).
 
     Raises
     ------
@@ -308,7 +308,7 @@ class FlightPath:
         velocity : float
             The start velocity, m/s, up positive.
         gravity : float
-            g, m/s², > 0.
+            Gravity g, m/s², > 0.
         mass : float
             The sphere's mass, kg, > 0.
         drag : AirDrag, optional

@@ -33,25 +33,25 @@ def group_for_restitution(law, target):
 
 
 def damping_for_restitution(law, stiffness, mass, restitution, speed):
-    """λ that gives exactly ``restitution`` for an impact at ``speed`` (m/s), no gravity.
+    """The damping λ that gives exactly ``restitution`` for an impact at ``speed``, no gravity.
 
     Parameters
     ----------
     law : ContactLaw or str
         The law, or its name in ``LAWS``.
     stiffness : float
-        k in N/m^n.
+        Stiffness k, N/m^n, > 0.
     mass : float
-        The (reduced) mass in kg.
+        The (reduced) mass, kg, > 0.
     restitution : float
         The target e, 0 < e <= 1.
     speed : float
-        The impact speed in m/s.
+        The impact speed, m/s, > 0.
 
     Returns
     -------
     float
-        λ in N·s^q/m^(p+q) (0 for e = 1).
+        Damping λ, N·s^q/m^(p+q) (0 for e = 1).
 
     Raises
     ------
@@ -61,7 +61,7 @@ def damping_for_restitution(law, stiffness, mass, restitution, speed):
 
     See Also
     --------
-    restitution : the forward map, e for a λ.
+    restitution : The forward map, e for a λ.
     fit_damping : λ fitted to many (speed, restitution) points.
 
     Examples
@@ -118,7 +118,7 @@ class DampingFit:
     law : ContactLaw
         The law fitted.
     stiffness : float
-        k, N/m^n (given, not fitted).
+        Stiffness k, N/m^n (given, not fitted).
     damping : float
         The fitted λ, N·s^q/m^(p+q).
     rms_residual : float
@@ -248,7 +248,7 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     law : ContactLaw or str
         The law, or its name in ``LAWS``.
     stiffness : float
-        k, N/m^n, > 0 (from Hertz theory, ``hertz_stiffness``).
+        Stiffness k, N/m^n, > 0 (from Hertz theory, ``hertz_stiffness``).
     mass : float
         The (reduced) mass, kg, > 0.
     speeds : array_like of float
@@ -260,12 +260,12 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     loss : str, optional
         One of ``LOSSES`` (default ``'linear'``: plain least squares).
     uncertainties : array_like of float, optional
-        σ_e per point, > 0 (default: all equal).
+        Uncertainty σ_e of each point, > 0 (default: all equal).
 
     Returns
     -------
     DampingFit
-        λ, its interval, the residuals and the diagnostics.
+        The fitted λ, its interval, the residuals and the diagnostics.
 
     Raises
     ------
@@ -278,7 +278,7 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
 
     See Also
     --------
-    compare_laws : every law fitted to the same points, ranked.
+    compare_laws : Every law fitted to the same points, ranked.
 
     Examples
     --------
@@ -394,7 +394,7 @@ def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.
         Measured e, > 0, one per speed.
     laws : list of str or ContactLaw, optional
         The laws fitted (default: every law of ``LAWS``).
-    confidence, loss, uncertainties
+    confidence, loss, uncertainties : optional
         As in ``fit_damping``.
 
     Returns

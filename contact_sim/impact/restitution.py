@@ -48,18 +48,18 @@ def damping_group(law, stiffness, mass, speed, damping):
     law : ContactLaw
         The law (its exponents n, p, q).
     stiffness : float
-        k, N/m^n, > 0.
+        Stiffness k, N/m^n, > 0.
     mass : float
         The (reduced) mass, kg, > 0.
     speed : float or array_like of float
         Impact speeds, m/s, > 0.
     damping : float
-        λ, N·s^q/m^(p+q), >= 0.
+        Damping λ, N·s^q/m^(p+q), >= 0.
 
     Returns
     -------
     float or numpy.ndarray
-        ζ, dimensionless, of the shape of ``speed``.
+        Damping group ζ, dimensionless, of the shape of ``speed``.
 
     Raises
     ------
@@ -139,7 +139,7 @@ def restitution(contact, mass, speeds):
     Returns
     -------
     float or numpy.ndarray
-        e = rebound speed / impact speed, 0 <= e <= 1, of the shape of ``speeds``.
+        Restitution e = rebound speed / impact speed, 0 <= e <= 1, of the shape of ``speeds``.
 
     Raises
     ------
@@ -149,8 +149,8 @@ def restitution(contact, mass, speeds):
 
     See Also
     --------
-    simulate_impact : the exact, slow reference path.
-    damping_for_restitution : the inverse, λ for a target e.
+    simulate_impact : The exact, slow reference path.
+    damping_for_restitution : The inverse, λ for a target e.
 
     Examples
     --------

@@ -73,7 +73,7 @@ def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_st
     speed : float
         Impact speed, m/s, > 0.
     gravity : float, optional
-        g, m/s², >= 0 (default 0: no gravity during contact).
+        Gravity g, m/s², >= 0 (default 0: no gravity during contact).
     rtol : float, optional
         The integrator's relative tolerance, 1e-14 <= rtol <= 1e-3.
     max_steps : int, optional
@@ -97,7 +97,7 @@ def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_st
 
     See Also
     --------
-    restitution : the same e, fast (closed forms and master curves).
+    restitution : The same e, fast (closed forms and master curves).
 
     Examples
     --------

@@ -19,9 +19,9 @@ class Contact:
     law : ContactLaw
         The force law (a name of ``LAWS`` is resolved when built).
     stiffness : float
-        k, N/m^n (N/m^1.5 for the Hertz laws), > 0.
+        Stiffness k, N/m^n (N/m^1.5 for the Hertz laws), > 0.
     damping : float
-        λ, N·s^q/m^(p+q) (N·s/m^1.5 for Azad-Featherstone), >= 0.
+        Damping λ, N·s^q/m^(p+q) (N·s/m^1.5 for Azad-Featherstone), >= 0.
 
     Raises
     ------
@@ -30,7 +30,7 @@ class Contact:
 
     See Also
     --------
-    build_contact : the contact from materials or overrides.
+    build_contact : The contact from materials or overrides.
 
     Examples
     --------
@@ -106,12 +106,12 @@ class Contact:
         Parameters
         ----------
         load : float
-            W, N, >= 0 (m g for a resting sphere).
+            Load W, N, >= 0 (m g for a resting sphere).
 
         Returns
         -------
         float
-            z0 in m.
+            Depth z0, m.
 
         Raises
         ------
@@ -136,7 +136,7 @@ class Contact:
         Parameters
         ----------
         load : float
-            W, N, >= 0.
+            Load W, N, >= 0.
 
         Returns
         -------
@@ -176,8 +176,8 @@ class Contact:
         plate_radius : float, optional
             The plate's radius of curvature R2, m, > 0; ``inf`` (default) is a flat plate.
         damping_factor : float, optional
-            λ*, N·s^q/m^(p+q+1/2) (N·s/m² for Azad-Featherstone), >= 0; the default 0 is a
-            purely elastic contact.
+            Damping factor λ*, N·s^q/m^(p+q+1/2) (N·s/m² for Azad-Featherstone), >= 0; the
+            default 0 is a purely elastic contact.
 
         Returns
         -------
@@ -259,11 +259,11 @@ def build_contact(law, *, stiffness=None, damping=None, damping_factor=None, sph
     law : ContactLaw or str
         The law, or its name in ``LAWS``.
     stiffness : float, optional
-        k, N/m^n, > 0; default: the Hertz k of the materials.
+        Stiffness k, N/m^n, > 0; default: the Hertz k of the materials.
     damping : float, optional
-        λ, N·s^q/m^(p+q), >= 0; give it or ``damping_factor``, not both.
+        Damping λ, N·s^q/m^(p+q), >= 0; give it or ``damping_factor``, not both.
     damping_factor : float, optional
-        λ*, N·s^q/m^(p+q+1/2), >= 0; λ = λ* √R needs ``radius``.
+        Damping factor λ*, N·s^q/m^(p+q+1/2), >= 0; λ = λ* √R needs ``radius``.
     sphere, plate : Material or str, optional
         The materials (for the Hertz k), as ``Material`` values or names in ``MATERIALS``.
     radius : float, optional

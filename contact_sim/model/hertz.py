@@ -21,7 +21,7 @@ def effective_modulus(a, b):
     Returns
     -------
     float
-        E* in Pa, > 0.
+        Effective modulus E*, Pa, > 0.
 
     Raises
     ------
@@ -30,7 +30,7 @@ def effective_modulus(a, b):
 
     See Also
     --------
-    hertz_stiffness : k = (4/3) E* √R.
+    hertz_stiffness : The Hertz k = (4/3) E* √R.
 
     Examples
     --------
@@ -56,7 +56,7 @@ def equivalent_radius(r1, r2=math.inf):
     Returns
     -------
     float
-        R in m, > 0.
+        Equivalent radius R, m, > 0.
 
     Raises
     ------
@@ -86,14 +86,14 @@ def hertz_stiffness(effective_modulus, radius):
     Parameters
     ----------
     effective_modulus : float
-        E* in Pa, > 0 (``effective_modulus``).
+        Effective modulus E*, Pa, > 0 (``effective_modulus``).
     radius : float
         Equivalent radius R in m, > 0 (``equivalent_radius``).
 
     Returns
     -------
     float
-        k in N/m^1.5.
+        Stiffness k, N/m^1.5.
 
     Raises
     ------
@@ -125,7 +125,7 @@ def reduced_mass(m1, m2=math.inf):
     Returns
     -------
     float
-        m in kg (``m1`` itself for an immovable plate).
+        Reduced mass m, kg (``m1`` itself for an immovable plate).
 
     Raises
     ------
@@ -159,9 +159,9 @@ def sphere_mass(density, radius):
     Parameters
     ----------
     density : float
-        ρ in kg/m³, > 0.
+        Density ρ, kg/m³, > 0.
     radius : float
-        R in m, > 0.
+        Equivalent radius R, m, > 0.
 
     Returns
     -------

@@ -137,7 +137,7 @@ class ContactLaw:
         return curve_for(self.name, (self.n, self.p, self.q))
 
     def reduced_force(self, z, zdot, k, damping):
-        """φ = k z^(n-p) + λ ż|ż|^(q-1), so that the unclamped force is z^p φ (z > 0).
+        """The reduced force φ = k z^(n-p) + λ ż|ż|^(q-1): the unclamped force is z^p φ (z > 0).
 
         φ is smooth where the force is not (at z = 0), which makes it the right lift-off test.
 
@@ -150,12 +150,12 @@ class ContactLaw:
         k : float
             Stiffness, N/m^n.
         damping : float
-            λ, N·s^q/m^(p+q).
+            Damping λ, N·s^q/m^(p+q).
 
         Returns
         -------
         numpy.ndarray
-            φ in N/m^p, of the broadcast shape of ``z`` and ``zdot``.
+            Reduced force φ, N/m^p, of the broadcast shape of ``z`` and ``zdot``.
 
         Examples
         --------
@@ -184,7 +184,7 @@ class ContactLaw:
         k : float
             Stiffness, N/m^n.
         damping : float
-            λ, N·s^q/m^(p+q).
+            Damping λ, N·s^q/m^(p+q).
 
         Returns
         -------
@@ -222,7 +222,7 @@ class ContactLaw:
         k : float
             Stiffness, N/m^n.
         damping : float
-            λ, N·s^q/m^(p+q).
+            Damping λ, N·s^q/m^(p+q).
 
         Returns
         -------
@@ -231,7 +231,7 @@ class ContactLaw:
 
         See Also
         --------
-        Contact.force : the same with the contact's own k and λ.
+        Contact.force : The same with the contact's own k and λ.
 
         Examples
         --------

@@ -24,7 +24,7 @@ class Material:
     poisson_ratio : float
         Poisson ratio ν, dimensionless, -1 < ν < 0.5.
     density : float
-        ρ, kg/m³, > 0.
+        Density ρ, kg/m³, > 0.
     source : str
         Where the values come from (default ``'user supplied'``).
 
@@ -37,7 +37,7 @@ class Material:
 
     See Also
     --------
-    get_material : a library material by name.
+    get_material : A library material by name.
 
     Examples
     --------
