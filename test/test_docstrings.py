@@ -145,3 +145,31 @@ def test_there_are_at_least_thirty_examples():
     count = sum(len(test.examples) for name in CALLABLES
                 for test in _doctests(getattr(cs, name), name))
     assert count >= 30, count
+
+
+ROS_API = ('contact_sim.ros.node:ContactSimNode', 'contact_sim.ros.node:StartupError',
+           'contact_sim.ros.node:main', 'contact_sim.ros.recorder:Recorder',
+           'contact_sim.ros.recorder:record_main', 'contact_sim.ros.recorder:recover_main',
+           'contact_sim.ros.recorder:record_parser')
+
+
+@pytest.mark.ros
+@pytest.mark.parametrize('target', ROS_API)
+def test_the_nodes_python_api_has_numpydoc_sections(target):
+    """The node, the recorder and their entry points (imported only: no ROS process starts).
+
+    Their examples need a ROS graph, so they are ``.. code-block::`` text, not doctests."""
+    module, name = target.split(':')
+    obj = getattr(__import__(module, fromlist=[name]), name)
+    found = _sections(obj)
+    if inspect.isfunction(obj):
+        assert 'Returns' in found, f'{target}: no Returns (has {sorted(found)})'
+        if _takes_arguments(obj):
+            assert 'Parameters' in found, f'{target}: no Parameters (has {sorted(found)})'
+        assert 'Examples' in found, f'{target}: no Examples (has {sorted(found)})'
+    elif _takes_arguments(obj) and obj.__init__ is not Exception.__init__:
+        assert {'Parameters', 'Examples'} <= found, f'{target}: has {sorted(found)}'
+    for method_name, method in (_public_methods(obj) if inspect.isclass(obj) else ()):
+        assert (inspect.getdoc(method) or '').strip(), f'{target}.{method_name}: no docstring'
+        if _returns_something(method):
+            assert 'Returns' in _sections(method), f'{target}.{method_name}: no Returns'
