@@ -97,7 +97,7 @@ class InputError(ValueError):
         return self.template.format(n=_Names(names or {}), **self.params)
 
     def rekeyed(self, field):
-        """The same refusal about another field (e.g. ``material`` -> ``sphere``).
+        """The same refusal about another field (``material`` -> ``sphere``, say).
 
         Parameters
         ----------

@@ -53,7 +53,7 @@ class DropSimulation:
         The sphere's (reduced) mass, kg, 1e-12 to 1e9; its release height (lowest point above
         the plate, or above p(0) for a moving plate), m, 0 <= h <= 1e6.
     velocity, gravity : float, optional
-        Release velocity (m/s, down, |v| <= 1e5; default 0) and g (m/s², 0 to 1e6; 9.81).
+        Release velocity (m/s, down, abs(v) <= 1e5; default 0) and g (m/s², 0 to 1e6; 9.81).
     rtol, settle_tolerance : float, optional
         The integrator's relative tolerance (1e-14 to 1e-3), and the amplitude about the static
         depth z0, as a share of z0, below which the rest is in closed form (0 < tol <= 1).

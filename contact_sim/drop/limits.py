@@ -58,7 +58,7 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
       sufficient (and independent of λ).
 
     The arguments are checked first, in the ranges ``DropSimulation`` takes them (``MASS_RANGE``
-    kg, 0 <= g <= ``GRAVITY_MAX``, 0 <= h <= ``HEIGHT_MAX``, |v0| <= ``VELOCITY_MAX``,
+    kg, 0 <= g <= ``GRAVITY_MAX``, 0 <= h <= ``HEIGHT_MAX``, abs(v0) <= ``VELOCITY_MAX``,
     ``RADIUS_RANGE`` m, a finite ``plate_speed`` >= 0).
 
     Parameters
@@ -72,7 +72,7 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
     height : float
         Release height of the lowest point above the plate, m, 0 <= h <= ``HEIGHT_MAX`` (1e6).
     velocity : float
-        Release velocity, m/s, downward positive, |v0| <= ``VELOCITY_MAX`` (1e5).
+        Release velocity, m/s, downward positive, abs(v0) <= ``VELOCITY_MAX`` (1e5).
     radius : float, optional
         The sphere's radius R1, m, within ``RADIUS_RANGE``; ``None``: the depth is not checked.
     plate_speed : float, optional

@@ -234,7 +234,7 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
                 uncertainties=None):
     """Fit λ to measured (speed, restitution) points by least squares in e.
 
-    The confidence interval is linearised in ln λ: λ exp(± t σ / |J|), with J = ∂e/∂ln λ at the
+    The confidence interval is linearised in ln λ: λ exp(± t σ / abs(J)), with J = ∂e/∂ln λ at the
     optimum and σ² the residual variance (N - 1 degrees of freedom); one point leaves no
     residual variance, and the interval is (nan, nan).
     Points with e >= 1 (noise near e = 1) are kept in the fit and listed in ``flagged``.

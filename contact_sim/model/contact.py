@@ -12,7 +12,7 @@ from contact_sim.validation import InputError, require_instance, require_nonnega
 
 @dataclass(frozen=True)
 class Contact:
-    """A compliant contact F = k z^n + λ z^p ż|ż|^(q-1), clamped at zero (eq. 11).
+    """A compliant contact F = k z^n + λ z^p ż|ż|^(q-1), clamped at zero (equation 11).
 
     Attributes
     ----------
@@ -54,7 +54,7 @@ class Contact:
         object.__setattr__(self, 'damping', require_nonnegative('damping', self.damping))
 
     def force(self, z, zdot):
-        """Clamped normal force at penetration z and penetration rate ż (eq. 11).
+        """Clamped normal force at penetration z and penetration rate ż (equation 11).
 
         Parameters
         ----------
@@ -163,7 +163,7 @@ class Contact:
     @classmethod
     def from_materials(cls, law, sphere, plate, radius, plate_radius=math.inf,
                        damping_factor=0.0):
-        """Build k from Hertz theory (eqs. 5, 6, 10) and λ = λ* √R (eq. 9).
+        """Build k from Hertz theory (equations 5, 6, 10) and λ = λ* √R (equation 9).
 
         Parameters
         ----------

@@ -9,7 +9,7 @@ from contact_sim.validation import InputError, require_positive
 
 
 def effective_modulus(a, b):
-    """Effective modulus E* of two elastic bodies in contact (eq. 6).
+    """Effective modulus E* of two elastic bodies in contact (equation 6).
 
     1/E* = (1 - ν1²)/E1 + (1 - ν2²)/E2.
 
@@ -44,7 +44,7 @@ def effective_modulus(a, b):
 
 
 def equivalent_radius(r1, r2=math.inf):
-    """Equivalent radius R of two spheres in contact (eq. 10): 1/R = 1/R1 + 1/R2.
+    """Equivalent radius R of two spheres in contact (equation 10): 1/R = 1/R1 + 1/R2.
 
     Parameters
     ----------
@@ -81,7 +81,7 @@ def equivalent_radius(r1, r2=math.inf):
 
 
 def hertz_stiffness(effective_modulus, radius):
-    """Hertz stiffness k = (4/3) E* √R (eq. 5) of the force F = k z^1.5.
+    """Hertz stiffness k = (4/3) E* √R (equation 5) of the force F = k z^1.5.
 
     Parameters
     ----------

@@ -36,7 +36,7 @@ from contact_sim.validation import InputError, require_positive, require_range
 
 @dataclass(frozen=True)
 class ContactLaw:
-    """One member of the family F = k z^n + λ z^p ż|ż|^(q-1), clamped as in eq. 11.
+    """One member of the family F = k z^n + λ z^p ż|ż|^(q-1), clamped as in equation 11.
 
     ``force`` is zero where z <= 0 and ``max(0, k z^n + λ z^p ż|ż|^(q-1))`` elsewhere: the
     contact can push but never pull.  The named laws are ``AZAD_FEATHERSTONE``,
@@ -88,7 +88,7 @@ class ContactLaw:
     # -- what the law can do: the one place where its exponents are read -------------------
     @property
     def hertz(self):
-        """True if the Hertz stiffness k = (4/3) E* √R (eqs. 5, 6, 10) applies: n = 3/2."""
+        """True if the Hertz stiffness k = (4/3) E* √R (equations 5, 6, 10) applies: n = 3/2."""
         return self.n == 1.5
 
     @property
@@ -107,7 +107,7 @@ class ContactLaw:
     def force_vanishes_inside(self):
         """True if the force can fall to zero while z > 0 (n > p): F = zᵖ φ with
         φ = k z^(n-p) + λ ż|ż|^(q-1).  With n = p (Hunt-Crossley) φ obeys
-        φ̇ = λ q |ż|^(q-1) (a - zⁿ φ / m), a the other forces per unit mass, so under gravity and
+        φ̇ = λ q abs(ż)^(q-1) (a - zⁿ φ / m), a the other forces per unit mass, so under gravity and
         drag (a >= 0 on the way out) φ only decays towards zero and the sphere leaves at z = 0:
         a force-zero root inside is round-off (``phase`` then tests the surface alone)."""
         return self.n > self.p
@@ -170,7 +170,7 @@ class ContactLaw:
         return k * zp ** (self.n - self.p) + damping * np.sign(zdot) * np.abs(zdot) ** self.q
 
     def force_at(self, z, zdot, k, damping):
-        """``force`` at one state (floats in, a float out), eq. 11.
+        """``force`` at one state (floats in, a float out), equation 11.
 
         The same numbers as ``force`` without the array overhead, for the engine's once-a-tick
         state.
@@ -206,7 +206,7 @@ class ContactLaw:
         return 0.0 if unclamped < 0.0 else unclamped     # NaN stays NaN, as np.maximum
 
     def force(self, z, zdot, k, damping):
-        """Clamped normal force (eq. 11) for arrays of z and ż of any broadcastable shape.
+        """Clamped normal force (equation 11) for arrays of z and ż of any broadcastable shape.
 
         The same operations as ``force_at``, element by element, so both agree to round-off,
         bit for bit where numpy's pow is the C library's (``np.power`` with an array exponent
