@@ -205,10 +205,12 @@ class BounceSequence:
 
 def predict_bounces(contact, mass, height=None, first_flight=None, count=10, gravity=9.81,
                     drag=None, start_time=0.0):
-    """Touch times of a sphere (``mass`` kg, ``Contact``) released from rest at ``height`` (m)
-    above the plate, or, with ``first_flight`` (s), whose first bounce flight lasts that long
-    (touch to touch): ``count`` impacts, the first at ``start_time`` (s; for a release, the
-    release is at ``start_time`` and the first touch after the fall).
+    """Predict the touch times and speeds of a bouncing sphere, in closed form per bounce.
+
+    The sphere (``mass`` kg, ``Contact``) is released from rest at ``height`` (m) above the
+    plate, or, with ``first_flight`` (s), its first bounce flight lasts that long (touch to
+    touch): ``count`` impacts, the first at ``start_time`` (s; for a release, the release is at
+    ``start_time`` and the first touch after the fall).
 
     Parameters
     ----------

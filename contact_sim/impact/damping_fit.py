@@ -62,7 +62,7 @@ def damping_for_restitution(law, stiffness, mass, restitution, speed):
     See Also
     --------
     restitution : The forward map, e for a λ.
-    fit_damping : λ fitted to many (speed, restitution) points.
+    fit_damping : The λ fitted to many (speed, restitution) points.
 
     Examples
     --------
@@ -162,8 +162,10 @@ class DampingFit:
 
     @property
     def pointwise_spread(self):
-        """Max / min of the positive finite ``pointwise_damping`` (1: one λ fits every point;
-        nan if none)."""
+        """Max / min of the positive finite ``pointwise_damping`` (1: one λ fits every point).
+
+        nan if there is none.
+        """
         lam = self.pointwise_damping[np.isfinite(self.pointwise_damping)
                                      & (self.pointwise_damping > 0.0)]
         return float(np.max(lam) / np.min(lam)) if lam.size else math.nan

@@ -93,47 +93,63 @@ class ContactLaw:
 
     @property
     def linear_in_rate(self):
-        """True if the damping is linear in the rate (q = 1): small motions about rest are a
-        linear damped oscillator, so the rest closed form and the creep proof apply."""
+        """True if the damping is linear in the rate (q = 1).
+
+        Small motions about rest are then a linear damped oscillator, so the rest closed form
+        and the creep proof apply.
+        """
         return self.q == 1.0
 
     @property
     def damps_at_touch(self):
-        """True if the damping term acts at z = 0 (p = 0): at the first touch with approach the
-        force is λ ż^q > 0 at once."""
+        """True if the damping term acts at z = 0 (p = 0).
+
+        At the first touch with approach the force is then λ ż^q > 0 at once.
+        """
         return self.p == 0.0
 
     @property
     def force_vanishes_inside(self):
-        """True if the force can fall to zero while z > 0 (n > p): F = zᵖ φ with
-        φ = k z^(n-p) + λ ż|ż|^(q-1).  With n = p (Hunt-Crossley) φ obeys
+        """True if the force can fall to zero while z > 0 (n > p).
+
+        F = zᵖ φ with φ = k z^(n-p) + λ ż|ż|^(q-1).  With n = p (Hunt-Crossley) φ obeys
         φ̇ = λ q abs(ż)^(q-1) (a - zⁿ φ / m), a the other forces per unit mass, so under gravity and
         drag (a >= 0 on the way out) φ only decays towards zero and the sphere leaves at z = 0:
-        a force-zero root inside is round-off (``phase`` then tests the surface alone)."""
+        a force-zero root inside is round-off (``phase`` then tests the surface alone).
+        """
         return self.n > self.p
 
     @property
     def constant_restitution(self):
-        """True if the restitution does not depend on the impact speed (the linear
-        spring-damper, n = q = 1, p = 0: its damping group ζ has no speed in it)."""
+        """True if the restitution does not depend on the impact speed.
+
+        That is the linear spring-damper, n = q = 1, p = 0: its damping group ζ has no speed
+        in it.
+        """
         return self.n == 1.0 and self.p == 0.0 and self.q == 1.0
 
     @property
     def kernel(self):
-        """The compiled contact phase's short form for these exponents (``phase.compiled``:
-        1 Azad-Featherstone, 2 Hunt-Crossley, 3 Lee-Wang, 4 linear), 0 for the general power law."""
+        """The compiled contact phase's short form for these exponents (``phase.compiled``).
+
+        1 Azad-Featherstone, 2 Hunt-Crossley, 3 Lee-Wang, 4 linear, 0 for the general power law.
+        """
         return _KERNELS.get((self.n, self.p, self.q), 0)
 
     @property
     def closed_form(self):
-        """The law's ``ClosedForm`` (exact e, τc as functions of ζ), or ``None``: registered per
-        law (``register_closed_form``), never found by exponents."""
+        """The law's ``ClosedForm`` (exact e, τc as functions of ζ), or ``None``.
+
+        Registered per law (``register_closed_form``), never found by exponents.
+        """
         return CLOSED_FORMS.get(self)
 
     @property
     def master_curve(self):
-        """The law's shipped ``MasterCurve`` (e, τc, F̂, x̂ against ζ), or ``None``: a table
-        belongs to a named law, its name and exponents (loaded on first use)."""
+        """The law's shipped ``MasterCurve`` (e, τc, F̂, x̂ against ζ), or ``None``.
+
+        A table belongs to a named law, its name and exponents (loaded on first use).
+        """
         return curve_for(self.name, (self.n, self.p, self.q))
 
     def reduced_force(self, z, zdot, k, damping):

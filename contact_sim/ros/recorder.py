@@ -109,9 +109,10 @@ class Recorder(Node):
                                f'({storage})')
 
     def recorded_ns(self):
-        """The simulated time (ns) up to which every per-tick topic that delivered anything is
-        recorded (``Topic.paced``: /clock too, its latest stamp from any publisher, so a foreign
-        /clock never holds the node back).
+        """The simulated time up to which every per-tick topic that delivered anything is recorded.
+
+        ``Topic.paced`` topics count: /clock too, its latest stamp from any publisher, so a
+        foreign /clock never holds the node back.
 
         Returns
         -------
@@ -138,9 +139,10 @@ class Recorder(Node):
         self.poll_matches()
 
     def poll_matches(self, only_new=False):
-        """Note (and log) the publishers matched on each topic; with ``only_new`` counts only
-        go up. (Polled: the events executor does not deliver a match that happened before the
-        node was added to it.)
+        """Note (and log) the publishers matched on each topic.
+
+        Polled: the events executor does not deliver a match that happened before the node was
+        added to it.
 
         Parameters
         ----------
