@@ -46,6 +46,7 @@ def sweep(function, values, executor=None, max_workers=None):
 
     Examples
     --------
+    >>> from contact_sim.drop import sweep
     >>> sweep(abs, [-1, 2, -3], max_workers=1)
     [1, 2, 3]
     """

@@ -82,7 +82,7 @@ class CommandedPlate(PlateMotion):
         return min(values), max(values)
 
     def speed_bound(self):
-        """Peak |ṗ| (m/s): ṗ is piecewise linear, so at a piece's ends."""
+        """Peak abs(ṗ) (m/s): ṗ is piecewise linear, so at a piece's ends."""
         return max(abs(v) for v in self.velocities + self._pieces[2])
 
     def acceleration_range(self, t0, t1):

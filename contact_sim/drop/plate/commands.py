@@ -37,8 +37,8 @@ def table_transition(now, current, table, previous_frequency=0.0):
     The plate is bridged C¹ from its state (p, ṗ) at ``now`` to the new motion's state at
     now + T (a 2-point ``CommandedPlate``), T from ``bridge_time``: one period of the new
     frequency, or of ``previous_frequency`` when the table stops, or ``BRIDGE_TIME``, made longer
-    (by factors of 1.25) until the bridge's |p̈| is within ``TABLE_ACCELERATION_MAX`` and its
-    |ṗ| within the larger of ``BRIDGE_SPEED_MAX``, the plate's speed now and the table's peak
+    (by factors of 1.25) until the bridge's abs(p̈) is within ``TABLE_ACCELERATION_MAX`` and its
+    abs(ṗ) within the larger of ``BRIDGE_SPEED_MAX``, the plate's speed now and the table's peak
     speed, so that a change far from the plate's state is no slam.  Returns a
     ``SwitchedPlate`` (bridge, then the table), or ``None`` when the plate stays fixed.
     """
@@ -96,8 +96,9 @@ def command_motion(now, position, velocity, times, positions, velocities=None):
       ``COMMAND_STOP_TIME`` s and stays there: when commands stop, the plate stops.
 
     Refused (``InputError`` naming the field and the allowed range): non-finite values, times
-    not strictly increasing, |positions| > ``COMMAND_POSITION_MAX``, |velocities| (given or
-    estimated) > ``COMMAND_VELOCITY_MAX``, an interpolant with |p̈| > ``COMMAND_ACCELERATION_MAX``.
+    not strictly increasing, abs(positions) > ``COMMAND_POSITION_MAX``, abs(velocities) (given
+    or estimated) > ``COMMAND_VELOCITY_MAX``, an interpolant with abs(p̈) >
+    ``COMMAND_ACCELERATION_MAX``.
     """
     now = require_real('now', now)
     position, velocity = require_real('position', position), require_real('velocity', velocity)
@@ -145,7 +146,7 @@ def command_motion(now, position, velocity, times, positions, velocities=None):
 
 def vibrating_table(amplitude, frequency, phase):
     """A ``SinusoidalPlate`` from settings in its ranges (``SinusoidalPlate``: 0 <= a <=
-    ``TABLE_AMPLITUDE_MAX`` m, 0 <= f <= ``TABLE_FREQUENCY_MAX`` Hz, |ϕ| <= ``TABLE_PHASE_MAX``,
+    ``TABLE_AMPLITUDE_MAX`` m, 0 <= f <= ``TABLE_FREQUENCY_MAX`` Hz, abs(ϕ) <= ``TABLE_PHASE_MAX``,
     peak acceleration a (2π f)² <= ``TABLE_ACCELERATION_MAX``), or ``None`` if it does not vibrate
     (a = 0 or f = 0: the fixed plate, not a plate held at a sin ϕ).  ``InputError`` keyed
     ``amplitude``, ``frequency`` or ``phase``."""

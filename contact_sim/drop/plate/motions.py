@@ -223,7 +223,7 @@ class SinusoidalPlate(PlateMotion):
         return self.amplitude * self.angular_frequency ** 2
 
     def speed_bound(self):
-        """Peak |ṗ| = a ω (m/s)."""
+        """Peak abs(ṗ) = a ω (m/s)."""
         return self.amplitude * self.angular_frequency
 
     def acceleration_range(self, t0, t1):
