@@ -5,7 +5,9 @@ Parameters (callables that take arguments; a dataclass its fields, as Attributes
 (functions), Raises where it refuses input, and Examples; the public methods of those classes do
 the same.  The examples run here with the standard ``doctest`` module, so a plain pytest run
 checks them (the docs build runs them again with ``sphinx.ext.doctest``).  Sections are found by
-their numpydoc underline, so the test needs nothing beyond the standard library.
+their numpydoc underline, so the test needs nothing beyond the standard library.  The same holds
+for the subpackages' names the API reference lists (``REFERENCED``) and, without running their
+examples (they need a ROS graph), for the node's Python API (``ROS_API``, marker ``ros``).
 """
 import ast
 import dataclasses
@@ -173,3 +175,30 @@ def test_the_nodes_python_api_has_numpydoc_sections(target):
         assert (inspect.getdoc(method) or '').strip(), f'{target}.{method_name}: no docstring'
         if _returns_something(method):
             assert 'Returns' in _sections(method), f'{target}.{method_name}: no Returns'
+
+
+# the subpackages' names the API reference lists beside contact_sim.__all__ (docs/api)
+REFERENCED = ('contact_sim.drop:SinusoidalPlate', 'contact_sim.drop:CommandedPlate',
+              'contact_sim.drop:SwitchedPlate', 'contact_sim.drop:table_transition',
+              'contact_sim.drop:command_motion', 'contact_sim.drop:VibratingTable',
+              'contact_sim.drop:bifurcation_diagram', 'contact_sim.drop:period_one_threshold',
+              'contact_sim.drop:period_doubling_threshold', 'contact_sim.calibration:BounceFit',
+              'contact_sim.calibration:bounce_times_from_audio',
+              'contact_sim.calibration:corrected_restitution_table')
+
+
+@pytest.mark.parametrize('target', REFERENCED)
+def test_the_referenced_subpackage_names_have_sections_and_running_examples(target):
+    module, name = target.split(':')
+    obj = getattr(__import__(module, fromlist=[name]), name)
+    found = _sections(obj)
+    assert 'Examples' in found, f'{target}: no Examples (has {sorted(found)})'
+    assert found & {'Parameters', 'Attributes'}, f'{target}: no Parameters or Attributes'
+    if inspect.isfunction(obj):
+        assert 'Returns' in found, f'{target}: no Returns (has {sorted(found)})'
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
+    finder = doctest.DocTestFinder(recurse=False, exclude_empty=True)
+    for test in finder.find(obj, name, module=inspect.getmodule(obj), globs={}):
+        runner.run(test)
+    result = runner.summarize(verbose=False)
+    assert result.attempted and result.failed == 0, f'{target}: {result}'
