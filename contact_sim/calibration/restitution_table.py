@@ -26,8 +26,9 @@ def _rebound_for_flight(flight, gravity, kappa, beta):
 
 
 def corrected_restitution_table(fit, law_fit=None):
-    """The drag- and duration-corrected restitution read from the measured flights: a list of
-    (sequence, impact speed v m/s, e, σ_e), one per pair of consecutive single flights.
+    """The drag- and duration-corrected restitution read from the measured flights.
+
+    A list of (sequence, impact speed v m/s, e, σ_e), one per pair of consecutive single flights.
 
     A flight (click to click) minus the fitted law's contact time at its impact speed is
     turned into the rebound speed that gives it under the fitted drag (closed form, inverted by

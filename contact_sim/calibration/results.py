@@ -99,8 +99,18 @@ class BounceFit:
     holdout: list = field(default=None)       # ``holdout.Holdout`` per law (fits' order), or None
 
     def rates(self, law_fit=None):
-        """The drag rates (κ 1/m, β 1/s) in flight with the C_d of ``law_fit`` (default the
-        best fit); (0, 0) in vacuum."""
+        """The drag rates in flight with the C_d of a law's fit.
+
+        Parameters
+        ----------
+        law_fit : LawFit, optional
+            The fit whose ``drag_coefficient`` is used (default: ``best``).
+
+        Returns
+        -------
+        tuple of float
+            (κ in 1/m, β in 1/s); (0, 0) in vacuum.
+        """
         lf = law_fit or self.best
         if self.drag is None:
             return 0.0, 0.0
@@ -118,7 +128,18 @@ class BounceFit:
         return self.fits[0]
 
     def downweighted(self, fit=None):
-        """(sequence, time s, residual s, weight) of the clicks the robust loss down-weighted."""
+        """The clicks the robust loss down-weighted (weight below 0.5).
+
+        Parameters
+        ----------
+        fit : LawFit, optional
+            The law's fit (default: ``best``).
+
+        Returns
+        -------
+        list of tuple
+            (sequence index, time s, residual s, weight) per click.
+        """
         fit = fit or self.best
         out = []
         for j, (seq, r, w) in enumerate(zip(self.sequences, fit.residuals, fit.weights)):
