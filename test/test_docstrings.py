@@ -91,6 +91,8 @@ def test_every_public_callable_has_numpydoc_sections(name):
         if _takes_arguments(obj):
             assert 'Parameters' in found, f'{name}: no Parameters section (has {sorted(found)})'
         assert 'Returns' in found, f'{name}: no Returns section (has {sorted(found)})'
+        # every public function checks its input: it says what it refuses
+        assert 'Raises' in found, f'{name}: no Raises section (has {sorted(found)})'
 
 
 @pytest.mark.parametrize('name', [n for n in CALLABLES if inspect.isclass(getattr(cs, n))])
