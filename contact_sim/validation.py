@@ -23,7 +23,44 @@ class InputError(ValueError):
 
     ``template`` is a ``str.format`` template; ``{n[key]}`` stands for the name of field ``key``
     and every other ``{name}`` is filled from ``params`` (``{value}``: the value's repr unless
-    given).
+    given).  A ``ValueError``, so ``except ValueError`` catches it too.
+
+    Parameters
+    ----------
+    field : str
+        The canonical key of the field refused (the core argument name, e.g. ``'mass'``).
+    value : object
+        The value refused.
+    template : str
+        The message, with ``{n[key]}`` for each field named and ``{value}`` for the value.
+    **params
+        The template's other fields; ``value`` defaults to the value's repr.
+
+    Attributes
+    ----------
+    field : str
+        The canonical key of the field refused.
+    value : object
+        The value refused.
+    template : str
+        The message template.
+    params : dict
+        The template's fields.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> error = cs.InputError('mass', -1.0, '{n[mass]} = {value} is out of range: '
+    ...                       'allowed 0 < {n[mass]}')
+    >>> print(error)
+    mass = -1.0 is out of range: allowed 0 < mass
+    >>> print(error.render({'mass': '--mass'}))
+    --mass = -1.0 is out of range: allowed 0 < --mass
+    >>> try:
+    ...     cs.Material('x', 1e9, 0.6, 1000.0)
+    ... except cs.InputError as refused:
+    ...     print(refused.field, refused.value)
+    poisson_ratio 0.6
     """
 
     def __init__(self, field, value, template, /, **params):
@@ -35,11 +72,52 @@ class InputError(ValueError):
         super().__init__(self.render())
 
     def render(self, names=None):
-        """The message with each field spelled as ``names`` maps it (unmapped keys as is)."""
+        """The message with each field spelled as a front end names it.
+
+        Parameters
+        ----------
+        names : dict, optional
+            Field key -> the front end's name for it (e.g. ``{'mass': '--mass'}``); unmapped
+            keys are spelled as is.
+
+        Returns
+        -------
+        str
+            The message.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> try:
+        ...     cs.Material('x', 1e9, 0.6, 1000.0)
+        ... except cs.InputError as error:
+        ...     print(error.render({'poisson_ratio': 'sphere_poisson_ratio'}))
+        sphere_poisson_ratio = 0.6 is out of range: allowed -1 < sphere_poisson_ratio < 0.5
+        """
         return self.template.format(n=_Names(names or {}), **self.params)
 
     def rekeyed(self, field):
-        """The same refusal about the field ``field`` (e.g. ``material`` -> ``sphere``)."""
+        """The same refusal about another field (``material`` -> ``sphere``, say).
+
+        Parameters
+        ----------
+        field : str
+            The new canonical key.
+
+        Returns
+        -------
+        InputError
+            A new error whose ``field`` and template name ``field``.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> try:
+        ...     cs.get_material('wood')
+        ... except cs.InputError as error:
+        ...     print(error.rekeyed('sphere').field)
+        sphere
+        """
         old = '{n[%s]}' % self.field
         return InputError(field, self.value, self.template.replace(old, '{n[%s]}' % field),
                           **self.params)

@@ -75,7 +75,53 @@ def read_wav(path):
 
 def bounce_times_from_audio(path, highpass=2000.0, threshold=8.0, refractory=0.002, gate=0.03,
                             gate_ratio=0.6, onset_fraction=0.1, smooth=1e-3, noise_window=0.5):
-    """Onsets of the impact clicks in a WAV file: see the module doc.  Times in s."""
+    """Onsets of the impact clicks in a WAV file (the steps are in the module doc).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The WAV file (mono or stereo; 8/16/24/32-bit integer or float).
+    highpass : float, optional
+        The high-pass corner, Hz, 0 < f < rate/2 (default 2000).
+    threshold : float, optional
+        Times the local noise floor a click must reach, > 1 (default 8).
+    refractory : float, optional
+        The shortest gap between two clicks, s, > 0 (default 0.002).
+    gate : float, optional
+        The echo gate after a click, s, >= 0 (default 0.03).
+    gate_ratio : float, optional
+        The share of the click's peak a candidate in the gate must reach, 0 to 1 (default 0.6).
+    onset_fraction : float, optional
+        The share of the peak that marks the onset, 0 < x < 1 (default 0.1).
+    smooth : float, optional
+        The envelope's smoothing window, s (default 1e-3).
+    noise_window : float, optional
+        The running noise floor's window, s (default 0.5).
+
+    Returns
+    -------
+    AudioOnsets
+        Onset times (s from the start of the file), peak amplitudes (full scale 1) and a
+        confidence in [0, 1] per click.
+
+    Raises
+    ------
+    InputError
+        Keyed by the option out of its range.
+    ValueError
+        The file cannot be read as WAV, or holds fewer than 16 samples.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from contact_sim.calibration import bounce_times_from_audio
+    >>> from contact_sim.calibration.audio import synthesize_recording, write_wav
+    >>> path = os.path.join(tempfile.mkdtemp(), 'drop.wav')
+    >>> write_wav(path, synthesize_recording([0.1, 0.4, 0.6], [0.8, 0.6, 0.45], duration=0.8),
+    ...           48000)
+    >>> print(*(f"{t:.3f}" for t in bounce_times_from_audio(path).times))
+    0.100 0.400 0.600
+    """
     rate, x = read_wav(path)
     return detect_onsets(x, rate, highpass, threshold, refractory, gate, gate_ratio,
                          onset_fraction, smooth, noise_window)

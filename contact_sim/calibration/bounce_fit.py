@@ -89,7 +89,7 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         The laws fitted (default: all, or with a mapping ``stiffness`` the laws it has and the
         linear law); names are resolved here, once.
     gravity : float
-        g in m/s^2.
+        Gravity g, m/s^2.
     drag : AirDrag, optional
         The air drag in flight (its C_d the start value when ``fit_drag``); None: vacuum.
     fit_drag : bool
@@ -102,23 +102,43 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         The robust least-squares loss (``impact.LOSSES``).
     confidence : float
         The level of the intervals, 0 < confidence < 1.
+    holdout : float, optional
+        Hold out this share of each sequence's last clicks, 0 < holdout < 1: the laws are
+        fitted on the others and predict them (``holdout`` module; ``BounceFit.holdout``).
     micro_bounce_ratio, min_flight : float
         Where the final micro-bounces are cut (``glitches.MicroBounceCut``): a contact time
         (of the softest law given) above this share of the flight before it, or a flight
         shorter than ``min_flight`` s.
-    holdout : float, optional
-        Hold out this share of each sequence's last clicks, 0 < holdout < 1: the laws are
-        fitted on the others and predict them (``holdout`` module; ``BounceFit.holdout``).
 
     Returns
     -------
     BounceFit
+        The laws' fits (``LawFit``), best first (``best``), with the glitches found.
 
     Raises
     ------
     InputError, ValueError
         For an unknown law, a value out of range, a missing stiffness, no sequences, a
         sequence ``check_recording`` refuses, or ``fit_drag`` without a drag to fit.
+
+    See Also
+    --------
+    predict_bounces : The forward model, touch times for a contact.
+
+    Examples
+    --------
+    Touch times predicted for λ = 9.996e4 N·s/m^1.5 are fitted back:
+
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> recorded = cs.predict_bounces(contact, mass, height=0.1, count=6).times
+    >>> fit = cs.fit_bounces([recorded], mass, contact.stiffness,
+    ...                      laws=['azad_featherstone', 'hunt_crossley'])
+    >>> best = fit.best
+    >>> print(f"{best.law.name}: lambda = {best.damping:.5e}")
+    azad_featherstone: lambda = 9.99598e+04
     """
     mass = require_positive('mass', mass)
     gravity = require_positive('gravity', gravity)

@@ -194,20 +194,73 @@ class BounceSequence:
 
     @property
     def restitutions(self):
+        """Per impact, rebound / impact speed (dimensionless)."""
         return self.rebound_speeds / self.impact_speeds
 
     @property
     def valid(self):
+        """Per impact, True while the gravity group is below ``VALID_GRAVITY_GROUP``."""
         return self.gravity_group < VALID_GRAVITY_GROUP
 
 
 def predict_bounces(contact, mass, height=None, first_flight=None, count=10, gravity=9.81,
                     drag=None, start_time=0.0):
-    """Touch times of a sphere (``mass`` kg, ``Contact``) released from rest at ``height`` (m)
-    above the plate, or, with ``first_flight`` (s), whose first bounce flight lasts that long
-    (touch to touch): ``count`` impacts, the first at ``start_time`` (s; for a release, the
-    release is at ``start_time`` and the first touch after the fall).  ``drag`` is an
-    ``AirDrag`` (``None``: vacuum)."""
+    """Predict the touch times and speeds of a bouncing sphere, in closed form per bounce.
+
+    The sphere (``mass`` kg, ``Contact``) is released from rest at ``height`` (m) above the
+    plate, or, with ``first_flight`` (s), its first bounce flight lasts that long (touch to
+    touch): ``count`` impacts, the first at ``start_time`` (s; for a release, the release is at
+    ``start_time`` and the first touch after the fall).
+
+    Parameters
+    ----------
+    contact : Contact
+        The contact (law, k, λ).
+    mass : float
+        The sphere's mass, kg, > 0.
+    height : float, optional
+        Release height from rest, m, > 0; give it or ``first_flight``.
+    first_flight : float, optional
+        Duration of the first bounce, touch to touch, s, > 0; give it or ``height``.
+    count : int, optional
+        Impacts predicted, 1 to 1e6 (default 10).
+    gravity : float, optional
+        Gravity g, m/s², > 0 (default 9.81).
+    drag : AirDrag, optional
+        Air drag in flight; ``None`` (default): vacuum.
+    start_time : float, optional
+        Time of the release (or of the first impact with ``first_flight``), s (default 0).
+
+    Returns
+    -------
+    BounceSequence
+        Per impact: touch time (s), impact and rebound speeds (m/s), restitution, gravity group.
+
+    Raises
+    ------
+    InputError
+        Keyed ``mass``, ``gravity``, ``count``, ``start_time``, ``height`` or ``first_flight``:
+        out of range.
+    ValueError
+        Both or neither of ``height`` and ``first_flight``, or a ``first_flight`` no bounce of
+        this contact lasts.
+
+    See Also
+    --------
+    fit_bounces : The inverse, λ from recorded touch times.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> bounces = cs.predict_bounces(contact, mass, height=0.1, count=4)
+    >>> print(*(f"{t:.4f}" for t in bounces.times))
+    0.1428 0.3495 0.5020 0.6163
+    >>> print(*(f"{e:.4f}" for e in bounces.restitutions))
+    0.7235 0.7374 0.7499 0.7613
+    """
     mass = require_positive('mass', mass)
     gravity = require_positive('gravity', gravity)
     count = require_int('count', count, 1, MAX_BOUNCES)

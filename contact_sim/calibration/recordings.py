@@ -80,6 +80,7 @@ def heights_from_label(label):
 
     Examples
     --------
+    >>> from contact_sim.calibration import heights_from_label
     >>> heights_from_label('Lancio1,10cm.csv')
     [0.1]
     >>> heights_from_label('drops_80cm_1,2m')

@@ -26,14 +26,43 @@ def _rebound_for_flight(flight, gravity, kappa, beta):
 
 
 def corrected_restitution_table(fit, law_fit=None):
-    """The drag- and duration-corrected restitution read from the measured flights: a list of
-    (sequence, impact speed v m/s, e, σ_e), one per pair of consecutive single flights.
+    """The drag- and duration-corrected restitution read from the measured flights.
+
+    A list of (sequence, impact speed v m/s, e, σ_e), one per pair of consecutive single flights.
 
     A flight (click to click) minus the fitted law's contact time at its impact speed is
     turned into the rebound speed that gives it under the fitted drag (closed form, inverted by
     Newton's method); its arrival speed is the next impact speed.  e = u / v, with v from the
     flight before (or from the fit for the first recorded impact); σ_e propagates the timing
-    noise √2 σ_t of each interval."""
+    noise √2 σ_t of each interval.
+
+    Parameters
+    ----------
+    fit : BounceFit
+        A ``fit_bounces`` result.
+    law_fit : LawFit, optional
+        The law whose contact times and drag are used (default: ``fit.best``).
+
+    Returns
+    -------
+    list of tuple
+        (sequence index, impact speed v in m/s, e, σ_e) per pair of consecutive single flights.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> recorded = cs.predict_bounces(contact, mass, height=0.1, count=6).times
+    >>> fit = cs.fit_bounces([recorded], mass, contact.stiffness,
+    ...                      laws=['azad_featherstone', 'hunt_crossley'])
+    >>> from contact_sim.calibration import corrected_restitution_table
+    >>> for _, speed, e, sigma in corrected_restitution_table(fit)[:2]:
+    ...     print(f"v = {speed:.4f} m/s, e = {e:.4f}")
+    v = 1.4007 m/s, e = 0.7235
+    v = 1.0134 m/s, e = 0.7374
+    """
     lf = law_fit or fit.best
     law, k, lam, m, g = lf.law, lf.stiffness, lf.damping, fit.mass, fit.gravity
     kappa, beta = fit.rates(lf)

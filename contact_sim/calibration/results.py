@@ -38,7 +38,51 @@ class LawFit:
 
 @dataclass(frozen=True)
 class BounceFit:
-    """``fit_bounces`` result: laws ranked best first, the glitches and the prepared data."""
+    """``fit_bounces`` result: laws ranked best first, the glitches and the prepared data.
+
+    Attributes
+    ----------
+    fits : list of LawFit
+        One fit per law, best (lowest weighted rms timing residual) first.
+    sequences : list
+        The prepared sequences (``ImpactTimes``), as fitted.
+    glitches : list of Glitch
+        Detector glitches found: doubled clicks, missed bounces, late starts and the outliers
+        the robust loss down-weighted (each says whether it was left out).
+    mass : float
+        The sphere's mass, kg.
+    gravity : float
+        Gravity g, m/s².
+    drag : AirDrag or None
+        The air drag in flight (``None``: vacuum).
+    fit_drag : bool
+        Whether C_d was fitted.
+    confidence : float
+        The level of the intervals.
+    timing_resolution : float
+        The clock's resolution, s.
+    speed_dependent : bool
+        True if ``delta_aic`` > ``SUPPORT_DELTA_AIC``: the data support a speed-dependent e.
+    delta_aic : float
+        AIC of the best constant-restitution law minus the best speed-dependent law's (nan
+        unless both kinds were fitted).
+    adequacy : Adequacy or None
+        Whether any law describes the recording.
+    holdout : list or None
+        ``holdout.Holdout`` per law (the fits' order), or ``None``.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> recorded = cs.predict_bounces(contact, mass, height=0.1, count=6).times
+    >>> fit = cs.fit_bounces([recorded], mass, contact.stiffness,
+    ...                      laws=['azad_featherstone', 'hunt_crossley'])
+    >>> print(f"{fit.best.law.name}, trustworthy: {fit.trustworthy}")
+    azad_featherstone, trustworthy: True
+    """
 
     fits: list
     sequences: list
@@ -55,8 +99,18 @@ class BounceFit:
     holdout: list = field(default=None)       # ``holdout.Holdout`` per law (fits' order), or None
 
     def rates(self, law_fit=None):
-        """The drag rates (κ 1/m, β 1/s) in flight with the C_d of ``law_fit`` (default the
-        best fit); (0, 0) in vacuum."""
+        """The drag rates in flight with the C_d of a law's fit.
+
+        Parameters
+        ----------
+        law_fit : LawFit, optional
+            The fit whose ``drag_coefficient`` is used (default: ``best``).
+
+        Returns
+        -------
+        tuple of float
+            (κ in 1/m, β in 1/s); (0, 0) in vacuum.
+        """
         lf = law_fit or self.best
         if self.drag is None:
             return 0.0, 0.0
@@ -70,10 +124,22 @@ class BounceFit:
 
     @property
     def best(self):
+        """The best fit, ``fits[0]``."""
         return self.fits[0]
 
     def downweighted(self, fit=None):
-        """(sequence, time s, residual s, weight) of the clicks the robust loss down-weighted."""
+        """The clicks the robust loss down-weighted (weight below 0.5).
+
+        Parameters
+        ----------
+        fit : LawFit, optional
+            The law's fit (default: ``best``).
+
+        Returns
+        -------
+        list of tuple
+            (sequence index, time s, residual s, weight) per click.
+        """
         fit = fit or self.best
         out = []
         for j, (seq, r, w) in enumerate(zip(self.sequences, fit.residuals, fit.weights)):

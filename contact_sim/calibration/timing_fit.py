@@ -45,6 +45,8 @@ def drag_coefficient_of(log_cd):
 
     Examples
     --------
+    >>> import math
+    >>> from contact_sim.calibration.timing_fit import drag_coefficient_of
     >>> drag_coefficient_of(math.log(10.0))
     10.0
     """

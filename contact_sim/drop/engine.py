@@ -1,38 +1,7 @@
-"""A sphere dropped on a plate, bouncing until it rests: an event-driven, steppable engine, an
-explicit state machine.
-
-The motion goes through modes, each an object in its own module with one small interface
-(``mode.Mode``: its state, how far it goes alone, ``advance`` until its next event):
-
-* ``mode_flight.Flight`` (the clamped force is zero): in closed form with no integrator steps,
-  the time at which the force switches on again planned by the plate (``plate.flights``):
-  ballistic or with drag by the quadratic formula on the fixed plate, by the first root of the
-  gap over a moving one; event ``touch``;
-* ``mode_contact.Contact``: integrated exactly by ``phase.PhaseIntegrator``, the plate's
-  acceleration as forcing, up to the located lift-off; events ``lift_off``, ``knot`` (the
-  plate's forcing changes), ``settled``, ``carried``;
-* ``mode_rest.Rest`` (the fixed plate): once the energy above static equilibrium is too small
-  for the force ever to vanish again (permanent contact) and the oscillation amplitude about the
-  static deflection z₀ = (m g / k)^(1/n) has decayed below ``settle_tolerance * z₀``, the motion
-  is the linearised damped oscillator about z₀, in closed form, so a resting sphere costs nothing
-  to advance;
-* ``mode_carried.Carried`` (a moving plate): quasi-static while the plate's acceleration is
-  above -g/2; event ``released``.
-
-What follows an event is looked up in one table, ``transitions.TRANSITIONS``; the record of
-impacts, apexes and integrator steps is kept by one ``records.Recorder``.  The fixed plate is the
-plate motion that does not move (``plate.FixedPlate``), answering the modes' questions in closed
-form: there is one machine for every plate.
-
-To add a mode (two spheres, friction, a plate that is a robot's tool): write it in a new module
-``mode_<name>.py`` as a ``mode.Mode`` (``state``, ``states``, ``until``, ``advance`` returning a
-``mode.Move`` with the ``mode.Event`` that ends it, ``steps``, ``in_contact``, ``carried``), and
-add its rows to ``transitions.TRANSITIONS``: the events that lead into it, from it, and what the
-changes from outside (``set_contact``, ``set_plate``) do to it.
-
-``DropSimulation.advance(t)`` moves to time t and returns what happened on the way, so the same
-engine serves a batch run (``simulate_drop``) and a real-time loop.  Units: SI; z > 0 is
-penetration, ż > 0 is downward motion (approach), height above the plate is -z.
+"""A sphere dropped on a plate, bouncing until it rests: ``DropSimulation``, the steppable
+event-driven engine (an explicit state machine: its modes, its transition table and how to add a
+mode are described in the ``drop`` package's docstring), and ``simulate_drop``, one batch run.
+Units: SI; z > 0 is penetration, ż > 0 is downward motion (approach).
 """
 import math
 from operator import attrgetter
@@ -69,34 +38,45 @@ def _step_budget(max_steps):
 
 
 class DropSimulation:
-    """A sphere of mass ``mass`` (kg) released ``height`` (m) above a plate at ``velocity``
-    (m/s, downward positive), under ``gravity`` (m/s²), with a ``Contact``.
+    """A sphere dropped on a plate, bouncing until it rests: the steppable engine.
 
-    ``advance(t)`` integrates to time t; ``state`` is the state at the current time;
-    ``set_contact`` changes the contact from the next contact phase on; ``reset`` restarts.
+    Drag is neglected during contact (its impulse is at most κ v τc of the momentum,
+    ``flight.contact_drag_impulse_ratio``: 2e-4 for a table-tennis ball at 3 m/s).  Also public:
+    ``plate_motion`` (``plate.FIXED``: fixed), ``drag_rates`` (κ, β; ``None``: vacuum),
+    ``pending_contact``, ``recorder`` (the ``records.Recorder`` behind ``impacts``, ...).
 
-    ``drag`` (a ``flight.AirDrag``, default ``None``: vacuum) slows the flights, still in closed
-    form (``flight.FlightPath``); it needs gravity > 0.  Drag is neglected during contact: its
-    impulse there is at most κ v τc of the momentum (``flight.contact_drag_impulse_ratio``), e.g.
-    2e-4 for a table-tennis ball at 3 m/s.
+    Parameters
+    ----------
+    contact : Contact
+        The contact (law, k, λ).
+    mass, height : float
+        The sphere's (reduced) mass, kg, 1e-12 to 1e9; its release height (lowest point above
+        the plate, or above p(0) for a moving plate), m, 0 <= h <= 1e6.
+    velocity, gravity : float, optional
+        Release velocity (m/s, down, abs(v) <= 1e5; default 0) and g (m/s², 0 to 1e6; 9.81).
+    rtol, settle_tolerance : float, optional
+        The integrator's relative tolerance (1e-14 to 1e-3), and the amplitude about the static
+        depth z0, as a share of z0, below which the rest is in closed form (0 < tol <= 1).
+    radius, drag : optional
+        The sphere's radius R1 (m: a contact too soft for it is refused, ``check_drop``); an
+        ``AirDrag`` in flight, in closed form (needs g > 0; ``None``: vacuum).
+    plate : PlateMotion, optional
+        The plate's motion p(t) (``SinusoidalPlate``, ``CommandedPlate``; needs g > 0), z and
+        ż then relative to it; ``None``: the fixed plate.
 
-    ``plate`` (a ``plate.PlateMotion``: ``SinusoidalPlate``, ``CommandedPlate``; default
-    ``None``, the fixed plate) moves the plate's surface to height p(t): ``height`` is then above
-    p(0), ``velocity`` the sphere's own downward velocity, and z, ż are relative to the plate
-    (``plate`` package).  Flights end at the first root of the gap, bracketed rigorously
-    (``plate.first_gap_root``); contacts take the plate's acceleration as forcing (compiled
-    engine); a sphere the plate carries is advanced quasi-statically (``mode_carried``) while
-    the plate's acceleration is above -g/2.  A plate that does not move is the fixed plate:
-    ``plate`` is then ``None`` and ``plate_motion`` is ``plate.FIXED``.
+    Raises
+    ------
+    InputError
+        Keyed by the argument out of its range (``limits``), or a drop ``check_drop`` refuses.
 
-    Besides the public API: ``plate_motion`` (the plate's motion the modes ask, the fixed plate
-    included), ``drag_rates`` (κ, β of the drag; ``None``: vacuum), ``pending_contact`` (a
-    contact waiting for the next contact phase) and ``recorder`` (the ``records.Recorder``
-    behind the read-only ``impacts``, ``apex_heights``, ``steps``, ``permanent_contact_time``,
-    ``settle_time``).
-
-    Raises ``InputError`` (keyed by the argument) for arguments out of their ranges
-    (``limits``) or a drop ``check_drop`` refuses.
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> sim = cs.DropSimulation(contact, cs.build_mass(sphere='steel', radius=0.0127), 0.1)
+    >>> print(f"e = {sim.advance(0.2).impacts[0].restitution:.4f}, z = {sim.state.penetration:.4f}")
+    e = 0.7236, z = -0.0419
     """
 
     PLATE_CHUNK = CHUNK     # contact steps between two tests for the carried state
@@ -130,7 +110,13 @@ class DropSimulation:
         return self.plate_motion if self.plate_motion.moving else None
 
     def reset(self, height=None, velocity=None, contact=None):
-        """Restart at t = 0 (optionally from a new height, velocity or contact)."""
+        """Restart at t = 0, optionally from a new height, velocity or contact.
+
+        Parameters
+        ----------
+        height, velocity, contact : optional
+            New release height (m), velocity (m/s, down) or ``Contact``; default: as before.
+        """
         height = self.height if height is None else require_height(height)
         velocity = self.velocity if velocity is None else require_velocity(velocity)
         contact = self._initial_contact if contact is None else require_contact(contact)
@@ -144,17 +130,36 @@ class DropSimulation:
         self._mode = free_motion(self, 0.0, -self.height, rate)
 
     def check(self, contact, height=None, velocity=None, plate=False):
-        """``check_drop`` of ``contact`` for this drop (its initial conditions by default) over
-        ``plate`` (default: the drop's own plate; ``None``: the fixed plate)."""
+        """``check_drop`` of ``contact`` for this drop (its ``InputError``), changing nothing.
+
+        Parameters
+        ----------
+        contact : Contact
+            The contact to check.
+        height, velocity : float, optional
+            Release height (m) and velocity (m/s); default: the drop's initial conditions.
+        plate : PlateMotion or None, optional
+            The plate (default: the drop's own; ``None``: the fixed plate).
+        """
         motion = self.plate_motion if plate is False else as_plate(plate)
         check_drop(contact, self.mass, self.gravity, self.height if height is None else height,
                    self.velocity if velocity is None else velocity, self.radius,
                    motion.speed_bound())
 
     def check_plate(self, plate):
-        """The checks ``set_plate`` makes of ``plate`` (gravity > 0 for a moving plate, and
-        ``check`` with its peak speed, of the contact and of one waiting for the next contact
-        phase); returns it as ``set_plate`` takes it (``None``: fixed)."""
+        """The checks ``set_plate`` makes of ``plate`` (g > 0 if it moves, ``check`` with its peak
+        speed of the contact and of one pending), changing nothing.
+
+        Parameters
+        ----------
+        plate : PlateMotion or None
+            The plate's motion; ``None``: the fixed plate.
+
+        Returns
+        -------
+        PlateMotion or None
+            ``plate`` as ``set_plate`` takes it (``None``: fixed).
+        """
         new = self._moving_or_fixed(plate)
         for contact in (self.contact, self.pending_contact):
             if contact is not None:
@@ -162,8 +167,7 @@ class DropSimulation:
         return new if new.moving else None
 
     def set_plate(self, plate):
-        """Move the plate as ``plate`` (a ``plate.PlateMotion``, or ``None``: fixed at p = 0)
-        from the current time on.
+        """Move the plate as ``plate`` from the current time on.
 
         The sphere's absolute height and velocity are unchanged at the switch; its state relative
         to the plate is recomputed from the new plate's p, ṗ now (the same if the motion is
@@ -171,7 +175,12 @@ class DropSimulation:
         flight the flight is re-entered from the new relative state; in a contact phase the phase
         restarts with the new forcing, the running impact's record carried across (no new impact);
         a resting or carried sphere starts a contact phase (no impact recorded).  The new plate
-        is checked as ``check`` does, with its peak speed.
+        is checked as ``check_plate`` does.
+
+        Parameters
+        ----------
+        plate : PlateMotion or None
+            The plate's motion; ``None``: fixed at p = 0.
         """
         self.check_plate(plate)
         new = as_plate(plate)
@@ -184,12 +193,16 @@ class DropSimulation:
         self._follow(Event('set_plate', t, z, zdot))
 
     def set_contact(self, contact):
-        """Use ``contact`` from the next contact phase on: at once in flight or at rest (a
-        resting sphere then settles onto the new contact), after lift-off during a bounce.
+        """Use ``contact`` from the next contact phase on.
 
-        The new contact is checked (``check_drop``) against the drop's initial conditions,
-        whose energy bounds the rest of the motion.  The contact phase a change starts while
-        the sphere rests (or is inside the surface) is no impact and is not recorded as one.
+        At once in flight or at rest (a resting sphere then settles onto it), after lift-off
+        during a bounce; checked (``check_drop``) against the drop's initial conditions, whose
+        energy bounds the motion.  A contact phase it starts at rest is not recorded as an impact.
+
+        Parameters
+        ----------
+        contact : Contact
+            The new contact.
         """
         contact = require_contact(contact)
         self.check(contact)
@@ -198,6 +211,7 @@ class DropSimulation:
 
     @property
     def state(self):
+        """The ``DropState`` at the current ``time``."""
         return DropState(*self._state_row(self.time))
 
     def _state_row(self, t):
@@ -209,6 +223,7 @@ class DropSimulation:
 
     @property
     def in_contact(self):
+        """True while a contact phase or the rest holds the sphere on the plate."""
         return self._mode.in_contact
 
     @property
@@ -231,15 +246,40 @@ class DropSimulation:
         return self.recorder.steps + self._mode.steps
 
     def plate_samples(self, samples):
-        """(p, ṗ, p̈) of the plate (m, m/s, m/s²) at the times of ``samples`` (zeros if fixed)."""
+        """The plate's motion at the times of ``samples``.
+
+        Parameters
+        ----------
+        samples : Samples
+            Samples of this drop.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            (p m, ṗ m/s, p̈ m/s²) per sample (zeros for the fixed plate).
+        """
         return self.plate_motion.samples(np.asarray(samples.time, dtype=float))
 
     def advance(self, t_end, max_steps=None):
-        """Advance to ``t_end`` (s); return the contact points passed and the impacts completed.
+        """Advance to ``t_end``; return the contact points passed and the impacts completed.
 
-        With ``max_steps`` (an integer, 0 to ``MAX_STEPS_PER_CALL``; 0: no integrator step),
-        stop early once that many integrator steps have been taken in this call (then
-        ``time < t_end``; call again to go on): a bound on the work of one call.
+        Parameters
+        ----------
+        t_end : float
+            The time to reach, s, ``time`` <= t_end <= 1e9.
+        max_steps : int, optional
+            Integrator steps allowed in this call, 0 to ``MAX_STEPS_PER_CALL`` (default: no
+            bound): stop early once they are taken (then ``time < t_end``; call again to go on).
+
+        Returns
+        -------
+        Advance
+            The contact points passed (the state reached last), impacts completed, apexes.
+
+        Raises
+        ------
+        InputError
+            Keyed ``t_end`` (before ``time`` or beyond 1e9 s) or ``max_steps``.
         """
         t_end = require_real('t_end', t_end)
         if not self.time <= t_end <= TIME_MAX:
@@ -265,9 +305,8 @@ class DropSimulation:
         return Advance(Samples.from_points(points), impacts, apexes)
 
     def _tick_times(self, times):
-        """``times`` of ``advance_ticks`` as a float array, or ``InputError`` keyed ``times``:
-        a 1-D array of at most ``MAX_TICKS`` finite, non-decreasing times from ``time`` to
-        ``TIME_MAX`` (s)."""
+        """``times`` of ``advance_ticks`` as a float array (1-D, <= ``MAX_TICKS``, finite,
+        non-decreasing, ``time`` to ``TIME_MAX`` s), or ``InputError`` keyed ``times``."""
         try:
             arr = np.asarray(times, dtype=float)
         except (TypeError, ValueError):
@@ -295,17 +334,27 @@ class DropSimulation:
             self._mode = new
 
     def advance_ticks(self, times, max_steps=None):
-        """Advance through the tick end times ``times`` (s, non-decreasing, >= ``time``) in one
-        call; return a ``TickBatch``: each tick end's state, the contact points passed and the
-        impacts completed, as arrays.
+        """Advance through many tick end times in one call, as arrays.
 
-        The same motion, points and impacts as ``advance(t)`` called at each tick time in turn:
-        a stretch of closed-form motion (flight, rest, carried, plate flight) up to its next
-        event is evaluated for all its ticks at once, vectorised over numpy arrays (the fixed
-        plate's flight and rest: the same operations as the scalar path, equal to round-off); a
-        tick with a contact goes through ``advance``.  With ``max_steps``, stop at the first
-        tick that needs integration once that many integrator steps have been taken in this
-        call (or inside a tick, as ``advance`` does): ``ticks`` then says how far it got.
+        The same motion, points and impacts as ``advance(t)`` at each tick time in turn: a
+        stretch of closed-form motion (flight, rest, carried, plate flight) up to its next event
+        is evaluated for all its ticks at once (the fixed plate's flight and rest: the same
+        operations as the scalar path, equal to round-off); a tick with a contact goes through
+        ``advance``.
+
+        Parameters
+        ----------
+        times : array_like of float
+            Tick end times, s, 1-D, non-decreasing, from ``time`` to 1e9, at most 1e6 a call.
+        max_steps : int, optional
+            Integrator steps allowed in this call, 0 to 1e12 (default: no bound): stop at the
+            first tick that needs integration once they are taken (or inside a tick, as
+            ``advance`` does); ``TickBatch.ticks`` says how far it got.
+
+        Returns
+        -------
+        TickBatch
+            Each tick end's state, the contact points passed and the impacts completed.
         """
         times = self._tick_times(times)
         n = times.size
@@ -348,10 +397,8 @@ class DropSimulation:
                          tuple(impacts), np.array(impact_ticks, dtype=int), tuple(apexes))
 
     def _closed_form_ends(self, t, out):
-        """The states (t, z, ż, F, p, ṗ) at the times t (s) of the current closed-form motion,
-        into the rows of ``out``: vectorised where the mode and the plate can (``Mode.states``,
-        ``PlateMotion.states``: the fixed plate's flight and rest) beyond 8 ticks (fewer cost
-        less one by one), tick by tick (scalar, as ``state``) otherwise."""
+        """States (t, z, ż, F, p, ṗ) at times t of the closed-form motion, into ``out``'s rows:
+        vectorised (``Mode.states``, ``PlateMotion.states``) beyond 8 ticks, else one by one."""
         states = self._mode.states(t) if t.size > 8 else None
         plate = self.plate_motion.states(t) if states is not None else None
         if plate is not None:
@@ -373,16 +420,42 @@ class DropSimulation:
 def simulate_drop(contact, mass, height, gravity=9.81, duration=5.0, sample_rate=None,
                   velocity=0.0, rtol=DROP_RTOL, settle_tolerance=1e-3, radius=None,
                   max_steps=MAX_STEPS, drag=None, plate=None):
-    """Drop a sphere from ``height`` (m) and follow it for ``duration`` (s).
+    """Drop a sphere from ``height`` and follow it for ``duration``: one ``DropSimulation`` run.
 
-    With ``sample_rate`` (Hz) the result carries a trajectory sampled on that grid plus every
-    contact phase's own integrator points, so that no force peak is lost.
-    ``permanent_contact_time`` and ``settle_time`` are ``nan`` if not reached.  With the sphere's
-    ``radius`` (m) a contact too soft for the drop is refused (see ``check_drop``).  The work
-    is bounded: at most ``MAX_SAMPLES`` samples, and ``max_steps`` integrator steps, beyond
-    which an ``InputError`` on ``duration`` says how far the drop got.
-    ``drag``: a ``flight.AirDrag`` for the flights (default ``None``, vacuum).
-    ``plate``: a ``plate.PlateMotion`` (default ``None``, the fixed plate; see ``DropSimulation``).
+    Parameters
+    ----------
+    contact, mass, height, gravity, velocity, rtol, settle_tolerance, radius, drag, plate
+        As in ``DropSimulation`` (``Contact``, kg, m, m/s², m/s, -, -, m, ``AirDrag``, ...).
+    duration : float, optional
+        The time followed, s, 0 < duration <= 1e9 (default 5).
+    sample_rate : float, optional
+        Hz, > 0: the result carries a trajectory on that grid plus every contact phase's own
+        integrator points, so that no force peak is lost (at most ``MAX_SAMPLES`` samples).
+    max_steps : int, optional
+        Integrator steps allowed, 1 to 1e9 (default ``MAX_STEPS``).
+
+    Returns
+    -------
+    DropResult
+        The impacts, apexes, permanent contact and settle times (nan if not reached), steps.
+
+    Raises
+    ------
+    InputError
+        Keyed by the argument out of range, ``sample_rate`` (too many samples), ``duration``
+        (more than ``max_steps`` needed: it says how far the drop got), or as ``check_drop``.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> result = cs.simulate_drop(contact, mass, height=0.1, duration=2.0)
+    >>> first = result.impacts[0]
+    >>> print(f"{first.impact_speed:.4f} m/s, e = {first.restitution:.4f}, "
+    ...       f"rest from {result.permanent_contact_time:.3f} s")
+    1.4007 m/s, e = 0.7236, rest from 1.065 s
     """
     duration = require_range('duration', duration, 0.0, DURATION_MAX, low_open=True, unit='s')
     max_steps = require_int('max_steps', max_steps, 1, 10 ** 9)

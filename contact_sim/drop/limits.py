@@ -58,11 +58,53 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
       sufficient (and independent of λ).
 
     The arguments are checked first, in the ranges ``DropSimulation`` takes them (``MASS_RANGE``
-    kg, 0 <= g <= ``GRAVITY_MAX``, 0 <= h <= ``HEIGHT_MAX``, |v0| <= ``VELOCITY_MAX``,
+    kg, 0 <= g <= ``GRAVITY_MAX``, 0 <= h <= ``HEIGHT_MAX``, abs(v0) <= ``VELOCITY_MAX``,
     ``RADIUS_RANGE`` m, a finite ``plate_speed`` >= 0).
 
-    Raises ``InputError`` keyed by the argument out of its range, or ``stiffness`` or
-    ``damping`` whose reason gives the bounds.
+    Parameters
+    ----------
+    contact : Contact
+        The contact (law, k, λ).
+    mass : float
+        The sphere's (reduced) mass, kg, within ``MASS_RANGE`` (1e-12 to 1e9).
+    gravity : float
+        Gravity g, m/s², 0 <= g <= ``GRAVITY_MAX`` (1e6).
+    height : float
+        Release height of the lowest point above the plate, m, 0 <= h <= ``HEIGHT_MAX`` (1e6).
+    velocity : float
+        Release velocity, m/s, downward positive, abs(v0) <= ``VELOCITY_MAX`` (1e5).
+    radius : float, optional
+        The sphere's radius R1, m, within ``RADIUS_RANGE``; ``None``: the depth is not checked.
+    plate_speed : float, optional
+        The moving plate's peak speed, m/s, >= 0 (default 0: the fixed plate).
+
+    Returns
+    -------
+    None
+        The drop is accepted.
+
+    Raises
+    ------
+    InputError
+        Keyed by the argument out of its range, or ``stiffness`` or ``damping`` whose reason
+        gives the bounds.
+
+    See Also
+    --------
+    DropSimulation : Makes these checks when built and at each change of contact or plate.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> contact = cs.Contact('azad_featherstone', 1.0952e10, 9.996e4)
+    >>> cs.check_drop(contact, mass, 9.81, 0.1, 0.0, radius=0.0127) is None    # accepted
+    True
+    >>> soft = cs.Contact('azad_featherstone', 1e3, 0.0)
+    >>> cs.check_drop(soft, mass, 9.81, 1.0, 0.0, radius=0.0127)
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: stiffness = 1000 N/m^1.5 is too small for this drop: a 0.06735 kg sphere hitting at 4.429 m/s would sink more than its radius (0.0127 m) into the plate, where no contact law here applies; allowed stiffness >= 9.203e+04 N/m^1.5
     """
     contact = require_contact(contact)
     mass = require_mass(mass)

@@ -11,7 +11,34 @@ class DropState:
     """The sphere at one instant: time (s), penetration z (m), rate ż (m/s), force F (N).
 
     With a moving plate z = p - y is relative to the plate's surface at height p (m, moving at
-    ṗ m/s): ``plate_position``, ``plate_velocity``; F acts up on the sphere, -F on the plate."""
+    ṗ m/s): ``plate_position``, ``plate_velocity``; F acts up on the sphere, -F on the plate.
+
+    Attributes
+    ----------
+    time : float
+        Time t, s.
+    penetration : float
+        Penetration z, m (> 0 in contact; -z: the height of the lowest point above the plate).
+    penetration_rate : float
+        Penetration rate ż, m/s (> 0 is approach).
+    force : float
+        Force F, N, on the sphere (up), >= 0.
+    plate_position : float
+        Plate position p, m (0 for the fixed plate).
+    plate_velocity : float
+        Plate velocity ṗ, m/s (0 for the fixed plate).
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> sim = cs.DropSimulation(contact, mass, height=0.1)
+    >>> state = sim.state
+    >>> state.time, state.penetration, state.in_contact
+    (0.0, -0.1, False)
+    """
 
     time: float
     penetration: float
@@ -27,6 +54,7 @@ class DropState:
 
     @property
     def in_contact(self):
+        """True while the contact pushes (F > 0)."""
         return self.force > 0.0
 
 
@@ -36,6 +64,30 @@ class Samples:
 
     F is the force on the sphere (up); ``plate_force`` = -F is its reaction on the plate.  With a
     moving plate, z and ż are relative to the plate; ``DropSimulation.plate_samples`` gives p, ṗ.
+
+    Attributes
+    ----------
+    time : numpy.ndarray
+        Time t, s, non-decreasing.
+    penetration : numpy.ndarray
+        Penetration z, m.
+    penetration_rate : numpy.ndarray
+        Penetration rate ż, m/s (> 0 is approach).
+    force : numpy.ndarray
+        Force F, N, on the sphere.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> result = cs.simulate_drop(contact, mass, 0.1, duration=0.2, sample_rate=1000)
+    >>> samples = result.trajectory
+    >>> print(f"{samples.time[0]:.1f} to {samples.time[-1]:.1f} s")
+    0.0 to 0.2 s
+    >>> print(f"peak {samples.force.max():.0f} N")
+    peak 3003 N
     """
 
     time: np.ndarray
@@ -45,11 +97,49 @@ class Samples:
 
     @classmethod
     def from_points(cls, points):
+        """Samples from rows (t, z, ż, F).
+
+        Parameters
+        ----------
+        points : array_like of float
+            Rows (t s, z m, ż m/s, F N), any shape of 4·N values.
+
+        Returns
+        -------
+        Samples
+            The samples, copied.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> samples = cs.Samples.from_points([(0.0, -0.1, 0.0, 0.0), (0.1, -0.05, 1.0, 0.0)])
+        >>> samples.penetration.tolist()
+        [-0.1, -0.05]
+        """
         arr = np.asarray(points, dtype=float).reshape(-1, 4)
         return cls(*(arr[:, i].copy() for i in range(4)))
 
     @classmethod
     def concatenate(cls, parts):
+        """The samples of ``parts`` one after the other.
+
+        Parameters
+        ----------
+        parts : sequence of Samples
+            The parts, in time order.
+
+        Returns
+        -------
+        Samples
+            Their concatenation (empty arrays for no parts).
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> part = cs.Samples.from_points([(0.0, -0.1, 0.0, 0.0), (0.1, -0.05, 1.0, 0.0)])
+        >>> cs.Samples.concatenate([part, part]).time.size
+        4
+        """
         return cls(*(np.concatenate([getattr(p, f) for p in parts]) if parts else np.empty(0)
                      for f in ('time', 'penetration', 'penetration_rate', 'force')))
 
@@ -64,6 +154,36 @@ class ImpactRecord:
     """One contact phase: when it began (s), speeds (m/s), restitution, duration (s), peak (N).
 
     The final, permanent contact has rebound_speed = restitution = 0 and contact_duration = inf.
+
+    Attributes
+    ----------
+    time : float
+        The touch, s.
+    impact_speed : float
+        The approach speed at touch, m/s.
+    rebound_speed : float
+        The separation speed at lift-off, m/s.
+    restitution : float
+        ``rebound_speed / impact_speed``.
+    contact_duration : float
+        Touch to lift-off, s (``inf`` for the permanent contact).
+    peak_force : float
+        The largest force, N.
+    max_penetration : float
+        The deepest penetration, m.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> first = cs.simulate_drop(contact, mass, 0.1, duration=0.2).impacts[0]
+    >>> print(f"t = {first.time:.4f} s, v = {first.impact_speed:.4f} m/s, "
+    ...       f"e = {first.restitution:.4f}")
+    t = 0.1428 s, v = 1.4007 m/s, e = 0.7236
+    >>> first.permanent
+    False
     """
 
     time: float
@@ -76,12 +196,34 @@ class ImpactRecord:
 
     @property
     def permanent(self):
+        """True for the final, permanent contact (``contact_duration`` is inf)."""
         return math.isinf(self.contact_duration)
 
 
 @dataclass(frozen=True)
 class Advance:
-    """What one ``DropSimulation.advance`` call produced."""
+    """What one ``DropSimulation.advance`` call produced.
+
+    Attributes
+    ----------
+    samples : Samples
+        The contact points passed and the state reached (the last sample).
+    impacts : tuple of ImpactRecord
+        The impacts completed in the call.
+    apex_heights : tuple of float
+        The apex heights (m) of the flights begun in the call.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> sim = cs.DropSimulation(contact, mass, height=0.1)
+    >>> advance = sim.advance(0.2)
+    >>> len(advance.impacts), round(advance.apex_heights[0], 4)
+    (1, 0.0523)
+    """
 
     samples: Samples
     impacts: tuple
@@ -101,6 +243,39 @@ class TickBatch:
     index of the tick point i belongs to (``ticks`` for the points of the tick the budget stopped
     in: its last point is the state reached, as ``advance`` returns it).  ``impacts`` completed,
     with ``impact_tick`` (the same indexing), and the ``apex_heights`` of the flights begun.
+
+    Attributes
+    ----------
+    ticks : int
+        The number of tick times reached.
+    time, penetration, penetration_rate, force : numpy.ndarray
+        Per tick reached: t (s), z (m), ż (m/s), F (N).
+    plate_position, plate_velocity : numpy.ndarray
+        Per tick reached: p (m), ṗ (m/s).
+    points : Samples
+        The contact points passed.
+    point_tick : numpy.ndarray
+        The tick index of each point.
+    impacts : tuple of ImpactRecord
+        The impacts completed.
+    impact_tick : numpy.ndarray
+        The tick index of each impact.
+    apex_heights : tuple of float
+        The apex heights (m) of the flights begun.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> import numpy as np
+    >>> sim = cs.DropSimulation(contact, mass, height=0.1)
+    >>> batch = sim.advance_ticks(np.arange(1, 11) * 0.01)   # ten 10 ms ticks, in flight
+    >>> batch.ticks, len(batch.impacts)
+    (10, 0)
+    >>> print(f"{batch.penetration[-1]:.5f} m")
+    -0.05095 m
     """
 
     ticks: int
@@ -119,7 +294,37 @@ class TickBatch:
 
 @dataclass(frozen=True)
 class DropResult:
-    """Outcome of ``simulate_drop``; ``trajectory`` is ``None`` unless a sample rate was given."""
+    """Outcome of ``simulate_drop``; ``trajectory`` is ``None`` unless a sample rate was given.
+
+    Attributes
+    ----------
+    impacts : tuple of ImpactRecord
+        Every contact phase, in time order (the last one permanent if reached).
+    apex_heights : tuple of float
+        The apex height (m) of each flight after a lift-off.
+    permanent_contact_time : float
+        When the landing for good began, s (nan if not reached).
+    settle_time : float
+        When the closed-form rest took over, s (nan if not reached).
+    steps : int
+        Integrator steps taken.
+    duration : float
+        The time simulated, s.
+    trajectory : Samples or None
+        The sampled trajectory (with ``sample_rate``).
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> result = cs.simulate_drop(contact, mass, 0.1, duration=2.0)
+    >>> print(f"at rest for good from t = {result.permanent_contact_time:.3f} s")
+    at rest for good from t = 1.065 s
+    >>> result.impacts[-1].permanent, result.trajectory is None
+    (True, True)
+    """
 
     impacts: tuple
     apex_heights: tuple

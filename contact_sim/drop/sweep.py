@@ -46,6 +46,7 @@ def sweep(function, values, executor=None, max_workers=None):
 
     Examples
     --------
+    >>> from contact_sim.drop import sweep
     >>> sweep(abs, [-1, 2, -3], max_workers=1)
     [1, 2, 3]
     """
@@ -74,8 +75,42 @@ def sweep(function, values, executor=None, max_workers=None):
 
 
 def bifurcation_diagram(table, gammas, executor=None, max_workers=None):
-    """(Γ, phase) point arrays of a bifurcation diagram: ``table`` (a ``table.VibratingTable``)
-    called at every Γ of ``gammas`` through ``sweep``; each Γ contributes its last bounces."""
+    """The points of a bifurcation diagram: ``table`` at every Γ of ``gammas``, through ``sweep``.
+
+    Parameters
+    ----------
+    table : VibratingTable
+        The table (its ``bounces`` last impacts per Γ are the points).
+    gammas : array_like of float
+        The Γ values, dimensionless.
+    executor, max_workers : optional
+        As in ``sweep`` (default: local processes).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        (Γ, table phase in rad) of every point.
+
+    Raises
+    ------
+    InputError
+        As ``sweep`` and ``VibratingTable.run``.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> from contact_sim.drop import VibratingTable
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> table = VibratingTable(contact, cs.build_mass(sphere='steel', radius=0.0127),
+    ...                        frequency=20.0, bounces=4, transient=20)
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> from contact_sim.drop import bifurcation_diagram
+    >>> with ThreadPoolExecutor(1) as pool:
+    ...     gamma, phase = bifurcation_diagram(table, [0.8, 1.0], executor=pool)
+    >>> gamma.tolist()
+    [0.8, 0.8, 0.8, 0.8, 1.0, 1.0, 1.0, 1.0]
+    """
     gammas = np.asarray(gammas, dtype=float).ravel()
     if gammas.size == 0:
         return np.empty(0), np.empty(0)

@@ -41,13 +41,59 @@ MAX_TABLE_PERIODS = 10 ** 7       # table periods one call may simulate
 
 
 def period_one_threshold(restitution):
-    """Γ₁(e) = π (1 - e)/(1 + e): the period-1 motion exists above it."""
+    """The table's Γ above which the period-1 bouncing exists, Γ₁(e) = π (1 - e)/(1 + e).
+
+    Parameters
+    ----------
+    restitution : float
+        A constant restitution e, 0 <= e <= 1.
+
+    Returns
+    -------
+    float
+        Γ₁ = a ω²/g, dimensionless.
+
+    Raises
+    ------
+    InputError
+        Keyed ``restitution``: out of range.
+
+    Examples
+    --------
+    >>> from contact_sim.drop import period_one_threshold
+    >>> print(f"{period_one_threshold(0.7):.4f}")
+    0.5544
+    """
     e = require_range('restitution', restitution, 0.0, 1.0)
     return math.pi * (1.0 - e) / (1.0 + e)
 
 
 def period_doubling_threshold(restitution):
-    """Γ₂(e) = √(Γ₁² + (2 (1 + e²)/(1 + e)²)²): the period-1 motion loses stability above it."""
+    """The Γ above which the period-1 bouncing loses stability.
+
+    Γ₂(e) = √(Γ₁² + (2 (1 + e²)/(1 + e)²)²).
+
+    Parameters
+    ----------
+    restitution : float
+        A constant restitution e, 0 <= e <= 1.
+
+    Returns
+    -------
+    float
+        Γ₂, dimensionless.
+
+    Raises
+    ------
+    InputError
+        Keyed ``restitution``: out of range.
+
+    Examples
+    --------
+    >>> from contact_sim.drop import period_doubling_threshold
+    >>> print(f"{period_doubling_threshold(0.7):.4f}")
+    1.1707
+    """
     e = require_range('restitution', restitution, 0.0, 1.0)
     return math.hypot(period_one_threshold(e), 2.0 * (1.0 + e * e) / (1.0 + e) ** 2)
 
@@ -71,6 +117,48 @@ class VibratingTable:
     and returns the table phases ωt mod 2π (rad) of the last ``bounces`` impacts: the points of
     the bifurcation diagram.  Picklable: a ``sweep`` sends it to worker processes.
     ``max_periods`` bounds the simulated time (a sphere the table carries stops bouncing).
+
+    Attributes
+    ----------
+    contact : Contact
+        The contact (law, k, λ).
+    mass : float
+        The sphere's mass, kg.
+    frequency : float
+        The table's frequency f, Hz, > 0 (default 10).
+    bounces : int
+        Impacts returned per Γ, >= 1 (default 300).
+    transient : int
+        Impacts left out first, >= 0 (default 100).
+    gravity : float
+        Gravity g, m/s², > 0 (default 9.81).
+    restitution_guess : float
+        The e of the period-1 orbit the sphere starts on, 0 < e < 1 (default 0.7).
+    start_height : float
+        The drop height below Γ₁, m (default 0.01).
+    max_periods : int
+        Table periods simulated at most, >= 1 (default 5000).
+
+    Raises
+    ------
+    InputError
+        Keyed by the field out of its range.
+
+    See Also
+    --------
+    bifurcation_diagram : The table called over many Γ.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> from contact_sim.drop import VibratingTable
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> table = VibratingTable(contact, cs.build_mass(sphere='steel', radius=0.0127),
+    ...                        frequency=20.0, bounces=4, transient=20)
+    >>> phases = table(1.0)                # Γ = 1: the period-1 orbit
+    >>> print(*(f"{phase:.1f}" for phase in phases))
+    1.2 1.2 1.2 1.2
     """
 
     contact: object
@@ -103,14 +191,36 @@ class VibratingTable:
             object.__setattr__(self, name, value)
 
     def gamma_max(self):
-        """The largest Γ = a ω²/g a table at this frequency reaches within its ranges
-        (``plate.TABLE_AMPLITUDE_MAX``, ``plate.TABLE_ACCELERATION_MAX``)."""
+        """The largest Γ = a ω²/g a table at this frequency reaches within its ranges.
+
+        The ranges are ``plate.TABLE_AMPLITUDE_MAX`` and ``plate.TABLE_ACCELERATION_MAX``.
+
+        Returns
+        -------
+        float
+            Γ, dimensionless.
+        """
         w = 2.0 * math.pi * self.frequency
         return min(TABLE_ACCELERATION_MAX, TABLE_AMPLITUDE_MAX * w * w) / self.gravity
 
     def run(self, gamma):
-        """(impact times s, impact phases rad, impact speeds m/s) of all impacts at Γ
-        (0 <= Γ <= ``gamma_max()``; ``InputError`` keyed ``gamma`` outside)."""
+        """Run the table at Γ and return all its impacts.
+
+        Parameters
+        ----------
+        gamma : float
+            Γ = a ω²/g, 0 <= Γ <= ``gamma_max()``.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            (impact times s, table phases ωt mod 2π rad, impact speeds m/s).
+
+        Raises
+        ------
+        InputError
+            Keyed ``gamma``: out of range.
+        """
         top = self.gamma_max()
         gamma = require_range('gamma', gamma, 0.0, top)
         w = 2.0 * math.pi * self.frequency

@@ -83,7 +83,7 @@ class Export:
     """One engine's parameters for a target, and the e(v) the engine gives with them.
 
     ``engine_restitution_source`` is ``'measured'`` when the engine itself was run, ``'predicted'``
-    when the engine's law was evaluated here; ``max_abs_error`` is max |engine e - target e| over
+    when the engine's law was evaluated here; ``max_abs_error`` is max abs(engine e - target e) over
     the speeds: how far the best choice stays from the target.
     """
 
@@ -100,7 +100,7 @@ class Export:
 
     @property
     def max_abs_error(self):
-        """max |engine e - target e| over the speeds."""
+        """The largest abs(engine e - target e) over the speeds."""
         return float(np.max(np.abs(self.engine_restitution - self.target.restitution)))
 
     def as_dict(self):
@@ -147,7 +147,7 @@ def linear_contact_note(target, frequency):
 
 
 def fit_minimax(engine_restitution, target, low, high):
-    """The parameter x in [low, high] that minimises max |engine_restitution(x) - target e|.
+    """The parameter x in [low, high] that minimises max abs(engine_restitution(x) - target e).
 
     Parameters
     ----------

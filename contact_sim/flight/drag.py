@@ -53,6 +53,37 @@ class AirDrag:
     ``air_density`` ρ (kg/m³, 0 <= ρ <= 100), ``drag_coefficient`` C_d (0 <= C_d <= 10; about 0.47
     for a smooth sphere, 0.25-0.3 for a dimpled golf ball at speed), ``linear_coefficient`` b
     (N·s/m, >= 0; Stokes drag 6 π μ R₁ is about 3.4e-6 N·s/m for R₁ = 1 cm in air).
+
+    Attributes
+    ----------
+    air_density : float
+        Air density ρ, kg/m³, 0 <= ρ <= 100 (default 1.204: dry air at 20 °C, 101.325 kPa).
+    drag_coefficient : float
+        Drag coefficient C_d, dimensionless, 0 <= C_d <= 10 (default 0.47: a smooth sphere).
+    radius : float
+        The sphere's radius R₁, m, > 0 (default 0.02).
+    linear_coefficient : float
+        Linear drag coefficient b, N·s/m, >= 0 (default 0).
+
+    Raises
+    ------
+    InputError
+        Keyed by the field out of its range.
+
+    See Also
+    --------
+    FlightPath : A flight with these drag rates, in closed form.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> drag = cs.AirDrag(radius=0.02)           # a 40 mm ball in air
+    >>> print(f"c = {drag.quadratic_coefficient:.4e} kg/m")
+    c = 3.5555e-04 kg/m
+    >>> cs.AirDrag(drag_coefficient=11.0)
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: drag_coefficient = 11.0 is out of range: allowed 0 <= drag_coefficient <= 10
     """
 
     air_density: float = AIR_DENSITY
@@ -71,13 +102,37 @@ class AirDrag:
 
     @property
     def quadratic_coefficient(self):
-        """c = ½ ρ C_d π R₁² (kg/m): the drag force is c v²."""
+        """The quadratic drag coefficient c = ½ ρ C_d π R₁² (kg/m): the drag force is c v²."""
         return 0.5 * self.air_density * self.drag_coefficient * math.pi * self.radius ** 2
 
     def rates(self, mass, gravity):
-        """(κ, β) = (c / m in 1/m, b / m in 1/s) for a sphere of ``mass`` (kg) under ``gravity``.
+        """The drag per unit mass, (κ, β) = (c / m, b / m).
 
-        Raises ``ValueError`` naming ``linear_coefficient`` if b >= 2 √(c m g) (see module doc).
+        Parameters
+        ----------
+        mass : float
+            The sphere's mass, kg, > 0.
+        gravity : float
+            Gravity g, m/s², > 0.
+
+        Returns
+        -------
+        tuple of float
+            (κ in 1/m, β in 1/s).
+
+        Raises
+        ------
+        InputError
+            Keyed ``mass``: not a number > 0.
+        ValueError
+            Naming ``linear_coefficient``: b >= 2 √(c m g) (see the module doc).
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> kappa, beta = cs.AirDrag(radius=0.02).rates(0.0027, 9.81)   # a 2.7 g ball
+        >>> print(f"{kappa:.4f} 1/m, {beta} 1/s")
+        0.1317 1/m, 0.0 1/s
         """
         mass = require_positive('mass', mass)
         kappa, beta = self.quadratic_coefficient / mass, self.linear_coefficient / mass
@@ -90,6 +145,7 @@ class AirDrag:
 
     @property
     def active(self):
+        """True if there is any drag (c > 0 or b > 0)."""
         return self.quadratic_coefficient > 0.0 or self.linear_coefficient > 0.0
 
 
@@ -194,8 +250,38 @@ def _fall_root(d, s0, g, kappa, beta):
 # -- one flight ------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class FlightPath:
-    """A flight from height ``height`` (m) at upward velocity ``velocity`` (m/s) under
-    ``gravity`` (> 0) with drag rates κ = ``kappa`` (1/m) and β = ``beta`` (1/s)."""
+    """A vertical flight under gravity and air drag, in closed form (see the module doc).
+
+    Attributes
+    ----------
+    height : float
+        The start height y0, m (up positive).
+    velocity : float
+        The start velocity, m/s, up positive.
+    gravity : float
+        Gravity g, m/s², > 0.
+    kappa : float
+        Quadratic drag rate κ = c / m, 1/m, >= 0 (default 0: no quadratic drag).
+    beta : float
+        Linear drag rate β = b / m, 1/s, >= 0, below 2 √(κ g) (default 0).
+
+    Raises
+    ------
+    InputError
+        Keyed ``gravity``, ``kappa`` or ``beta``: out of range.
+    ValueError
+        Naming ``beta``: β >= 2 √(κ g).
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> flight = cs.FlightPath(0.0, 3.0, 9.81)          # thrown up at 3 m/s, vacuum
+    >>> print(f"apex {flight.apex_height:.4f} m at {flight.apex_time:.4f} s")
+    apex 0.4587 m at 0.3058 s
+    >>> path = cs.FlightPath.with_drag(0.0, 3.0, 9.81, 0.0027, cs.AirDrag(radius=0.02))
+    >>> print(f"apex {path.apex_height:.4f} m with drag")
+    apex 0.4331 m with drag
+    """
 
     height: float
     velocity: float
@@ -213,7 +299,33 @@ class FlightPath:
 
     @classmethod
     def with_drag(cls, height, velocity, gravity, mass, drag=None):
-        """The flight of a sphere of ``mass`` (kg) with an ``AirDrag`` (``None``: vacuum)."""
+        """The flight of a sphere with an ``AirDrag``.
+
+        Parameters
+        ----------
+        height : float
+            The start height, m.
+        velocity : float
+            The start velocity, m/s, up positive.
+        gravity : float
+            Gravity g, m/s², > 0.
+        mass : float
+            The sphere's mass, kg, > 0.
+        drag : AirDrag, optional
+            The drag; ``None`` (default): vacuum.
+
+        Returns
+        -------
+        FlightPath
+            The flight with κ, β = ``drag.rates(mass, gravity)``.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> path = cs.FlightPath.with_drag(1.0, 0.0, 9.81, 0.0027, cs.AirDrag(radius=0.02))
+        >>> print(f"{path.kappa:.4f}")
+        0.1317
+        """
         kappa, beta = drag.rates(mass, gravity) if drag is not None else (0.0, 0.0)
         return cls(height, velocity, gravity, kappa, beta)
 
@@ -232,7 +344,25 @@ class FlightPath:
         return self.height + float(apex(self.velocity, self.gravity, self.kappa, self.beta)[1])
 
     def state(self, t):
-        """(height m, upward velocity m/s) at time t >= 0 after the start; arrays allowed."""
+        """The height and velocity at a time after the start.
+
+        Parameters
+        ----------
+        t : float or array_like of float
+            Time after the start, s, >= 0.
+
+        Returns
+        -------
+        tuple
+            (height m, upward velocity m/s): floats for a scalar ``t``, else arrays.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> y, v = cs.FlightPath(0.0, 3.0, 9.81).state(0.1)
+        >>> print(f"{y:.5f} m, {v:.3f} m/s")
+        0.25095 m, 2.019 m/s
+        """
         t = np.asarray(t, dtype=float)
         g, kappa, beta = self.gravity, self.kappa, self.beta
         if self.velocity > 0.0:
@@ -248,8 +378,26 @@ class FlightPath:
         return (float(y), float(v)) if t.ndim == 0 else (y, v)
 
     def time_to_height(self, level=0.0):
-        """First time (s) the sphere passes ``level`` (m) on its way down; ``inf`` if the apex
-        is below it.  Closed form without a linear term, a bracketed root with one."""
+        """The first time the sphere passes ``level`` on its way down.
+
+        Closed form without a linear term, a bracketed root with one.
+
+        Parameters
+        ----------
+        level : float, optional
+            The height, m (default 0: the plate).
+
+        Returns
+        -------
+        float
+            The time after the start, s; ``inf`` if the apex is below ``level``.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> print(f"{cs.FlightPath(0.0, 3.0, 9.81).time_to_height():.4f} s")
+        0.6116 s
+        """
         g, kappa, beta = self.gravity, self.kappa, self.beta
         if self.velocity > 0.0:
             t_a, rise_a = (float(x) for x in apex(self.velocity, g, kappa, beta))
@@ -262,7 +410,25 @@ class FlightPath:
         return float(fall_time(self.height - level, -self.velocity, g, kappa, beta)[0])
 
     def touch(self, level=0.0):
-        """(time s, downward speed m/s) at the next passage of ``level`` going down."""
+        """The time and speed of the next passage of ``level`` going down.
+
+        Parameters
+        ----------
+        level : float, optional
+            The height, m (default 0: the plate).
+
+        Returns
+        -------
+        tuple of float
+            (time s, downward speed m/s); (inf, nan) if the flight never gets there.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> t, speed = cs.FlightPath(0.0, 3.0, 9.81).touch()
+        >>> print(f"{t:.4f} s at {speed:.4f} m/s")
+        0.6116 s at 3.0000 m/s
+        """
         t = self.time_to_height(level)
         if not math.isfinite(t):
             return t, math.nan

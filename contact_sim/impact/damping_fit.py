@@ -33,31 +33,46 @@ def group_for_restitution(law, target):
 
 
 def damping_for_restitution(law, stiffness, mass, restitution, speed):
-    """λ that gives exactly ``restitution`` for an impact at ``speed`` (m/s), no gravity.
+    """The damping λ that gives exactly ``restitution`` for an impact at ``speed``, no gravity.
 
     Parameters
     ----------
     law : ContactLaw or str
         The law, or its name in ``LAWS``.
     stiffness : float
-        k in N/m^n.
+        Stiffness k, N/m^n, > 0.
     mass : float
-        The (reduced) mass in kg.
+        The (reduced) mass, kg, > 0.
     restitution : float
         The target e, 0 < e <= 1.
     speed : float
-        The impact speed in m/s.
+        The impact speed, m/s, > 0.
 
     Returns
     -------
     float
-        λ in N·s^q/m^(p+q) (0 for e = 1).
+        Damping λ, N·s^q/m^(p+q) (0 for e = 1).
 
     Raises
     ------
     InputError
         Keyed ``law``, ``stiffness``, ``mass``, ``restitution`` or ``speed``: an unknown law, a
         value out of range, or an e below what the largest damping group gives.
+
+    See Also
+    --------
+    restitution : The forward map, e for a λ.
+    fit_damping : The λ fitted to many (speed, restitution) points.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> lam = cs.damping_for_restitution('azad_featherstone', 1.0952e10, 0.06735, 0.7, 1.0)
+    >>> print(f"{lam:.4e}")
+    1.1878e+05
+    >>> contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1.0952e10, lam)
+    >>> print(f"{cs.restitution(contact, 0.06735, 1.0):.6f}")
+    0.700000
     """
     return _damping_for_restitution(get_law(law), require_positive('stiffness', stiffness),
                                     require_positive('mass', mass), restitution, speed)
@@ -90,13 +105,47 @@ def _lowest_restitution(law):
 
 @dataclass(frozen=True)
 class DampingFit:
-    """Least-squares damping for one law, with diagnostics.
+    """Least-squares damping for one law, with diagnostics, as ``fit_damping`` returns it.
 
     ``pointwise_damping`` is the λ that would match each point alone: a law that describes the
     data gives nearly constant values (their spread, ``pointwise_spread``, is max/min).
     ``flagged`` lists the points with e >= 1 (measurement noise near e = 1: kept in the fit,
     but no λ matches them alone, so their pointwise λ is 0 for e = 1 and nan above); ``loss``
     is the least-squares loss used and ``weights`` the robust weight of each point (1 = full).
+
+    Attributes
+    ----------
+    law : ContactLaw
+        The law fitted.
+    stiffness : float
+        Stiffness k, N/m^n (given, not fitted).
+    damping : float
+        The fitted λ, N·s^q/m^(p+q).
+    rms_residual : float
+        Root mean square of the residuals in e (dimensionless).
+    residuals : numpy.ndarray
+        Model minus measured e, per point.
+    pointwise_damping : numpy.ndarray
+        The λ matching each point alone, N·s^q/m^(p+q) (0 for e = 1, nan above).
+    confidence_interval : tuple of float
+        (low, high) of λ at ``confidence_level``, N·s^q/m^(p+q); (nan, nan) for one point.
+    confidence_level : float
+        The interval's level, 0 < level < 1.
+    flagged : tuple of int
+        Indices of the points with e >= 1.
+    loss : str
+        The least-squares loss (one of ``LOSSES``).
+    weights : numpy.ndarray
+        The robust weight of each point (1 = full).
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> v = [0.5, 1.0, 1.5, 2.0]             # impact speeds, m/s
+    >>> e = [0.77, 0.735, 0.72, 0.705]       # measured restitutions
+    >>> fit = cs.fit_damping('azad_featherstone', 1.0952e10, 0.06735, v, e)
+    >>> print(f"spread {fit.pointwise_spread:.3f}, rms {fit.rms_residual:.4f}")
+    spread 1.036, rms 0.0028
     """
 
     law: ContactLaw
@@ -113,11 +162,29 @@ class DampingFit:
 
     @property
     def pointwise_spread(self):
+        """Max / min of the positive finite ``pointwise_damping`` (1: one λ fits every point).
+
+        nan if there is none.
+        """
         lam = self.pointwise_damping[np.isfinite(self.pointwise_damping)
                                      & (self.pointwise_damping > 0.0)]
         return float(np.max(lam) / np.min(lam)) if lam.size else math.nan
 
     def contact(self):
+        """The fitted contact.
+
+        Returns
+        -------
+        Contact
+            ``Contact(law, stiffness, damping)``.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> fit = cs.fit_damping('linear', 1e5, 0.05, [1.0, 2.0], [0.8, 0.8])
+        >>> fit.contact().law.name
+        'linear'
+        """
         return Contact(self.law, self.stiffness, self.damping)
 
 
@@ -167,9 +234,9 @@ def robust_weights(loss, z2):
 
 def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, loss='linear',
                 uncertainties=None):
-    """Fit λ to measured (speed, restitution) points by least squares in e; see ``DampingFit``.
+    """Fit λ to measured (speed, restitution) points by least squares in e.
 
-    The confidence interval is linearised in ln λ: λ exp(± t σ / |J|), with J = ∂e/∂ln λ at the
+    The confidence interval is linearised in ln λ: λ exp(± t σ / abs(J)), with J = ∂e/∂ln λ at the
     optimum and σ² the residual variance (N - 1 degrees of freedom); one point leaves no
     residual variance, and the interval is (nan, nan).
     Points with e >= 1 (noise near e = 1) are kept in the fit and listed in ``flagged``.
@@ -177,6 +244,53 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     ``LOSSES``, as in ``scipy.optimize.least_squares``) makes the fit robust: its scale is one
     σ_e when uncertainties are given, else 1.4826 × the median absolute residual of the plain fit;
     ``weights`` reports how much each point still counts.
+
+    Parameters
+    ----------
+    law : ContactLaw or str
+        The law, or its name in ``LAWS``.
+    stiffness : float
+        Stiffness k, N/m^n, > 0 (from Hertz theory, ``hertz_stiffness``).
+    mass : float
+        The (reduced) mass, kg, > 0.
+    speeds : array_like of float
+        Impact speeds, m/s, > 0, one per point.
+    restitutions : array_like of float
+        Measured e, > 0 (e >= 1 is kept and flagged), one per point.
+    confidence : float, optional
+        The interval's level, 0 < confidence < 1 (default 0.95).
+    loss : str, optional
+        One of ``LOSSES`` (default ``'linear'``: plain least squares).
+    uncertainties : array_like of float, optional
+        Uncertainty σ_e of each point, > 0 (default: all equal).
+
+    Returns
+    -------
+    DampingFit
+        The fitted λ, its interval, the residuals and the diagnostics.
+
+    Raises
+    ------
+    InputError
+        Keyed ``law``, ``stiffness``, ``mass``, ``confidence``, ``loss``, ``speeds`` or
+        ``restitutions`` (with the point's index): a value out of range or an unknown name.
+    ValueError
+        ``speeds``, ``restitutions`` or ``uncertainties`` of different lengths, empty, or with
+        a value out of range.
+
+    See Also
+    --------
+    compare_laws : Every law fitted to the same points, ranked.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> v = [0.5, 1.0, 1.5, 2.0]             # impact speeds, m/s
+    >>> e = [0.77, 0.735, 0.72, 0.705]       # measured restitutions
+    >>> fit = cs.fit_damping('azad_featherstone', 1.0952e10, 0.06735, v, e)
+    >>> low, high = fit.confidence_interval
+    >>> print(f"lambda = {fit.damping:.4e} ({low:.3e} to {high:.3e}) N s/m^1.5")
+    lambda = 1.0031e+05 (9.794e+04 to 1.027e+05) N s/m^1.5
     """
     law = get_law(law)
     stiffness = require_positive('stiffness', stiffness)
@@ -269,8 +383,45 @@ def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.
                  loss='linear', uncertainties=None):
     """Fit each law to the same data and rank them, best (lowest rms residual) first.
 
-    ``stiffness`` is one value for every law or a mapping law name -> stiffness (the linear
-    law's k has other units than the Hertz k; its fitted restitution does not depend on k).
+    Parameters
+    ----------
+    stiffness : float or dict
+        One k for every law (N/m^n), or a mapping law name -> k (the linear law's k has other
+        units than the Hertz k; its fitted restitution does not depend on k).
+    mass : float
+        The (reduced) mass, kg, > 0.
+    speeds : array_like of float
+        Impact speeds, m/s, > 0.
+    restitutions : array_like of float
+        Measured e, > 0, one per speed.
+    laws : list of str or ContactLaw, optional
+        The laws fitted (default: every law of ``LAWS``).
+    confidence, loss, uncertainties : optional
+        As in ``fit_damping``.
+
+    Returns
+    -------
+    list of DampingFit
+        One fit per law, lowest ``rms_residual`` first.
+
+    Raises
+    ------
+    InputError
+        As ``fit_damping``, or keyed ``stiffness``: a mapping without a law fitted.
+    ValueError
+        As ``fit_damping``.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> v = [0.5, 1.0, 1.5, 2.0]             # impact speeds, m/s
+    >>> e = [0.77, 0.735, 0.72, 0.705]       # measured restitutions
+    >>> fits = cs.compare_laws(1.0952e10, 0.06735, v, e,
+    ...                        laws=['azad_featherstone', 'hunt_crossley'])
+    >>> for fit in fits:
+    ...     print(f"{fit.law.name}: rms {fit.rms_residual:.4f}")
+    azad_featherstone: rms 0.0028
+    hunt_crossley: rms 0.0681
     """
     chosen = [get_law(name) for name in (laws if laws is not None else LAWS)]
     if isinstance(stiffness, dict):

@@ -39,7 +39,40 @@ from contact_sim.validation import require_positive
 
 
 def damping_group(law, stiffness, mass, speed, damping):
-    """ζ = λ Z^(p+1) v^(q-2) / m, the one group the restitution depends on (see module doc)."""
+    """The damping group ζ = λ Z^(p+1) v^(q-2) / m, the one group the restitution depends on.
+
+    Z = (m v² / k)^(1/(n+1)) is the impact's length scale (see the module doc).
+
+    Parameters
+    ----------
+    law : ContactLaw
+        The law (its exponents n, p, q).
+    stiffness : float
+        Stiffness k, N/m^n, > 0.
+    mass : float
+        The (reduced) mass, kg, > 0.
+    speed : float or array_like of float
+        Impact speeds, m/s, > 0.
+    damping : float
+        Damping λ, N·s^q/m^(p+q), >= 0.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Damping group ζ, dimensionless, of the shape of ``speed``.
+
+    Raises
+    ------
+    InputError
+        Keyed ``speed``: a speed that is not a finite number > 0.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> zeta = cs.damping_group(cs.AZAD_FEATHERSTONE, 1.0952e10, 0.06735, 1.0, 9.996e4)
+    >>> print(f"{float(zeta):.4f}")
+    0.2785
+    """
     v = require_speeds(speed)
     length, _ = impact_scales(law, stiffness, mass, v)
     return damping_group_of(law, length, v, damping, mass)
@@ -89,10 +122,50 @@ def _scalar_restitution(contact, mass, speed):
 
 
 def restitution(contact, mass, speeds):
-    """Coefficient of restitution of impacts at ``speeds`` (m/s, > 0) without gravity.
+    """Coefficient of restitution of impacts at ``speeds`` without gravity.
 
-    ``mass`` is the (reduced) mass in kg.  Vectorised: a scalar gives a float, an array an
-    array of the same shape.  Agrees with ``simulate_impact`` to 1e-8 or better.
+    Vectorised: a scalar gives a float, an array an array of the same shape.  Agrees with
+    ``simulate_impact`` to 1e-8 or better.
+
+    Parameters
+    ----------
+    contact : Contact
+        The contact (law, k, λ).
+    mass : float
+        The (reduced) mass, kg, > 0.
+    speeds : float or array_like of float
+        Impact speeds, m/s, > 0.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Restitution e = rebound speed / impact speed, 0 <= e <= 1, of the shape of ``speeds``.
+
+    Raises
+    ------
+    InputError
+        Keyed ``contact``, ``mass`` or ``speed``: not a ``Contact``, or a value out of range
+        (a speed whose damping group or scales leave what the model answers).
+
+    See Also
+    --------
+    simulate_impact : The exact, slow reference path.
+    damping_for_restitution : The inverse, λ for a target e.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> print(f"{cs.restitution(contact, mass, 1.0):.4f}")
+    0.7381
+    >>> print(*(f"{e:.4f}" for e in cs.restitution(contact, mass, [0.5, 1.0, 2.0])))
+    0.7660 0.7381 0.7078
+    >>> cs.restitution(contact, mass, -1.0)
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: speed = -1.0 is out of range: allowed 0 < speed < inf (m/s)
     """
     if isinstance(speeds, (int, float)) and not isinstance(speeds, bool) \
             and math.isfinite(speeds) and speeds > 0.0 \
@@ -102,15 +175,105 @@ def restitution(contact, mass, speeds):
 
 
 def contact_duration(contact, mass, speeds):
-    """Contact duration (s) of impacts at ``speeds`` (m/s), touch to lift-off, no gravity."""
+    """Contact duration of impacts at ``speeds``, touch to lift-off, without gravity.
+
+    Parameters
+    ----------
+    contact : Contact
+        The contact (law, k, λ).
+    mass : float
+        The (reduced) mass, kg, > 0.
+    speeds : float or array_like of float
+        Impact speeds, m/s, > 0.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The durations in s, of the shape of ``speeds``.
+
+    Raises
+    ------
+    InputError
+        Keyed ``contact``, ``mass`` or ``speed``: not a ``Contact``, or a value out of range
+        (a speed whose damping group or scales leave what the model answers).
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> print(f"{cs.contact_duration(contact, mass, 1.0) * 1e6:.2f} us")
+    100.24 us
+    """
     return _dimensional('duration', contact, mass, speeds)
 
 
 def peak_force(contact, mass, speeds):
-    """Peak contact force (N) of impacts at ``speeds`` (m/s), no gravity."""
+    """Peak contact force of impacts at ``speeds``, without gravity.
+
+    Parameters
+    ----------
+    contact : Contact
+        The contact (law, k, λ).
+    mass : float
+        The (reduced) mass, kg, > 0.
+    speeds : float or array_like of float
+        Impact speeds, m/s, > 0.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The peak forces in N, of the shape of ``speeds``.
+
+    Raises
+    ------
+    InputError
+        Keyed ``contact``, ``mass`` or ``speed``: not a ``Contact``, or a value out of range
+        (a speed whose damping group or scales leave what the model answers).
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> print(*(f"{f:.1f}" for f in cs.peak_force(contact, mass, [0.5, 1.0, 2.0])))
+    892.4 2019.2 4564.7
+    """
     return _dimensional('peak_force', contact, mass, speeds)
 
 
 def max_penetration(contact, mass, speeds):
-    """Maximum penetration (m) of impacts at ``speeds`` (m/s), no gravity."""
+    """Maximum penetration of impacts at ``speeds``, without gravity.
+
+    Parameters
+    ----------
+    contact : Contact
+        The contact (law, k, λ).
+    mass : float
+        The (reduced) mass, kg, > 0.
+    speeds : float or array_like of float
+        Impact speeds, m/s, > 0.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The deepest penetrations in m, of the shape of ``speeds``.
+
+    Raises
+    ------
+    InputError
+        Keyed ``contact``, ``mass`` or ``speed``: not a ``Contact``, or a value out of range
+        (a speed whose damping group or scales leave what the model answers).
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> print(f"{cs.max_penetration(contact, mass, 1.0) * 1e6:.3f} um")
+    31.851 um
+    """
     return _dimensional('max_penetration', contact, mass, speeds)

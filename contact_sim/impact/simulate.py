@@ -14,10 +14,37 @@ from contact_sim.validation import require_int, require_nonnegative, require_pos
 
 @dataclass(frozen=True)
 class ImpactResult:
-    """Outcome of one impact (SI units).
+    """Outcome of one impact (SI units), as ``simulate_impact`` returns it.
 
-    ``status`` is 0 when the sphere lifted off and 1 when, under gravity, it came to rest in
-    permanent contact (restitution 0, rebound 0, contact_duration inf).
+    Attributes
+    ----------
+    restitution : float
+        e = ``rebound_speed`` / impact speed, 0 <= e <= 1.
+    rebound_speed : float
+        Separation speed at lift-off, m/s.
+    contact_duration : float
+        Touch to lift-off, s (``inf`` for a permanent contact).
+    peak_force : float
+        The largest contact force, N.
+    max_penetration : float
+        The deepest penetration, m.
+    steps : int
+        Integrator steps taken.
+    status : int
+        0 when the sphere lifted off, 1 when, under gravity, it came to rest in permanent
+        contact (restitution 0, rebound 0, contact_duration inf).
+    message : str
+        The status in words.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> result = cs.simulate_impact(contact, mass, 1.0)
+    >>> result.status, result.message
+    (0, 'lifted off')
     """
 
     restitution: float
@@ -32,11 +59,58 @@ class ImpactResult:
 
 def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_steps=200_000,
                     engine=None):
-    """Integrate one impact of a sphere of (reduced) mass ``mass`` (kg) arriving at ``speed`` (m/s).
+    """Integrate one impact of a sphere arriving at the plate at ``speed``, to lift-off.
 
-    Returns an ``ImpactResult``; the restitution is ``rebound_speed / speed`` with both speeds
-    taken at touch and at lift-off.  ``engine`` is 'compiled' or 'scipy' (the reference path;
-    default ``phase.get_engine()``), see ``phase.contact_phase``.
+    The slow, exact reference path: the restitution is ``rebound_speed / speed`` with both
+    speeds taken at touch and at lift-off.
+
+    Parameters
+    ----------
+    contact : Contact
+        The contact (law, k, λ).
+    mass : float
+        The (reduced) mass, kg, > 0.
+    speed : float
+        Impact speed, m/s, > 0.
+    gravity : float, optional
+        Gravity g, m/s², >= 0 (default 0: no gravity during contact).
+    rtol : float, optional
+        The integrator's relative tolerance, 1e-14 <= rtol <= 1e-3.
+    max_steps : int, optional
+        Integrator steps allowed, 1 to 1e9.
+    engine : {None, 'compiled', 'scipy'}, optional
+        The integrator (``phase.contact_phase``; default ``phase.get_engine()``); 'scipy' is
+        the reference path.
+
+    Returns
+    -------
+    ImpactResult
+        Restitution, rebound speed, duration, peak force, depth, steps and status.
+
+    Raises
+    ------
+    InputError
+        Keyed ``contact``, ``mass``, ``speed``, ``gravity``, ``rtol`` or ``max_steps``: a value
+        out of range.
+    RuntimeError
+        The impact did not end within ``max_steps`` steps.
+
+    See Also
+    --------
+    restitution : The same e, fast (closed forms and master curves).
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
+    >>> result = cs.simulate_impact(contact, mass, 1.0)
+    >>> print(f"e = {result.restitution:.4f}, tc = {result.contact_duration * 1e6:.2f} us, "
+    ...       f"F = {result.peak_force:.1f} N")
+    e = 0.7381, tc = 100.24 us, F = 2019.2 N
+    >>> abs(result.restitution - cs.restitution(contact, mass, 1.0)) < 1e-8
+    True
     """
     contact = require_contact(contact)
     mass = require_positive('mass', mass)

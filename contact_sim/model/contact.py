@@ -12,7 +12,37 @@ from contact_sim.validation import InputError, require_instance, require_nonnega
 
 @dataclass(frozen=True)
 class Contact:
-    """A compliant contact F = k z^n + λ z^p ż|ż|^(q-1), clamped at zero (eq. 11)."""
+    """A compliant contact F = k z^n + λ z^p ż|ż|^(q-1), clamped at zero (equation 11).
+
+    Attributes
+    ----------
+    law : ContactLaw
+        The force law (a name of ``LAWS`` is resolved when built).
+    stiffness : float
+        Stiffness k, N/m^n (N/m^1.5 for the Hertz laws), > 0.
+    damping : float
+        Damping λ, N·s^q/m^(p+q) (N·s/m^1.5 for Azad-Featherstone), >= 0.
+
+    Raises
+    ------
+    InputError
+        Keyed ``law``, ``stiffness`` or ``damping``: an unknown law or a value out of range.
+
+    See Also
+    --------
+    build_contact : The contact from materials or overrides.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact('azad_featherstone', 1.095e10, 1e5)
+    >>> contact.law is cs.AZAD_FEATHERSTONE
+    True
+    >>> cs.Contact('linear', -1.0, 0.0)
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: stiffness = -1.0 is out of range: allowed 0 < stiffness
+    """
 
     law: ContactLaw
     stiffness: float
@@ -24,21 +54,108 @@ class Contact:
         object.__setattr__(self, 'damping', require_nonnegative('damping', self.damping))
 
     def force(self, z, zdot):
-        """Clamped normal force (N) at penetration z (m) and penetration rate ż (m/s)."""
+        """Clamped normal force at penetration z and penetration rate ż (equation 11).
+
+        Parameters
+        ----------
+        z : float or array_like of float
+            Penetration, m (z <= 0: no contact).
+        zdot : float or array_like of float
+            Penetration rate, m/s (> 0 is approach).
+
+        Returns
+        -------
+        numpy.ndarray
+            The force in N, >= 0, of the broadcast shape of ``z`` and ``zdot``.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1.095e10, 1e5)
+        >>> print(*(f"{f:.3f}" for f in contact.force([1e-6, 2e-6], [0.5, -0.1])))
+        60.950 16.829
+        """
         return self.law.force(z, zdot, self.stiffness, self.damping)
 
     def force_at(self, z, zdot):
-        """``force`` at one state, as a float (N)."""
+        """``force`` at one state, as a float.
+
+        Parameters
+        ----------
+        z : float
+            Penetration, m.
+        zdot : float
+            Penetration rate, m/s (> 0 is approach).
+
+        Returns
+        -------
+        float
+            The force in N, >= 0.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> print(f"{cs.Contact(cs.AZAD_FEATHERSTONE, 1.095e10, 1e5).force_at(1e-6, 0.5):.3f}")
+        60.950
+        """
         return self.law.force_at(float(z), float(zdot), self.stiffness, self.damping)
 
     def static_penetration(self, load):
-        """Equilibrium depth z0 = (W / k)^(1/n) in m under a steady load W (N)."""
+        """Equilibrium depth z0 = (W / k)^(1/n) under a steady load W.
+
+        Parameters
+        ----------
+        load : float
+            Load W, N, >= 0 (m g for a resting sphere).
+
+        Returns
+        -------
+        float
+            Depth z0, m.
+
+        Raises
+        ------
+        InputError
+            Keyed ``load``: a negative or non-finite load.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1.095e10, 1e5)
+        >>> print(f"{contact.static_penetration(0.066 * 9.81):.4e}")
+        1.5177e-07
+        """
         return (require_nonnegative('load', load) / self.stiffness) ** (1.0 / self.law.n)
 
     def rest_linearisation(self, load):
-        """(z0, k', c') at static equilibrium under ``load`` W (N): the depth z0 (m), and
-        k' = dF/dz = n k z0^(n-1) (N/m) and c' = dF/dż = λ z0^p (N·s/m) for q = 1, so that small
-        motions about z0 obey m ÿ + c' ẏ + k' y = 0."""
+        """The linearised contact at static equilibrium under a load W.
+
+        k' = dF/dz = n k z0^(n-1) and c' = dF/dż = λ z0^p (for q = 1), so that small motions
+        about z0 obey m ÿ + c' ẏ + k' y = 0.
+
+        Parameters
+        ----------
+        load : float
+            Load W, N, >= 0.
+
+        Returns
+        -------
+        tuple of float
+            (z0 in m, k' in N/m, c' in N·s/m).
+
+        Raises
+        ------
+        InputError
+            Keyed ``load``: a negative or non-finite load.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1.095e10, 1e5)
+        >>> z0, k1, c1 = contact.rest_linearisation(0.066 * 9.81)
+        >>> print(f"{z0:.4e} {k1:.4e} {c1:.3f}")
+        1.5177e-07 6.3989e+06 38.958
+        """
         law = self.law
         z0 = self.static_penetration(load)
         return (z0, law.n * self.stiffness * z0 ** (law.n - 1.0), self.damping * z0 ** law.p)
@@ -46,11 +163,42 @@ class Contact:
     @classmethod
     def from_materials(cls, law, sphere, plate, radius, plate_radius=math.inf,
                        damping_factor=0.0):
-        """Build k from Hertz theory (eqs. 5, 6, 10) and λ = λ* √R (eq. 9).
+        """Build k from Hertz theory (equations 5, 6, 10) and λ = λ* √R (equation 9).
 
-        ``sphere`` and ``plate`` are ``Material`` values or library names; ``radius`` and
-        ``plate_radius`` in m (``inf`` is a flat plate); ``damping_factor`` is λ*, in
-        N·s/m² for the Azad-Featherstone law (the default 0 is a purely elastic contact).
+        Parameters
+        ----------
+        law : ContactLaw or str
+            A law with n = 1.5 (Hertz), or its name in ``LAWS``.
+        sphere, plate : Material or str
+            The materials, as ``Material`` values or names in ``MATERIALS``.
+        radius : float
+            The sphere's radius R1, m, > 0.
+        plate_radius : float, optional
+            The plate's radius of curvature R2, m, > 0; ``inf`` (default) is a flat plate.
+        damping_factor : float, optional
+            Damping factor λ*, N·s^q/m^(p+q+1/2) (N·s/m² for Azad-Featherstone), >= 0; the
+            default 0 is a purely elastic contact.
+
+        Returns
+        -------
+        Contact
+            k = (4/3) E* √R in N/m^1.5 and λ = λ* √R.
+
+        Raises
+        ------
+        InputError
+            Keyed ``law``, ``material``, ``radius``, ``plate_radius`` or ``damping_factor``: an
+            unknown name or a value out of range.
+        ValueError
+            A law without the Hertz exponent n = 1.5.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+        ...                                     radius=0.0127, damping_factor=8.87e5)
+        >>> print(f"k = {contact.stiffness:.4e} N/m^1.5, lambda = {contact.damping:.4e}")
+        k = 1.0952e+10 N/m^1.5, lambda = 9.9960e+04
         """
         law = get_law(law)
         if not law.hertz:
@@ -64,7 +212,36 @@ class Contact:
 
 
 def require_contact(contact, name='contact'):
-    """Return ``contact`` if it is a ``Contact``, else raise ``InputError`` naming ``name``."""
+    """Check that ``contact`` is a ``Contact``.
+
+    Parameters
+    ----------
+    contact : object
+        The value to check.
+    name : str, optional
+        The field the error names (default ``'contact'``).
+
+    Returns
+    -------
+    Contact
+        ``contact`` itself.
+
+    Raises
+    ------
+    InputError
+        Keyed ``name``: ``contact`` is not a ``Contact``.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.Contact('linear', 1e5, 2.0)
+    >>> cs.require_contact(contact) is contact
+    True
+    >>> cs.require_contact(3)
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: contact = 3 is not a Contact(law, stiffness, damping)
+    """
     return require_instance(name, contact, Contact, 'a Contact(law, stiffness, damping)')
 
 
@@ -77,8 +254,48 @@ def build_contact(law, *, stiffness=None, damping=None, damping_factor=None, sph
       Hertz k exists for laws with n = 1.5 only.
     * λ = ``damping`` if given, else λ = λ* √R (eq. 9) with λ* = ``damping_factor``.
 
-    Errors are ``InputError`` keyed by these argument names (``law``, ``stiffness``, ``damping``,
-    ``damping_factor``, ``sphere``, ``plate``, ``radius``, ``plate_radius``).
+    Parameters
+    ----------
+    law : ContactLaw or str
+        The law, or its name in ``LAWS``.
+    stiffness : float, optional
+        Stiffness k, N/m^n, > 0; default: the Hertz k of the materials.
+    damping : float, optional
+        Damping λ, N·s^q/m^(p+q), >= 0; give it or ``damping_factor``, not both.
+    damping_factor : float, optional
+        Damping factor λ*, N·s^q/m^(p+q+1/2), >= 0; λ = λ* √R needs ``radius``.
+    sphere, plate : Material or str, optional
+        The materials (for the Hertz k), as ``Material`` values or names in ``MATERIALS``.
+    radius : float, optional
+        The sphere's radius R1, m, > 0.
+    plate_radius : float, optional
+        The plate's radius of curvature R2, m, > 0; ``inf`` (default) is a flat plate.
+
+    Returns
+    -------
+    Contact
+        The contact.
+
+    Raises
+    ------
+    InputError
+        Keyed by the argument (``law``, ``stiffness``, ``damping``, ``damping_factor``,
+        ``sphere``, ``plate``, ``radius``, ``plate_radius``): a value out of range, an unknown
+        name, a missing value, or both ``damping`` and ``damping_factor``.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> contact = cs.build_contact('azad_featherstone', sphere='steel', plate='cast_iron',
+    ...                            radius=0.0127, damping_factor=8.87e5)
+    >>> print(f"{contact.stiffness:.4e} {contact.damping:.4e}")
+    1.0952e+10 9.9960e+04
+    >>> cs.build_contact('linear', stiffness=1e5, damping=2.0)
+    Contact(law=ContactLaw(name='linear', n=1.0, p=0.0, q=1.0), stiffness=100000.0, damping=2.0)
+    >>> cs.build_contact('azad_featherstone', stiffness=1e10)
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: damping is missing: give damping, or damping_factor with radius (lambda = lambda* sqrt(R)); 0 is elastic
     """
     law = get_law(law)
     r = None
@@ -123,8 +340,36 @@ def _material(name, value):
 
 
 def build_mass(mass=None, sphere=None, radius=None):
-    """The (reduced) mass in kg: ``mass`` if given, else (4/3) π R1³ ρ of the ``sphere`` material
-    of radius ``radius`` (m).  Errors are ``InputError`` keyed ``mass``, ``sphere``, ``radius``."""
+    """The (reduced) mass: ``mass`` if given, else (4/3) π R1³ ρ of the sphere's material.
+
+    Parameters
+    ----------
+    mass : float, optional
+        The mass, kg, > 0.
+    sphere : Material or str, optional
+        The sphere's material (for its density ρ), used when ``mass`` is not given.
+    radius : float, optional
+        The sphere's radius R1, m, > 0, used when ``mass`` is not given.
+
+    Returns
+    -------
+    float
+        The mass in kg.
+
+    Raises
+    ------
+    InputError
+        Keyed ``mass``, ``sphere`` or ``radius``: a value out of range, an unknown material, or
+        neither ``mass`` nor ``sphere`` and ``radius``.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> cs.build_mass(0.05)
+    0.05
+    >>> print(f"{cs.build_mass(sphere='steel', radius=0.0127):.5f}")
+    0.06735
+    """
     if mass is not None:
         return require_positive('mass', mass)
     if sphere is None or radius is None:

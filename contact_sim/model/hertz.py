@@ -9,15 +9,70 @@ from contact_sim.validation import InputError, require_positive
 
 
 def effective_modulus(a, b):
-    """E* with 1/E* = (1 - ν1²)/E1 + (1 - ν2²)/E2 (eq. 6), for two ``Material`` values or
-    library names (Pa)."""
+    """Effective modulus E* of two elastic bodies in contact (equation 6).
+
+    1/E* = (1 - ν1²)/E1 + (1 - ν2²)/E2.
+
+    Parameters
+    ----------
+    a, b : Material or str
+        The two materials, as ``Material`` values or names in ``MATERIALS``.
+
+    Returns
+    -------
+    float
+        Effective modulus E*, Pa, > 0.
+
+    Raises
+    ------
+    InputError
+        Keyed ``material``: a name that is not in ``MATERIALS``.
+
+    See Also
+    --------
+    hertz_stiffness : The Hertz k = (4/3) E* √R.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> print(f"{cs.effective_modulus('steel', 'cast_iron'):.4e}")
+    7.2886e+10
+    """
     a, b = get_material(a), get_material(b)
     return 1.0 / ((1.0 - a.poisson_ratio ** 2) / a.youngs_modulus
                   + (1.0 - b.poisson_ratio ** 2) / b.youngs_modulus)
 
 
 def equivalent_radius(r1, r2=math.inf):
-    """R with 1/R = 1/R1 + 1/R2 (eq. 10); ``r2 = inf`` is a flat plate (m)."""
+    """Equivalent radius R of two spheres in contact (equation 10): 1/R = 1/R1 + 1/R2.
+
+    Parameters
+    ----------
+    r1 : float
+        Radius R1 of the first sphere, m, > 0 (``inf`` allowed if ``r2`` is finite).
+    r2 : float, optional
+        Radius R2 of the second body, m, > 0; the default ``inf`` is a flat plate.
+
+    Returns
+    -------
+    float
+        Equivalent radius R, m, > 0.
+
+    Raises
+    ------
+    InputError
+        Keyed ``radius`` or ``plate_radius``: a radius that is not a number > 0.
+    ValueError
+        Both radii infinite.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> cs.equivalent_radius(0.0127)          # a sphere on a flat plate
+    0.0127
+    >>> print(f"{cs.equivalent_radius(0.015, 0.015):.4f}")   # two 15 mm spheres
+    0.0075
+    """
     r1 = require_positive('radius', r1, allow_inf=True)
     r2 = require_positive('plate_radius', r2, allow_inf=True)
     if math.isinf(r1) and math.isinf(r2):
@@ -26,14 +81,67 @@ def equivalent_radius(r1, r2=math.inf):
 
 
 def hertz_stiffness(effective_modulus, radius):
-    """k = (4/3) E* √R (eq. 5), in N/m^1.5, for the Hertz force F = k z^1.5."""
+    """Hertz stiffness k = (4/3) E* √R (equation 5) of the force F = k z^1.5.
+
+    Parameters
+    ----------
+    effective_modulus : float
+        Effective modulus E*, Pa, > 0 (``effective_modulus``).
+    radius : float
+        Equivalent radius R in m, > 0 (``equivalent_radius``).
+
+    Returns
+    -------
+    float
+        Stiffness k, N/m^1.5.
+
+    Raises
+    ------
+    InputError
+        Keyed ``effective_modulus`` or ``radius``: a value that is not a finite number > 0.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> e_star = cs.effective_modulus('steel', 'cast_iron')
+    >>> print(f"{cs.hertz_stiffness(e_star, 0.0127):.4e}")
+    1.0952e+10
+    """
     e_star = require_positive('effective_modulus', effective_modulus)
     r = require_positive('radius', radius)
     return 4.0 / 3.0 * e_star * math.sqrt(r)
 
 
 def reduced_mass(m1, m2=math.inf):
-    """m = m1 m2 / (m1 + m2) in kg; ``m2 = inf`` is an immovable plate."""
+    """Reduced mass m = m1 m2 / (m1 + m2) of two bodies.
+
+    Parameters
+    ----------
+    m1 : float
+        Mass of the sphere, kg, > 0 (``inf`` allowed if ``m2`` is finite).
+    m2 : float, optional
+        Mass of the plate, kg, > 0; the default ``inf`` is an immovable plate.
+
+    Returns
+    -------
+    float
+        Reduced mass m, kg (``m1`` itself for an immovable plate).
+
+    Raises
+    ------
+    InputError
+        Keyed ``mass`` or ``plate_mass``: a mass that is not a number > 0.
+    ValueError
+        Both masses infinite.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> cs.reduced_mass(0.5)
+    0.5
+    >>> cs.reduced_mass(1.0, 3.0)
+    0.75
+    """
     m1 = require_positive('mass', m1, allow_inf=True)
     m2 = require_positive('plate_mass', m2, allow_inf=True)
     if math.isinf(m1) and math.isinf(m2):
@@ -46,7 +154,32 @@ def reduced_mass(m1, m2=math.inf):
 
 
 def sphere_mass(density, radius):
-    """Mass of a solid sphere, (4/3) π R³ ρ, in kg."""
+    """Mass of a solid sphere, (4/3) π R³ ρ.
+
+    Parameters
+    ----------
+    density : float
+        Density ρ, kg/m³, > 0.
+    radius : float
+        Equivalent radius R, m, > 0.
+
+    Returns
+    -------
+    float
+        The mass in kg, positive and finite.
+
+    Raises
+    ------
+    InputError
+        Keyed ``density`` or ``radius``: a value that is not a number > 0, or a radius whose
+        mass overflows.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> print(f"{cs.sphere_mass(7850.0, 0.0127):.5f}")    # a 12.7 mm steel ball
+    0.06735
+    """
     r = require_positive('radius', radius)
     rho = require_positive('density', density)
     try:

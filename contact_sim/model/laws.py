@@ -36,10 +36,40 @@ from contact_sim.validation import InputError, require_positive, require_range
 
 @dataclass(frozen=True)
 class ContactLaw:
-    """One member of the family F = k z^n + λ z^p ż|ż|^(q-1), clamped as in eq. 11.
+    """One member of the family F = k z^n + λ z^p ż|ż|^(q-1), clamped as in equation 11.
 
     ``force`` is zero where z <= 0 and ``max(0, k z^n + λ z^p ż|ż|^(q-1))`` elsewhere: the
-    contact can push but never pull.
+    contact can push but never pull.  The named laws are ``AZAD_FEATHERSTONE``,
+    ``HUNT_CROSSLEY``, ``LEE_WANG`` and ``LINEAR`` (``LAWS``).
+
+    Attributes
+    ----------
+    name : str
+        A non-empty name.
+    n : float
+        Stiffness exponent, > 0 (1.5 for the Hertz laws).
+    p : float
+        Penetration exponent of the damping term, 0 <= p <= n.
+    q : float
+        Rate exponent of the damping term, > 0.
+
+    Raises
+    ------
+    InputError
+        Keyed ``n``, ``p`` or ``q``: an exponent out of its range.
+    ValueError
+        An empty or non-string ``name``.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> law = cs.AZAD_FEATHERSTONE
+    >>> law.n, law.p, law.q, law.hertz
+    (1.5, 0.5, 1.0, True)
+    >>> cs.ContactLaw('custom', 1.5, 2.0, 1.0)
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: p = 2.0 is out of range: allowed 0 <= p <= 1.5
     """
 
     name: str
@@ -58,58 +88,97 @@ class ContactLaw:
     # -- what the law can do: the one place where its exponents are read -------------------
     @property
     def hertz(self):
-        """True if the Hertz stiffness k = (4/3) E* √R (eqs. 5, 6, 10) applies: n = 3/2."""
+        """True if the Hertz stiffness k = (4/3) E* √R (equations 5, 6, 10) applies: n = 3/2."""
         return self.n == 1.5
 
     @property
     def linear_in_rate(self):
-        """True if the damping is linear in the rate (q = 1): small motions about rest are a
-        linear damped oscillator, so the rest closed form and the creep proof apply."""
+        """True if the damping is linear in the rate (q = 1).
+
+        Small motions about rest are then a linear damped oscillator, so the rest closed form
+        and the creep proof apply.
+        """
         return self.q == 1.0
 
     @property
     def damps_at_touch(self):
-        """True if the damping term acts at z = 0 (p = 0): at the first touch with approach the
-        force is λ ż^q > 0 at once."""
+        """True if the damping term acts at z = 0 (p = 0).
+
+        At the first touch with approach the force is then λ ż^q > 0 at once.
+        """
         return self.p == 0.0
 
     @property
     def force_vanishes_inside(self):
-        """True if the force can fall to zero while z > 0 (n > p): F = zᵖ φ with
-        φ = k z^(n-p) + λ ż|ż|^(q-1).  With n = p (Hunt-Crossley) φ obeys
-        φ̇ = λ q |ż|^(q-1) (a - zⁿ φ / m), a the other forces per unit mass, so under gravity and
+        """True if the force can fall to zero while z > 0 (n > p).
+
+        F = zᵖ φ with φ = k z^(n-p) + λ ż|ż|^(q-1).  With n = p (Hunt-Crossley) φ obeys
+        φ̇ = λ q abs(ż)^(q-1) (a - zⁿ φ / m), a the other forces per unit mass, so under gravity and
         drag (a >= 0 on the way out) φ only decays towards zero and the sphere leaves at z = 0:
-        a force-zero root inside is round-off (``phase`` then tests the surface alone)."""
+        a force-zero root inside is round-off (``phase`` then tests the surface alone).
+        """
         return self.n > self.p
 
     @property
     def constant_restitution(self):
-        """True if the restitution does not depend on the impact speed (the linear
-        spring-damper, n = q = 1, p = 0: its damping group ζ has no speed in it)."""
+        """True if the restitution does not depend on the impact speed.
+
+        That is the linear spring-damper, n = q = 1, p = 0: its damping group ζ has no speed
+        in it.
+        """
         return self.n == 1.0 and self.p == 0.0 and self.q == 1.0
 
     @property
     def kernel(self):
-        """The compiled contact phase's short form for these exponents (``phase.compiled``:
-        1 Azad-Featherstone, 2 Hunt-Crossley, 3 Lee-Wang, 4 linear), 0 for the general power law."""
+        """The compiled contact phase's short form for these exponents (``phase.compiled``).
+
+        1 Azad-Featherstone, 2 Hunt-Crossley, 3 Lee-Wang, 4 linear, 0 for the general power law.
+        """
         return _KERNELS.get((self.n, self.p, self.q), 0)
 
     @property
     def closed_form(self):
-        """The law's ``ClosedForm`` (exact e, τc as functions of ζ), or ``None``: registered per
-        law (``register_closed_form``), never found by exponents."""
+        """The law's ``ClosedForm`` (exact e, τc as functions of ζ), or ``None``.
+
+        Registered per law (``register_closed_form``), never found by exponents.
+        """
         return CLOSED_FORMS.get(self)
 
     @property
     def master_curve(self):
-        """The law's shipped ``MasterCurve`` (e, τc, F̂, x̂ against ζ), or ``None``: a table
-        belongs to a named law, its name and exponents (loaded on first use)."""
+        """The law's shipped ``MasterCurve`` (e, τc, F̂, x̂ against ζ), or ``None``.
+
+        A table belongs to a named law, its name and exponents (loaded on first use).
+        """
         return curve_for(self.name, (self.n, self.p, self.q))
 
     def reduced_force(self, z, zdot, k, damping):
-        """φ = k z^(n-p) + λ ż|ż|^(q-1), so that the unclamped force is z^p φ (z > 0).
+        """The reduced force φ = k z^(n-p) + λ ż|ż|^(q-1): the unclamped force is z^p φ (z > 0).
 
         φ is smooth where the force is not (at z = 0), which makes it the right lift-off test.
+
+        Parameters
+        ----------
+        z : float or array_like of float
+            Penetration, m (negative values count as 0).
+        zdot : float or array_like of float
+            Penetration rate, m/s (> 0 is approach).
+        k : float
+            Stiffness, N/m^n.
+        damping : float
+            Damping λ, N·s^q/m^(p+q).
+
+        Returns
+        -------
+        numpy.ndarray
+            Reduced force φ, N/m^p, of the broadcast shape of ``z`` and ``zdot``.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> phi = cs.AZAD_FEATHERSTONE.reduced_force(1e-6, 0.5, 1.095e10, 1e5)
+        >>> print(f"{float(phi):.1f}")
+        60950.0
         """
         z = np.asarray(z, dtype=float)
         zdot = np.asarray(zdot, dtype=float)
@@ -117,8 +186,35 @@ class ContactLaw:
         return k * zp ** (self.n - self.p) + damping * np.sign(zdot) * np.abs(zdot) ** self.q
 
     def force_at(self, z, zdot, k, damping):
-        """``force`` at one state (floats in, a float out): the same numbers without the array
-        overhead, for the engine's once-a-tick state (eq. 11)."""
+        """``force`` at one state (floats in, a float out), equation 11.
+
+        The same numbers as ``force`` without the array overhead, for the engine's once-a-tick
+        state.
+
+        Parameters
+        ----------
+        z : float
+            Penetration, m.
+        zdot : float
+            Penetration rate, m/s (> 0 is approach).
+        k : float
+            Stiffness, N/m^n.
+        damping : float
+            Damping λ, N·s^q/m^(p+q).
+
+        Returns
+        -------
+        float
+            The clamped force in N, >= 0 (NaN for NaN input).
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> print(f"{cs.AZAD_FEATHERSTONE.force_at(1e-6, 0.5, 1.095e10, 1e5):.3f}")
+        60.950
+        >>> cs.AZAD_FEATHERSTONE.force_at(-1e-6, 0.5, 1.095e10, 1e5)   # no contact
+        0.0
+        """
         if not z > 0.0:
             return 0.0
         rate = math.copysign(abs(zdot) ** self.q, zdot) if zdot != 0.0 else 0.0
@@ -126,12 +222,40 @@ class ContactLaw:
         return 0.0 if unclamped < 0.0 else unclamped     # NaN stays NaN, as np.maximum
 
     def force(self, z, zdot, k, damping):
-        """Clamped normal force in N for arrays of z (m) and ż (m/s) of any broadcastable shape.
+        """Clamped normal force (equation 11) for arrays of z and ż of any broadcastable shape.
 
         The same operations as ``force_at``, element by element, so both agree to round-off,
         bit for bit where numpy's pow is the C library's (``np.power`` with an array exponent
         calls it, as Python's ``**`` does, except for numpy's AVX-512 code on CPUs that have it;
-        numpy's scalar-exponent fast paths, x**0.5 -> sqrt, round differently)."""
+        numpy's scalar-exponent fast paths, x**0.5 -> sqrt, round differently).
+
+        Parameters
+        ----------
+        z : float or array_like of float
+            Penetration, m (z <= 0: no contact, force 0).
+        zdot : float or array_like of float
+            Penetration rate, m/s (> 0 is approach).
+        k : float
+            Stiffness, N/m^n.
+        damping : float
+            Damping λ, N·s^q/m^(p+q).
+
+        Returns
+        -------
+        numpy.ndarray
+            The force in N, >= 0, of the broadcast shape of ``z`` and ``zdot``.
+
+        See Also
+        --------
+        Contact.force : The same with the contact's own k and λ.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> f = cs.AZAD_FEATHERSTONE.force([0.0, 1e-6, 2e-6], [0.5, 0.5, -0.1], 1.095e10, 1e5)
+        >>> print(*(f"{x:.3f}" for x in f))
+        0.000 60.950 16.829
+        """
         z, zdot = np.broadcast_arrays(np.asarray(z, dtype=float), np.asarray(zdot, dtype=float))
         inside = z > 0.0
         zz = np.where(inside, z, 1.0)
@@ -146,11 +270,16 @@ class ContactLaw:
 # the compiled kernels' short forms, by exponents (n, p, q): ``ContactLaw.kernel``
 _KERNELS = {(1.5, 0.5, 1.0): 1, (1.5, 1.5, 1.0): 2, (1.5, 1.0, 1.0): 3, (1.0, 0.0, 1.0): 4}
 
+#: The Azad-Featherstone law F = k z^1.5 + λ z^0.5 ż (eq. 8): n = 1.5, p = 0.5, q = 1.
 AZAD_FEATHERSTONE = ContactLaw('azad_featherstone', 1.5, 0.5, 1.0)  # eq. 8
+#: The Hunt-Crossley law F = k z^1.5 + λ z^1.5 ż (eq. 2): n = p = 1.5, q = 1.
 HUNT_CROSSLEY = ContactLaw('hunt_crossley', 1.5, 1.5, 1.0)  # eq. 2
+#: The Lee-Wang law F = k z^1.5 + λ z ż: n = 1.5, p = 1, q = 1.
 LEE_WANG = ContactLaw('lee_wang', 1.5, 1.0, 1.0)
+#: The linear spring-damper F = k z + λ ż: n = q = 1, p = 0 (k in N/m, λ in N·s/m).
 LINEAR = ContactLaw('linear', 1.0, 0.0, 1.0)  # spring-damper: n = q = 1, p = 0
 
+#: The named laws, name -> ``ContactLaw``: azad_featherstone, hunt_crossley, lee_wang, linear.
 LAWS = {law.name: law for law in (AZAD_FEATHERSTONE, HUNT_CROSSLEY, LEE_WANG, LINEAR)}
 
 CLOSED_FORMS = {HUNT_CROSSLEY: HUNT_CROSSLEY_FORM, LINEAR: LINEAR_FORM}   # ContactLaw -> ClosedForm
@@ -176,7 +305,33 @@ def register_closed_form(law, vector, scalar=None, table_duration=None):
 
 
 def get_law(name):
-    """Return the named law, or raise ``ValueError`` listing the known names."""
+    """The named law (a ``ContactLaw`` is returned as is).
+
+    Parameters
+    ----------
+    name : str or ContactLaw
+        A key of ``LAWS``, or a ``ContactLaw``.
+
+    Returns
+    -------
+    ContactLaw
+        The law.
+
+    Raises
+    ------
+    InputError
+        Keyed ``law`` (a ``ValueError``): an unknown name; the message lists the known ones.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> cs.get_law('hunt_crossley') is cs.HUNT_CROSSLEY
+    True
+    >>> cs.get_law('kelvin_voigt')
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: law = 'kelvin_voigt' is unknown: allowed one of azad_featherstone, hunt_crossley, lee_wang, linear
+    """
     if isinstance(name, ContactLaw):
         return name
     try:

@@ -13,7 +13,43 @@ _HANDBOOK = 'W. D. Callister, Materials Science and Engineering: An Introduction
 
 @dataclass(frozen=True)
 class Material:
-    """An isotropic linear-elastic material (SI units)."""
+    """An isotropic linear-elastic material (SI units); frozen, checked when built.
+
+    Attributes
+    ----------
+    name : str
+        A non-empty name (the key in ``MATERIALS`` for a library material).
+    youngs_modulus : float
+        Young's modulus E, Pa, > 0.
+    poisson_ratio : float
+        Poisson ratio ν, dimensionless, -1 < ν < 0.5.
+    density : float
+        Density ρ, kg/m³, > 0.
+    source : str
+        Where the values come from (default ``'user supplied'``).
+
+    Raises
+    ------
+    InputError
+        Keyed ``youngs_modulus``, ``poisson_ratio`` or ``density``: a value out of its range.
+    ValueError
+        An empty or non-string ``name``.
+
+    See Also
+    --------
+    get_material : A library material by name.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> rubber = cs.Material('rubber', 0.01e9, 0.49, 1100.0)
+    >>> rubber.youngs_modulus
+    10000000.0
+    >>> cs.Material('rubber', 0.01e9, 0.6, 1100.0)
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: poisson_ratio = 0.6 is out of range: allowed -1 < poisson_ratio < 0.5
+    """
 
     name: str
     youngs_modulus: float
@@ -32,6 +68,8 @@ class Material:
         object.__setattr__(self, 'density', require_positive('density', self.density))
 
 
+#: The library materials, name -> ``Material`` (handbook values, each with its ``source``):
+#: aluminium, brass, cast_iron, cork, glass, lead, nylon, steel.
 MATERIALS = {m.name: m for m in (
     Material('steel', 207e9, 0.30, 7850.0, _HANDBOOK + ' (plain carbon steel 1020)'),
     Material('cast_iron', 100e9, 0.26, 7300.0,
@@ -48,7 +86,34 @@ MATERIALS = {m.name: m for m in (
 
 
 def get_material(name):
-    """Return the named library material, or raise ``ValueError`` listing the known names."""
+    """The library material of a name (a ``Material`` is returned as is).
+
+    Parameters
+    ----------
+    name : str or Material
+        A key of ``MATERIALS``, or a ``Material``.
+
+    Returns
+    -------
+    Material
+        The material.
+
+    Raises
+    ------
+    InputError
+        Keyed ``material`` (a ``ValueError``): an unknown name; the message lists the known ones.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> steel = cs.get_material('steel')
+    >>> steel.youngs_modulus, steel.poisson_ratio, steel.density
+    (207000000000.0, 0.3, 7850.0)
+    >>> cs.get_material('unobtainium')
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: material = 'unobtainium' is unknown: allowed one of aluminium, brass, cast_iron, cork, glass, lead, nylon, steel or a custom Material(name, youngs_modulus, poisson_ratio, density)
+    """
     if isinstance(name, Material):
         return name
     try:

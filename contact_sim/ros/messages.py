@@ -268,7 +268,7 @@ class CdrTemplate:
         return bytes(buffer)
 
     def packer(self):
-        """``encode`` as one ``struct`` call: a function (ns, *values) -> the same bytes.
+        """``encode`` as one ``struct`` call: a function ``(ns, *values)`` -> the same bytes.
 
         For the usual layout (the stamp, then the fields back to back in order): the template
         cut into its constant bytes before the stamp, between the stamp and the fields, and after

@@ -54,11 +54,62 @@ from .startup import ArgumentError, node_arguments, print_usage, spin_until_sign
 
 
 class StartupError(Exception):
-    """The initial parameters are invalid: the node cannot start."""
+    """The initial parameters are invalid: the node cannot start.
+
+    ``str(error)`` is the refusal, naming the parameter and its allowed range; ``main`` logs it
+    as one ``[FATAL]`` line and exits with code 2.
+    """
 
 
 class ContactSimNode(TickLoop, Node):
-    """Simulates a sphere dropped on a plate and publishes its contact wrench, state and impacts."""
+    """Simulates a sphere dropped on a plate and publishes its contact wrench, state and impacts.
+
+    The node ``contact_sim`` declares the parameters of ``params.PARAMETERS`` (materials,
+    radii in m, stiffness in N/m^n, damping, drop height in m, plate motion, ``publish_rate``
+    in Hz, ``real_time_factor``, ``frame_id``, ``publish_clock``), validates every change as a
+    whole in its set-parameters callback (a refusal names the parameter and its range), and
+    publishes the topics of ``messages.TOPICS`` stamped with simulated time.  It serves
+    ``~/query_restitution`` (``rcl_interfaces/srv/GetParameters``: names such as ``'2.5'``
+    or ``'peak_force:2.5'``, a quantity at an impact speed in m/s, in; the answers out) and ``~/reset``
+    (``std_srvs/srv/Trigger``), and follows ``~/plate_command``
+    (``trajectory_msgs/msg/JointTrajectory``, joint ``plate_z``).
+
+    Parameters
+    ----------
+    **kwargs
+        Passed to ``rclpy.node.Node`` (e.g. ``parameter_overrides``, a list of
+        ``rclpy.parameter.Parameter``; ``context``; ``namespace``).
+
+    Raises
+    ------
+    StartupError
+        The initial parameters are invalid (the message names the parameter and its range).
+
+    See Also
+    --------
+    main : The ``contact_sim_node`` executable.
+
+    Examples
+    --------
+    In a process of its own (it needs ``rclpy.init``; not run as a doctest, since it spins a
+    ROS node until Ctrl-C):
+
+    .. code-block:: python
+
+        import rclpy
+        from rclpy.parameter import Parameter
+        from contact_sim.ros.node import ContactSimNode
+
+        rclpy.init()
+        node = ContactSimNode(parameter_overrides=[Parameter('initial_height', value=0.2)])
+        try:
+            rclpy.spin(node)
+        except KeyboardInterrupt:
+            pass
+        finally:
+            node.destroy_node()
+            rclpy.try_shutdown()
+    """
 
     def __init__(self, **kwargs):
         super().__init__(NODE_NAME, **kwargs)
@@ -287,11 +338,39 @@ class ContactSimNode(TickLoop, Node):
 
 
 def main(args=None):
-    """``contact_sim_node``: run until SIGINT/SIGTERM (exit code 0); ``--help`` prints the usage
-    (exit code 0, ROS not started); an invalid argument, parameter or parameter file is one
-    ``[FATAL]`` line naming it (exit code 2).
+    """Run the ``contact_sim_node`` executable until SIGINT/SIGTERM.
 
-    ``args`` is a full argument vector like ``sys.argv`` (default: ``sys.argv``).
+    ``--help`` prints the usage (ROS not started); an invalid argument, parameter or parameter
+    file is one ``[FATAL]`` line naming it.
+
+    Parameters
+    ----------
+    args : list of str, optional
+        A full argument vector like ``sys.argv`` (program name first, then ``--ros-args``
+        and its ``-p name:=value`` or ``--params-file`` arguments); default: ``sys.argv``.
+
+    Returns
+    -------
+    int
+        The exit code: 0 after SIGINT/SIGTERM or ``--help``, 2 for an invalid argument,
+        parameter or parameter file.
+
+    Examples
+    --------
+    From a shell, a vibrating plate (not run as a doctest: the node runs until Ctrl-C):
+
+    .. code-block:: console
+
+        $ contact_sim_node --ros-args -p plate_amplitude:=0.001 -p plate_frequency:=20.0
+
+    The same from Python:
+
+    .. code-block:: python
+
+        import sys
+        from contact_sim.ros.node import main
+
+        sys.exit(main(['contact_sim_node', '--ros-args', '-p', 'initial_height:=0.2']))
     """
     argv = sys.argv if args is None else list(args)
     log = rclpy.logging.get_logger(NODE_NAME)

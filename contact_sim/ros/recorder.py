@@ -30,7 +30,52 @@ class Recorder(Node):
     """Subscribes to a contact_sim node's topics (and /clock) and writes them to a rosbag2 file.
 
     Each message is stored with its simulated time (message_time_ns) as the bag timestamp, so the
-    bag's timeline is the simulation's even when the node runs faster than real time.
+    bag's timeline is the simulation's even when the node runs faster than real time.  It also
+    acknowledges on the node's ``~/recorded`` what it has recorded, which paces a node running
+    as fast as possible (``loop``).
+
+    Parameters
+    ----------
+    output : str or path-like
+        The bag directory to create (it must not exist).
+    storage : {'mcap', 'sqlite3'}, optional
+        The rosbag2 storage format (default ``'mcap'``).
+    target : str, optional
+        The fully qualified name of the node recorded (default ``'/contact_sim'``).
+    clock : bool, optional
+        Record ``/clock`` too (default True).
+    **kwargs
+        Passed to ``rclpy.node.Node`` (e.g. ``context``).
+
+    Raises
+    ------
+    ValueError
+        The output directory exists, or the storage is unknown.
+
+    See Also
+    --------
+    record_main : The ``contact_sim_record`` executable.
+
+    Examples
+    --------
+    In a process of its own, beside a running node (not run as a doctest: it needs a ROS
+    graph with the node on it):
+
+    .. code-block:: python
+
+        import rclpy
+        from contact_sim.ros.recorder import Recorder
+
+        rclpy.init()
+        recorder = Recorder('drop_bag')
+        try:
+            rclpy.spin(recorder)
+        except KeyboardInterrupt:
+            pass
+        finally:
+            recorder.close()
+            recorder.destroy_node()
+            rclpy.try_shutdown()
     """
 
     def __init__(self, output, storage='mcap', target=f'/{NODE_NAME}', clock=True, **kwargs):
@@ -64,9 +109,16 @@ class Recorder(Node):
                                f'({storage})')
 
     def recorded_ns(self):
-        """The simulated time (ns) up to which every per-tick topic that delivered anything is
-        recorded (``Topic.paced``: /clock too, its latest stamp from any publisher, so a foreign
-        /clock never holds the node back); None before the first message."""
+        """The simulated time up to which every per-tick topic that delivered anything is recorded.
+
+        ``Topic.paced`` topics count: /clock too, its latest stamp from any publisher, so a
+        foreign /clock never holds the node back.
+
+        Returns
+        -------
+        int or None
+            Simulated time, ns; ``None`` before the first message.
+        """
         reached = [ns for topic, ns in self.covered_ns.items() if self._topics[topic].paced]
         return min(reached) if reached else None
 
@@ -87,9 +139,16 @@ class Recorder(Node):
         self.poll_matches()
 
     def poll_matches(self, only_new=False):
-        """Note (and log) the publishers matched on each topic; with ``only_new`` counts only
-        go up. (Polled: the events executor does not deliver a match that happened before the
-        node was added to it.)"""
+        """Note (and log) the publishers matched on each topic.
+
+        Polled: the events executor does not deliver a match that happened before the node was
+        added to it.
+
+        Parameters
+        ----------
+        only_new : bool, optional
+            Only raise the counts (default False: set them to what is matched now).
+        """
         for topic, subscription in self._readers.items():
             count, before = subscription.get_publisher_count(), self.publishers_matched.get(topic, 0)
             if count > before:
@@ -139,6 +198,11 @@ class Recorder(Node):
         began after it is not recorded. So every recorded impact has its whole wrench trace,
         and every continuous topic reaches the same simulated time. /clock, a global topic
         that another node may publish, neither sets the cut nor is waited for.
+
+        Returns
+        -------
+        callable
+            A function of no arguments, True once the cut is reached.
         """
         # stopping: the acknowledgement stops moving but its publisher stays until the recorder
         # is gone, so the node stays within LEAD_TICKS of it while the lagging topics drain (a
@@ -156,7 +220,13 @@ class Recorder(Node):
         return lambda: not self.lagging()
 
     def lagging(self):
-        """The continuous topics with a publisher whose messages do not reach the cut yet."""
+        """The continuous topics with a publisher whose messages do not reach the cut yet.
+
+        Returns
+        -------
+        list of str
+            The topics' full names (empty before ``cut`` or once every topic reaches it).
+        """
         if self.cut_ns is None:
             return []
         return [topic for topic in self.topics if self._topics[topic].continuous
@@ -164,12 +234,28 @@ class Recorder(Node):
                 and self.covered_ns.get(topic, -1) < self.cut_ns]
 
     def close(self):
+        """Close the bag (its index and ``metadata.yaml`` written) and log its message counts."""
         self.bag.close()
         counts = ', '.join(f'{topic} {self.bag.counts.get(topic, 0)}' for topic in self.topics)
         self.get_logger().info(f'wrote {self.bag.path}: {counts}')
 
 
 def record_parser():
+    """The command line of ``contact_sim_record``.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Options ``-o/--output``, ``-s/--storage``, ``--node``, ``--no-clock``, ``--duration``
+        (s of wall time) and ``--recover BAG``.
+
+    Examples
+    --------
+    >>> from contact_sim.ros.recorder import record_parser
+    >>> options = record_parser().parse_args(['-o', 'drop_bag', '--duration', '5'])
+    >>> options.output, options.storage, options.duration
+    ('drop_bag', 'mcap', 5.0)
+    """
     parser = argparse.ArgumentParser(
         prog='contact_sim_record',
         description='Record a contact_sim node\'s topics and /clock to a rosbag2 file (MCAP by '
@@ -191,9 +277,28 @@ def record_parser():
 
 
 def record_main(args=None):
-    """``contact_sim_record``: record until SIGINT/SIGTERM or --duration; exit code 0.
+    """Run the ``contact_sim_record`` executable: record until SIGINT/SIGTERM or ``--duration``.
 
-    ``args`` is a full argument vector like ``sys.argv`` (default: ``sys.argv``).
+    Parameters
+    ----------
+    args : list of str, optional
+        A full argument vector like ``sys.argv`` (program name first; options of
+        ``record_parser``, then any ``--ros-args``); default: ``sys.argv``.
+
+    Returns
+    -------
+    int
+        The exit code: 0, or 2 with one line naming the problem (e.g. the output exists).
+
+    Examples
+    --------
+    From a shell, beside a running ``contact_sim_node`` (not run as a doctest: it needs the
+    node on the ROS graph):
+
+    .. code-block:: console
+
+        $ contact_sim_record -o drop_bag --duration 10
+        $ contact_sim_record --recover drop_bag    # a bag a killed recorder left
     """
     argv = sys.argv if args is None else args
     options = record_parser().parse_args(remove_ros_args(argv)[1:])
@@ -223,7 +328,29 @@ def record_main(args=None):
 
 
 def recover_main(path):
-    """``contact_sim_record --recover BAG``: exit code 0, or 2 with one line naming the problem."""
+    """Run ``contact_sim_record --recover BAG``: make a bag a killed recorder left readable.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The bag directory.
+
+    Returns
+    -------
+    int
+        The exit code: 0 (the messages recovered are printed), or 2 with one line naming the
+        problem.
+
+    Examples
+    --------
+    From Python, on a bag directory a killed recorder left (no ROS graph needed):
+
+    .. code-block:: python
+
+        from contact_sim.ros.recorder import recover_main
+
+        code = recover_main('drop_bag')     # prints: recovered drop_bag: N messages (...)
+    """
     from .bag import recover_bag
     try:
         counts = recover_bag(path)

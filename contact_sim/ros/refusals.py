@@ -21,6 +21,7 @@ class RefusalLog:
 
     Examples
     --------
+    >>> from contact_sim.ros.refusals import RefusalLog
     >>> class Out:
     ...     def warning(self, text): print(text)
     >>> log = RefusalLog(Out(), 'x', clock=lambda: 0.0)

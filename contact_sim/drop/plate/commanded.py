@@ -12,9 +12,32 @@ from contact_sim.validation import InputError
 
 @dataclass(frozen=True)
 class CommandedPlate(PlateMotion):
-    """A plate through set-points: ``times`` tᵢ (s, strictly increasing), ``positions`` pᵢ (m),
-    ``velocities`` vᵢ (m/s), equal lengths >= 1; the interpolation is stated in the module
-    docstring (C¹, constant acceleration on each half-interval, constant velocity outside)."""
+    """A plate through set-points, C¹, with constant acceleration on each half-interval.
+
+    The interpolation is stated in the module docstring (constant velocity outside the points).
+
+    Attributes
+    ----------
+    times : tuple of float
+        tᵢ, s, strictly increasing, at least one.
+    positions : tuple of float
+        pᵢ, m, one per time.
+    velocities : tuple of float
+        vᵢ, m/s, one per time.
+
+    Raises
+    ------
+    InputError
+        Keyed by the field: lengths that differ, non-finite values, or times not strictly
+        increasing.
+
+    Examples
+    --------
+    >>> from contact_sim.drop import CommandedPlate
+    >>> plate = CommandedPlate((0.0, 0.5), (0.0, 0.01), (0.0, 0.0))   # up 1 cm in 0.5 s
+    >>> [round(x, 6) for x in plate.state(0.25)]                     # p m, v m/s, a m/s^2
+    [0.005, 0.04, -0.16]
+    """
 
     times: tuple
     positions: tuple
@@ -82,7 +105,7 @@ class CommandedPlate(PlateMotion):
         return min(values), max(values)
 
     def speed_bound(self):
-        """Peak |ṗ| (m/s): ṗ is piecewise linear, so at a piece's ends."""
+        """Peak abs(ṗ) (m/s): ṗ is piecewise linear, so at a piece's ends."""
         return max(abs(v) for v in self.velocities + self._pieces[2])
 
     def acceleration_range(self, t0, t1):

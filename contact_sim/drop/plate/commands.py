@@ -37,10 +37,37 @@ def table_transition(now, current, table, previous_frequency=0.0):
     The plate is bridged C¹ from its state (p, ṗ) at ``now`` to the new motion's state at
     now + T (a 2-point ``CommandedPlate``), T from ``bridge_time``: one period of the new
     frequency, or of ``previous_frequency`` when the table stops, or ``BRIDGE_TIME``, made longer
-    (by factors of 1.25) until the bridge's |p̈| is within ``TABLE_ACCELERATION_MAX`` and its
-    |ṗ| within the larger of ``BRIDGE_SPEED_MAX``, the plate's speed now and the table's peak
-    speed, so that a change far from the plate's state is no slam.  Returns a
-    ``SwitchedPlate`` (bridge, then the table), or ``None`` when the plate stays fixed.
+    (by factors of 1.25) until the bridge's abs(p̈) is within ``TABLE_ACCELERATION_MAX`` and its
+    abs(ṗ) within the larger of ``BRIDGE_SPEED_MAX``, the plate's speed now and the table's peak
+    speed, so that a change far from the plate's state is no slam.
+
+    Parameters
+    ----------
+    now : float
+        The drop's time of the change, s.
+    current : PlateMotion or None
+        The plate's motion until now (``None``: fixed at p = 0).
+    table : SinusoidalPlate or None
+        The new table (``None`` or one that does not move: the table stops).
+    previous_frequency : float, optional
+        The old table's frequency, Hz (the bridge's length when the table stops).
+
+    Returns
+    -------
+    SwitchedPlate or None
+        The bridge, then the table; ``None`` when the plate stays fixed.
+
+    Raises
+    ------
+    InputError
+        Keyed ``now``: not a finite number.
+
+    Examples
+    --------
+    >>> from contact_sim.drop import SinusoidalPlate, table_transition
+    >>> plate = table_transition(0.0, None, SinusoidalPlate(0.001, 20.0))
+    >>> plate.switch_time                  # bridged over one period of 20 Hz, s
+    0.05
     """
     now = require_real('now', now)
     p, pv = current.state(now)[:2] if current is not None else (0.0, 0.0)
@@ -96,8 +123,40 @@ def command_motion(now, position, velocity, times, positions, velocities=None):
       ``COMMAND_STOP_TIME`` s and stays there: when commands stop, the plate stops.
 
     Refused (``InputError`` naming the field and the allowed range): non-finite values, times
-    not strictly increasing, |positions| > ``COMMAND_POSITION_MAX``, |velocities| (given or
-    estimated) > ``COMMAND_VELOCITY_MAX``, an interpolant with |p̈| > ``COMMAND_ACCELERATION_MAX``.
+    not strictly increasing, abs(positions) > ``COMMAND_POSITION_MAX``, abs(velocities) (given
+    or estimated) > ``COMMAND_VELOCITY_MAX``, an interpolant with abs(p̈) >
+    ``COMMAND_ACCELERATION_MAX``.
+
+    Parameters
+    ----------
+    now : float
+        The drop's time, s.
+    position, velocity : float
+        The plate's state at ``now``: p in m, ṗ in m/s.
+    times : array_like of float
+        The points' times, s (the drop's time), strictly increasing.
+    positions : array_like of float
+        The points' positions, m.
+    velocities : array_like of float, optional
+        The points' velocities, m/s (default: estimated by finite differences).
+
+    Returns
+    -------
+    Command
+        The plate's ``motion`` from now on (``None`` if no point is left) and the number of
+        points ``dropped``.
+
+    Raises
+    ------
+    InputError
+        Naming the field and the allowed range, as listed above.
+
+    Examples
+    --------
+    >>> from contact_sim.drop import command_motion
+    >>> command = command_motion(0.0, 0.0, 0.0, times=[0.5, 1.0], positions=[0.01, 0.0])
+    >>> command.dropped, command.motion.times
+    (0, (0.0, 0.5, 1.0))
     """
     now = require_real('now', now)
     position, velocity = require_real('position', position), require_real('velocity', velocity)
@@ -145,7 +204,7 @@ def command_motion(now, position, velocity, times, positions, velocities=None):
 
 def vibrating_table(amplitude, frequency, phase):
     """A ``SinusoidalPlate`` from settings in its ranges (``SinusoidalPlate``: 0 <= a <=
-    ``TABLE_AMPLITUDE_MAX`` m, 0 <= f <= ``TABLE_FREQUENCY_MAX`` Hz, |ϕ| <= ``TABLE_PHASE_MAX``,
+    ``TABLE_AMPLITUDE_MAX`` m, 0 <= f <= ``TABLE_FREQUENCY_MAX`` Hz, abs(ϕ) <= ``TABLE_PHASE_MAX``,
     peak acceleration a (2π f)² <= ``TABLE_ACCELERATION_MAX``), or ``None`` if it does not vibrate
     (a = 0 or f = 0: the fixed plate, not a plate held at a sin ϕ).  ``InputError`` keyed
     ``amplitude``, ``frequency`` or ``phase``."""

@@ -185,6 +185,21 @@ class SinusoidalPlate(PlateMotion):
     InputError
         Keyed ``amplitude``, ``frequency`` or ``phase``: a value out of its range, or a peak
         acceleration a (2π f)² above ``TABLE_ACCELERATION_MAX`` (m/s²).
+
+    See Also
+    --------
+    DropSimulation.set_plate : Move a drop's plate so.
+
+    Examples
+    --------
+    >>> from contact_sim.drop import SinusoidalPlate
+    >>> table = SinusoidalPlate(amplitude=0.001, frequency=20.0)
+    >>> print(f"Gamma = {table.peak_acceleration_ratio():.4f}, peak speed "
+    ...       f"{table.speed_bound():.4f} m/s")
+    Gamma = 1.6097, peak speed 0.1257 m/s
+    >>> position, velocity, acceleration = table.state(0.0125)   # a quarter period
+    >>> print(f"{position:.4f} m, {acceleration:.3f} m/s^2")
+    0.0010 m, -15.791 m/s^2
     """
 
     amplitude: float = 0.0
@@ -208,6 +223,7 @@ class SinusoidalPlate(PlateMotion):
 
     @property
     def angular_frequency(self):
+        """ω = 2π f, rad/s."""
         return 2.0 * math.pi * self.frequency
 
     @property
@@ -215,7 +231,18 @@ class SinusoidalPlate(PlateMotion):
         return self.amplitude > 0.0 and (self.frequency > 0.0 or math.sin(self.phase) != 0.0)
 
     def peak_acceleration_ratio(self, gravity=9.81):
-        """Γ = a ω² / g."""
+        """The table's peak acceleration over gravity, Γ = a ω² / g.
+
+        Parameters
+        ----------
+        gravity : float, optional
+            Gravity g, m/s² (default 9.81).
+
+        Returns
+        -------
+        float
+            Γ, dimensionless (the sphere can leave a table only with Γ > 1).
+        """
         return self.amplitude * self.angular_frequency ** 2 / gravity
 
     def state(self, t):
@@ -245,7 +272,7 @@ class SinusoidalPlate(PlateMotion):
         return self.amplitude * self.angular_frequency ** 2
 
     def speed_bound(self):
-        """Peak |ṗ| = a ω (m/s)."""
+        """Peak abs(ṗ) = a ω (m/s)."""
         return self.amplitude * self.angular_frequency
 
     def acceleration_range(self, t0, t1):
@@ -295,6 +322,24 @@ class SwitchedPlate(PlateMotion):
     switch at the latest.  The caller makes the switch continuous where it must be (a switch in
     p or ṗ is a teleport or an impulse of the plate): ``table_transition`` and
     ``command_motion`` start ``after`` from ``before``'s state at the switch.
+
+    Attributes
+    ----------
+    before : PlateMotion
+        The motion until the switch.
+    after : PlateMotion
+        The motion from the switch on.
+    switch_time : float
+        The switch, s.
+
+    Examples
+    --------
+    >>> from contact_sim.drop import FIXED, SinusoidalPlate, SwitchedPlate
+    >>> plate = SwitchedPlate(FIXED, SinusoidalPlate(0.001, 20.0), switch_time=1.0)
+    >>> plate.state(0.5)
+    (0.0, 0.0, 0.0)
+    >>> print(f"{plate.state(1.0125)[0]:.4f} m")
+    0.0010 m
     """
 
     before: PlateMotion
