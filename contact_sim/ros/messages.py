@@ -419,9 +419,11 @@ TOPICS = (
 )
 TOPIC = {topic.key: topic for topic in TOPICS}
 # The recorder's acknowledgement (not recorded): the simulated time up to which it has recorded
-# every continuous topic. The node, running as fast as possible, stays within a lead of it.
-PROGRESS = Topic('recorded', '~/recorded', ClockMsg, reliable(1), 'progress',
-                 stamp_ns=_clock_ns)
+# every per-tick topic. The node, running as fast as possible, stays within a lead of it
+# (``pacing``). Transient-local: a node that matches the recorder late gets its last word.
+PROGRESS = Topic('recorded', '~/recorded', ClockMsg, QoSProfile(
+    history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL), 'progress', stamp_ns=_clock_ns)
 _BY_TYPE = {topic.msg_type: topic for topic in TOPICS}
 
 

@@ -21,8 +21,8 @@ every contact sample) show the plate.
 
 The node's jobs are split by module: this one holds the node (parameters, the plate, services)
 and ``main``; ``loop`` the tick loop (``TickLoop``: pacing, budgets, a recorder's pace);
-``outbox`` the publishers and the wait for readers (``Outbox``); ``plate_command`` the
-translation of ~/plate_command (``read_plate_command``).
+``outbox`` the publishers and the wait for readers (``Outbox``); ``pacing`` the pace a recorder
+sets; ``plate_command`` the translation of ~/plate_command (``read_plate_command``).
 """
 import sys
 from dataclasses import replace
@@ -306,7 +306,7 @@ def main(args=None):
     node = None
     try:
         node = ContactSimNode()
-        spin_until_signal(node)
+        spin_until_signal(node, drain=node.drain)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except StartupError as error:
