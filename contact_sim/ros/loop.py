@@ -208,6 +208,8 @@ class TickLoop:
                 self._tick += 1
                 return True
             self._out.publish_batch(batch, self._offset, self._model.radius)
+            self._view.publish_batch(batch, self._offset)
+            self._view.ticks += batch.ticks
             self._pace.mark(self._out.tick_ns)
             done += batch.ticks
             self._tick += batch.ticks
