@@ -70,7 +70,7 @@ class TickLoop:
         self._pace = RecorderPace(self, lambda: self._out.sent, self._resume_if_free)
         self._paused = False
         self._stopping = False
-        self.create_timer(WATCH_PERIOD, self._resume_if_free, clock=self._steady)
+        self.create_timer(WATCH_PERIOD, self._watch, clock=self._steady)
         self._lag_logged = False
         self._timer = None
         self._start_loop()
@@ -142,6 +142,10 @@ class TickLoop:
     def _pause(self):
         self._timer.cancel()
         self._paused = True
+
+    def _watch(self):
+        self._pace.watch()
+        self._resume_if_free()
 
     def _resume_if_free(self):
         if self._paused and not self._stopping and self._pace.room() > 0:

@@ -67,15 +67,23 @@ class RecorderPace:
         self._acked = 0           # messages sent that the recorder has acknowledged
         self.recorded_ns = None   # the recorder's last acknowledgement (ns); None: none yet
         self._grace_until = time.monotonic() + START_GRACE
+        self._present = False     # a recorder was there at the last look (``watch``)
 
     def recorders(self):
         """The number of recorders pacing this node (publishers of ``~/recorded``)."""
         return self._subscription.get_publisher_count()
 
+    def watch(self):
+        """Look whether a recorder is there (a graph query, ~tens of us: done by a timer, every
+        ``loop.WATCH_PERIOD``, and while waiting at the start, not before every engine call)."""
+        self._present = self.recorders() > 0
+
     def room(self):
         """Messages the node may still publish: ``math.inf`` without a recorder (after the
         start's grace), 0 while a recorder has not said it is ready."""
-        if self.recorders() == 0:
+        if not self._present and time.monotonic() < self._grace_until:
+            self.watch()
+        if not self._present:
             if self.recorded_ns is not None:   # the recorder went away: a next one starts afresh
                 self.recorded_ns = None
                 self._marks.clear()
@@ -97,6 +105,7 @@ class RecorderPace:
 
     def _on_ack(self, msg):
         ns = PROGRESS.stamp_ns(msg)
+        self._present = True
         if ns == READY_NS:
             self._marks.clear()
             self._acked = self._sent()
