@@ -16,12 +16,12 @@ The protocol (the recorder's side is ``recorder.Recorder.report``):
    fewer than ``LEAD_MESSAGES`` are unreleased, and pauses otherwise, until the next
    acknowledgement or until the recorder goes away.
 3. Why messages and not ticks: Fast DDS delivers between processes of one machine through a
-   shared-memory port whose queue holds 512 messages; a burst larger than that is dropped there
-   and repaired by the reliable protocol only on its next heartbeat, and the node, waiting for
-   an acknowledgement of what is being repaired, stalls (300 ticks of lead, 2,400 messages at
-   rest, ran at 1.2-1.3x real time with both processes under 6 % of a core; see docs/ros.md).
-   A tick at rest is 8 messages, a tick of the settling up to ~2,700: only a count of messages
-   keeps the queue from overflowing.
+   shared-memory port whose queue holds 512 messages by default; a burst larger than that is,
+   most likely, dropped there and repaired by the reliable protocol only at a later heartbeat,
+   and the node, waiting for an acknowledgement of what is being repaired, stalls (measured:
+   a lead of 300 ticks, 2,400 messages at rest, ran at 1.2x real time with both processes
+   under 6 % of a core; 30 ticks, 6.2x; docs/ros.md). A tick at rest is 8 messages, a tick of
+   the settling up to ~2,700: only a count of messages bounds the burst.
 4. At the start, a node running as fast as possible publishes nothing for ``START_GRACE`` s of
    wall time unless it has discovered a recorder (then it waits for its ``READY_NS``), so that a
    recorder started first records from t = 0.
