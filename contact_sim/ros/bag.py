@@ -30,6 +30,10 @@ from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
 STORAGES = {'mcap': StoragePlugin.MCAP, 'sqlite3': StoragePlugin.SQLITE3}
+# An MCAP Message record's head: opcode 0x05, record length, channel id, sequence, log time,
+# publish time (what rosbags' McapWriter.write writes field by field, in one pack)
+_MCAP_MESSAGE = struct.Struct('<BQHIQQ')
+_MCAP_CHUNK_MAX = 2 ** 20   # bytes: rosbags closes a chunk beyond this
 BAG_VERSION = 9  # the rosbag2 metadata version Kilted's rosbag2 writes
 
 
@@ -86,8 +90,41 @@ class BagWriter:
         if timestamp_ns < 0:
             raise ValueError(f'timestamp_ns = {timestamp_ns} is out of range: allowed '
                              '0 <= timestamp_ns')
-        self._writer.write(connection, timestamp_ns, bytes(data))
+        if self.storage == 'mcap':
+            self._write_mcap(connection, timestamp_ns, data)
+        else:
+            self._writer.write(connection, timestamp_ns, bytes(data))
         self.counts[topic] = self.counts.get(topic, 0) + 1
+
+    def _write_mcap(self, connection, ns, data):
+        """What ``rosbags``' ``Writer.write`` and ``McapWriter.write`` (0.11.9, uncompressed)
+        do for one message, the same bytes and bookkeeping, without their per-call costs (a
+        linear search of the connections, a BytesIO and five writes per record): about half
+        of the recorder's time per message went there."""
+        storage = self._writer.storage
+        chunk = storage.chunk
+        cid = connection.id
+        if ns < storage.message_start_time:
+            storage.message_start_time = ns
+        if ns > storage.message_end_time:
+            storage.message_end_time = ns
+        storage.channel_stats[cid] += 1
+        if ns < chunk.message_start_time:
+            chunk.message_start_time = ns
+        if ns > chunk.message_end_time:
+            chunk.message_end_time = ns
+        bio = chunk.bio
+        chunk.msgs[cid].append((ns, bio.tell()))
+        bio.write(_MCAP_MESSAGE.pack(0x05, 22 + len(data), cid, 0, ns, ns))
+        bio.write(data)
+        writer = self._writer
+        writer.counts[cid] += 1
+        if ns < writer.min_timestamp:
+            writer.min_timestamp = ns
+        if ns > writer.max_timestamp:
+            writer.max_timestamp = ns
+        if bio.tell() > _MCAP_CHUNK_MAX:
+            storage.close_chunk()
 
     def flush(self):
         """Put every message written so far on disk (the OS's page cache: it survives a killed

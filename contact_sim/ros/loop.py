@@ -23,14 +23,13 @@ live. Real time that cannot be held (more than ``MAX_LAG`` s behind) is logged o
 tick rate achieved, and the node skips ahead (the states of the skipped ticks are not published;
 the contact points are).
 
-Pacing by a recorder. DDS acknowledgements alone are too coarse to pace a node running as fast
-as possible (Fast DDS acknowledges on its heartbeats: ``Publisher.wait_for_all_acked`` took 1-2 s
-after as few as 10 samples), so ``contact_sim_record`` also acknowledges itself: it publishes on
-``~/recorded`` (``rosgraph_msgs/Clock``) the simulated time up to which it has recorded every
-topic, and the node, running as fast as possible, publishes no tick more than ``LEAD_TICKS``
-ticks beyond it while a recorder is there (it pauses its timer and resumes when the recorder
-catches up or goes away). The recorder's subscriptions are keep-all, so nothing is dropped on its
-side either.
+Pacing by a recorder (``pacing.RecorderPace``, the protocol is described there). Running as fast
+as possible while ``contact_sim_record`` is there, the node publishes no more than
+``pacing.LEAD_MESSAGES`` messages beyond what the recorder has acknowledged: before each engine
+call it asks for room, and sizes the call to it (at rest 8 messages a tick); without room it
+pauses its timer, and resumes at the next acknowledgement (or when the recorder has gone: checked
+every ``WATCH_PERIOD``). At a stop (``drain``) it finishes its tick, publishes what waits and
+waits until the recorder has acknowledged all of it.
 """
 import math
 import time
@@ -38,7 +37,7 @@ import time
 import numpy as np
 import rclpy
 
-from .messages import PROGRESS
+from .pacing import RecorderPace
 
 TURN_STEP_BUDGET = 20    # integrator steps per engine call (~10 ms); then the wall budget is checked
 BATCH_TICKS = 256        # ticks per batched engine call (advance_ticks), then the budgets are checked
@@ -51,7 +50,8 @@ TURN_BASE = 0.002        # s
 TURN_PER_TICK = 0.0005   # s
 WAKE_PERIOD = 0.02       # s: in real time the node wakes at most every 20 ms (50 Hz)
 MAX_LAG = 2.0            # s behind real time before the node skips ahead (and says so, once)
-LEAD_TICKS = 300         # ticks ahead of a recorder's acknowledgement (< state history 1000)
+TICK_MESSAGES = 8        # messages of a tick without contact points (3 sample, 4 state, /clock)
+IMPACT_WAIT = 2.0        # s: at a stop, the wait for reliable readers' acknowledgements of ~/impact
 WATCH_PERIOD = 0.5       # s: a paused node checks this often whether its recorder has gone
 
 
@@ -67,11 +67,10 @@ class TickLoop:
 
     def _init_loop(self):
         """Listen for a recorder's acknowledgements and start the loop."""
-        self._recorded_ns = None  # the recorder's acknowledgement, see PROGRESS
-        self._progress = self.create_subscription(PROGRESS.msg_type, PROGRESS.name,
-                                                  self._on_recorded, PROGRESS.qos)
+        self._pace = RecorderPace(self, lambda: self._out.sent, self._resume_if_free)
         self._paused = False
-        self.create_timer(WATCH_PERIOD, self._resume_if_free, clock=self._steady)
+        self._stopping = False
+        self.create_timer(WATCH_PERIOD, self._watch, clock=self._steady)
         self._lag_logged = False
         self._timer = None
         self._start_loop()
@@ -122,39 +121,67 @@ class TickLoop:
         deadline = start + (FAST_TURN if fast else min(
             REAL_TURN * self._period, TURN_BASE + TURN_PER_TICK * max(due - self._tick, 0)))
         if fast:
-            due = min(due, self._ticks_allowed())
-            if due <= self._tick:   # a recorder is behind: wait for it (see _on_recorded)
-                self._timer.cancel()
-                self._paused = True
+            if self._pace.room() <= 0 and not self._mid_tick():
+                # a recorder is behind: wait for it (RecorderPace; never inside a tick, whose
+                # end is what it acknowledges)
+                self._pause()
                 return
         elif due - self._tick > MAX_LAG * self._model.publish_rate:
             self._skip_ahead(due, start)
         while self._tick < due:
-            if not self._run_ticks(min(due, self._tick + BATCH_TICKS), deadline):
+            if not self._run_ticks(self._calls_ticks(min(due, self._tick + BATCH_TICKS)),
+                                   deadline):
                 return    # out of wall time inside the tick: the next turn goes on with it
             if self._out.pending or time.monotonic() > deadline:
                 return
 
-    def _ticks_allowed(self):
-        """Ticks (since the anchor) a recorder lets the node publish: LEAD_TICKS beyond what it
-        has acknowledged; unlimited without a recorder or before its first acknowledgement."""
-        if self._recorded_ns is None or self._progress.get_publisher_count() == 0:
-            return math.inf
-        recorded = self._recorded_ns * 1e-9 - self._offset - self._anchor_sim
-        return max(0, math.floor(recorded / self._dt + 1e-6)) + LEAD_TICKS
+    def _mid_tick(self):
+        """A tick is begun and not finished (its turn ran out inside it)."""
+        return self._sim.time > self._anchor_sim + self._tick * self._dt
 
-    def _on_recorded(self, msg):
-        self._recorded_ns = PROGRESS.stamp_ns(msg)
-        if self._paused and self._ticks_allowed() > self._tick:
-            self._resume()
+    def _pause(self):
+        self._timer.cancel()
+        self._paused = True
+
+    def _watch(self):
+        self._pace.watch()
+        self._resume_if_free()
 
     def _resume_if_free(self):
-        if self._paused and self._ticks_allowed() > self._tick:
-            self._resume()
+        if self._paused and not self._stopping and self._pace.room() > 0:
+            self._paused = False
+            self._timer.reset()
 
-    def _resume(self):
-        self._paused = False
-        self._timer.reset()
+    def _calls_ticks(self, upto):
+        """``upto`` cut to what a recorder has room for (at least one tick)."""
+        if not self._model.fast:
+            return upto
+        room = self._pace.room()
+        if room == math.inf:
+            return upto
+        return min(upto, self._tick + max(1, int(room) // TICK_MESSAGES))
+
+    def drain(self):
+        """At a stop: tick no more, finish the tick begun, and return a predicate that holds
+        once everything published is out and a recorder has acknowledged it
+        (``startup.spin_until_signal``'s ``drain``)."""
+        self._stopping = True
+        self._timer.cancel()
+        if self._mid_tick():
+            self._run_ticks(self._tick + 1, math.inf)
+
+        def done():
+            if self._out.pending and not self._out.send_pending():
+                return False
+            if not self._pace.drained():
+                return False
+            self._out.wait_for_readers('impact', IMPACT_WAIT)
+            if self._pace.recorded_ns is not None:
+                self.get_logger().info(
+                    f'stopping: the recorder has every tick published, to t = '
+                    f'{self._out.tick_ns * 1e-9:.3f} s')
+            return True
+        return done
 
     def _skip_ahead(self, due, now):
         """Real time cannot be held: say so once, with the rate achieved, and jump to ``due``."""
@@ -185,9 +212,14 @@ class TickLoop:
                 self._tick += 1
                 return True
             self._out.publish_batch(batch, self._offset, self._model.radius)
+            self._view.publish_batch(batch, self._offset)
+            self._view.ticks += batch.ticks
+            self._pace.mark(self._out.tick_ns)
             done += batch.ticks
             self._tick += batch.ticks
-            if done < times.size and time.monotonic() > deadline:
+            if done < times.size and (time.monotonic() > deadline or (
+                    self._model.fast and not self._stopping and self._pace.room() <= 0
+                    and not self._mid_tick())):
                 return False
         return True
 

@@ -16,11 +16,13 @@ from dataclasses import dataclass
 
 import numpy as np
 from builtin_interfaces.msg import Time
+from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseStamped, TwistStamped, Vector3Stamped, WrenchStamped
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 from rclpy.serialization import deserialize_message, serialize_message
 from rosgraph_msgs.msg import Clock as ClockMsg
 from std_msgs.msg import Float64MultiArray, MultiArrayDimension, MultiArrayLayout
+from visualization_msgs.msg import MarkerArray
 
 from contact_sim.drop import sphere_motion
 
@@ -418,10 +420,20 @@ TOPICS = (
           ('wrench.force.z',)),
 )
 TOPIC = {topic.key: topic for topic in TOPICS}
+# For viewers (RViz, Foxglove), derived from the topics above and not recorded: the sphere, the
+# plate and the contact force as markers (``markers``), once per tick in real time, at most
+# publish_rate a wall second as fast as possible; how the node keeps up (``diagnostics``), once a
+# wall second. Published by ``view.View``; a reader that falls behind loses old ones.
+VIEW_TOPICS = (
+    Topic('markers', '~/markers', MarkerArray, reliable(10), 'view'),
+    Topic('diagnostics', '/diagnostics', DiagnosticArray, reliable(10), 'view'),
+)
 # The recorder's acknowledgement (not recorded): the simulated time up to which it has recorded
-# every continuous topic. The node, running as fast as possible, stays within a lead of it.
-PROGRESS = Topic('recorded', '~/recorded', ClockMsg, reliable(1), 'progress',
-                 stamp_ns=_clock_ns)
+# every per-tick topic. The node, running as fast as possible, stays within a lead of it
+# (``pacing``). Transient-local: a node that matches the recorder late gets its last word.
+PROGRESS = Topic('recorded', '~/recorded', ClockMsg, QoSProfile(
+    history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL), 'progress', stamp_ns=_clock_ns)
 _BY_TYPE = {topic.msg_type: topic for topic in TOPICS}
 
 

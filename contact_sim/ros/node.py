@@ -21,8 +21,9 @@ every contact sample) show the plate.
 
 The node's jobs are split by module: this one holds the node (parameters, the plate, services)
 and ``main``; ``loop`` the tick loop (``TickLoop``: pacing, budgets, a recorder's pace);
-``outbox`` the publishers and the wait for readers (``Outbox``); ``plate_command`` the
-translation of ~/plate_command (``read_plate_command``).
+``outbox`` the publishers and the wait for readers (``Outbox``); ``pacing`` the pace a recorder
+sets; ``view`` ~/markers and /diagnostics; ``plate_command`` the translation of ~/plate_command
+(``read_plate_command``).
 """
 import sys
 from dataclasses import replace
@@ -51,6 +52,7 @@ from .plate_command import COMMAND_FIELDS, read_plate_command
 from .query import MAX_NAMES, answer_queries
 from .refusals import REFUSAL_PERIOD, RefusalLog
 from .startup import ArgumentError, node_arguments, print_usage, spin_until_signal
+from .view import View
 
 
 class StartupError(Exception):
@@ -125,6 +127,7 @@ class ContactSimNode(TickLoop, Node):
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)  # pacing ignores use_sim_time
         # frame_id and publish_clock are read-only
         self._out = Outbox(self, self._model.frame_id, self._model.publish_clock)
+        self._view = View(self)   # ~/markers and /diagnostics
         self.create_service(GetParameters, '~/query_restitution', self._on_query)
         self.create_service(Trigger, '~/reset', self._on_reset)
         self._commanded = False   # the plate follows ~/plate_command (until ~/reset or a table)
@@ -328,6 +331,7 @@ class ContactSimNode(TickLoop, Node):
             response.message = f'reset failed: {error}'
             return response
         self._offset += self._reached_on_grid()
+        self._view.reset(self._sim)
         self._sim = sim
         self._commanded = False     # the new drop's plate: the table's, or fixed
         self._start_loop()
@@ -385,7 +389,7 @@ def main(args=None):
     node = None
     try:
         node = ContactSimNode()
-        spin_until_signal(node)
+        spin_until_signal(node, drain=node.drain)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     except StartupError as error:

@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 import rclpy
+from rclpy.duration import Duration
 from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.serialization import serialize_message
 
@@ -44,6 +45,9 @@ class Outbox:
     ----------
     pending : list of (str, bytes)
         (topic key, serialized message) a reliable reader has not had room for yet, in order.
+    sent : int
+        Messages handed to the per-tick topics (samples, states, /clock) so far, waiting ones
+        included (what a recorder's acknowledgement counts: ``pacing.RecorderPace``).
     """
 
     def __init__(self, node, frame_id, publish_clock):
@@ -59,6 +63,13 @@ class Outbox:
             if topic.fields or topic.kind == 'clock':
                 self._encode[topic.key] = topic.template(frame_id).packer()
         self.pending = []
+        self.sent = 0
+
+    @property
+    def tick_ns(self):
+        """The stamp (ns) of the last tick end published (on every per-tick topic); -1 before
+        any. (The sample topics may be further on, inside the next tick.)"""
+        return self._last_state_ns
 
     @property
     def publishes_clock(self):
@@ -71,6 +82,13 @@ class Outbox:
         self.pending = [(key, data) for key, data in self.pending if key != 'clock']
         self._encode.pop('clock', None)
         node.destroy_publisher(self._pub.pop('clock'))
+
+    def wait_for_readers(self, key, timeout):
+        """Wait at most ``timeout`` s until every reliable reader of ``key`` has acknowledged
+        what it was sent (the middleware's own acknowledgement: used at a stop)."""
+        publisher = self._pub.get(key)
+        if publisher is not None and publisher.get_subscription_count():
+            publisher.wait_for_all_acked(Duration(seconds=timeout))
 
     def send(self, key, data):
         """Publish, or keep ``data`` for the next turn if a reliable reader has had no room for
@@ -205,6 +223,7 @@ class Outbox:
         from the first refusal by a reliable reader on, keep the rest for the next turn (in
         order, after what already waits: see ``send``)."""
         encode = self._encode[key]
+        self.sent += len(columns[0])
         rows = zip(*columns)
         pending = self.pending
         if pending:

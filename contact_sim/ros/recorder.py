@@ -1,8 +1,9 @@
 """``contact_sim_record``: records a contact_sim node's topics (the table in ``messages.TOPICS``) to
 a rosbag2 directory with the ``rosbags`` library, for installs without rosbag2.
 
-Lossless: every subscription is reliable and keep-all (``messages.RECORD_QOS``), so a recorder
-that falls behind makes the node wait (see ``node.py``) instead of losing samples. Crash-safe: the
+Lossless: every subscription is reliable and keep-all (``messages.RECORD_QOS``), and the recorder
+acknowledges on ``~/recorded`` what it has recorded, so that a node running as fast as possible
+waits for it instead of losing samples (the protocol: ``pacing``). Crash-safe: the
 bag is flushed to disk at least every ``FLUSH_PERIOD`` s (``bag.BagWriter.flush``), so after a
 SIGKILL at most the last second is lost, and ``contact_sim_record --recover BAG`` writes the
 missing index and metadata (``bag.recover_bag``). A clean stop makes a consistent cut (``cut``).
@@ -19,11 +20,13 @@ from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
 from .messages import PROGRESS, RECORD_QOS, TOPICS, clock_msg
+from .pacing import READY_NS
 from .params import NODE_NAME
 from .startup import spin_until_signal
 
 FLUSH_PERIOD = 0.5  # s of wall time between flushes of the bag to disk
-REPORT_PERIOD = 0.02  # s of wall time between acknowledgements on ~/recorded
+REPORT_PERIOD = 0.02  # s of wall time between acknowledgements on ~/recorded, at least
+ACK_EVERY = 64        # and one after this many messages on the paced topics (pacing.LEAD_MESSAGES)
 
 
 class Recorder(Node):
@@ -102,6 +105,7 @@ class Recorder(Node):
         self._progress = self.create_publisher(PROGRESS.msg_type, PROGRESS.resolve(target),
                                                PROGRESS.qos)
         self._reported_ns = -1
+        self._unacked = 0       # paced messages recorded since the last acknowledgement
         self._stopping = False
         self._pacing = 0        # nodes matched on the acknowledgement
         self.create_timer(REPORT_PERIOD, self.report)
@@ -109,7 +113,7 @@ class Recorder(Node):
                                f'({storage})')
 
     def recorded_ns(self):
-        """The simulated time up to which every per-tick topic that delivered anything is recorded.
+        """The simulated time up to which every per-tick topic with a matched publisher is recorded.
 
         ``Topic.paced`` topics count: /clock too, its latest stamp from any publisher, so a
         foreign /clock never holds the node back.
@@ -117,15 +121,42 @@ class Recorder(Node):
         Returns
         -------
         int or None
-            Simulated time, ns; ``None`` before the first message.
+            Simulated time, ns; ``None`` while one of them has delivered nothing (or none has a
+            publisher).
         """
-        reached = [ns for topic, ns in self.covered_ns.items() if self._topics[topic].paced]
+        reached = []
+        for topic, spec in self._topics.items():
+            if spec.paced and self.publishers_matched.get(topic, 0):
+                ns = self.covered_ns.get(topic)
+                if ns is None:
+                    return None
+                reached.append(ns)
         return min(reached) if reached else None
 
+    def ready(self):
+        """Whether every per-tick topic subscribed to has a matched publisher.
+
+        Returns
+        -------
+        bool
+            True once each continuous topic has at least one matched publisher.
+        """
+        return all(self.publishers_matched.get(topic, 0) for topic, spec in self._topics.items()
+                   if spec.continuous)
+
     def report(self):
-        """Acknowledge on ~/recorded what is recorded (if it moved on; not while stopping)."""
+        """Acknowledge on ~/recorded what is recorded, if it moved on, or ``READY_NS`` while
+        ready with nothing recorded (the protocol: ``pacing``); nothing while stopping."""
+        self._unacked = 0
+        if self._stopping:
+            return
         ns = self.recorded_ns()
-        if not self._stopping and ns is not None and ns > self._reported_ns:
+        if ns is None:
+            self.poll_matches(only_new=True)
+            if self._reported_ns <= READY_NS and self.ready():
+                self._reported_ns = READY_NS
+                self._progress.publish(clock_msg(READY_NS))
+        elif ns > self._reported_ns:
             self._reported_ns = ns
             self._progress.publish(clock_msg(ns))
 
@@ -181,6 +212,10 @@ class Recorder(Node):
             self.get_logger().info(f'receiving {topic}')
         self.bag.write(topic, msgtype, stamp, data)
         self.covered_ns[topic] = max(self.covered_ns.get(topic, 0), covered)
+        if spec.paced:
+            self._unacked += 1
+            if self._unacked >= ACK_EVERY:
+                self.report()
         if impact:
             self.get_logger().debug(f'recorded the impact at t = {stamp * 1e-9:.9f} s')
         if time.monotonic() - self._flushed > FLUSH_PERIOD:

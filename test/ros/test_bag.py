@@ -203,3 +203,22 @@ def test_recover_names_what_is_wrong(tmp_path):
     (tmp_path / 'junk' / 'junk.mcap').write_bytes(b'not an mcap file')
     with pytest.raises(ValueError, match='not an MCAP file'):
         recover_bag(tmp_path / 'junk')
+
+
+def test_the_mcap_fast_path_writes_the_bytes_rosbags_writes(tmp_path, monkeypatch):
+    """BagWriter writes an MCAP message itself (the recorder's hot path); the bag is the one
+    rosbags' own Writer.write makes of the same messages, byte for byte, across chunks."""
+    import contact_sim.ros.bag as cs_bag
+    big = [(f'/t{i % 3}', WRENCH if i % 3 else CLOCK, 10**6 * (i + 1),
+            wrench_cdr(10**6 * (i + 1), float(i)) if i % 3 else clock_cdr(10**6 * (i + 1)))
+           for i in range(30000)]   # > 1 MiB: several chunks
+    write_bag(tmp_path / 'fast' / 'bag', big)   # (the same name: the summary holds it)
+    monkeypatch.setattr(cs_bag.BagWriter, '_write_mcap', lambda self, c, ns, data:
+                        self._writer.write(c, ns, bytes(data)))
+    write_bag(tmp_path / 'slow' / 'bag', big)
+    fast = (tmp_path / 'fast' / 'bag' / 'bag.mcap').read_bytes()
+    slow = (tmp_path / 'slow' / 'bag' / 'bag.mcap').read_bytes()
+    assert len(fast) > 2 ** 21 and fast == slow
+    fast, slow = ((tmp_path / n / 'bag' / 'metadata.yaml').read_text() for n in ('fast', 'slow'))
+    assert fast == slow
+    assert yaml.safe_load(fast)['rosbag2_bagfile_information']['message_count'] == 30000

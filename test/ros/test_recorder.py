@@ -111,14 +111,17 @@ def test_recorder_writes_a_bag_that_reads_back(sim, client, ros_env, workdir):
 
 def test_a_stopping_recorder_keeps_pacing_the_node_until_it_is_gone(tmp_path):
     """At the stop the acknowledgement stands still but its publisher stays: a node running as
-    fast as possible stays within LEAD_TICKS of it while the lagging topics drain (let loose, it
-    outran its writers' histories and the drain lost samples)."""
+    fast as possible stays within LEAD_MESSAGES of it while the lagging topics drain (let loose,
+    it outran its writers' histories and the drain lost samples). (A target of its own, without
+    /clock: no node of this domain publishes to it.)"""
     context = rclpy.Context()
     context.init()
-    recorder = cs_recorder.Recorder(tmp_path / 'bag', context=context)
+    target = '/paced_probe'
+    recorder = cs_recorder.Recorder(tmp_path / 'bag', target=target, clock=False,
+                                    context=context)
     probe = rclpy.create_node('probe', context=context)
     acks = []
-    probe.create_subscription(Clock, f'{NODE}/recorded',
+    probe.create_subscription(Clock, f'{target}/recorded',
                               lambda m: acks.append(stamp_ns(m.clock)), cs_msgs.PROGRESS.qos)
     executor = SingleThreadedExecutor(context=context)
     executor.add_node(probe)
@@ -132,6 +135,8 @@ def test_a_stopping_recorder_keeps_pacing_the_node_until_it_is_gone(tmp_path):
                            cs_msgs.twist_msg(ns, 0.0, 'plate'))
                     recorder._on_message(topic, cs_msgs.type_name(type(msg)),
                                          serialize_message(msg))
+        for topic in recorder.topics:   # only the delivered topics have a publisher, so far
+            recorder.publishers_matched[topic] = int(topic.rsplit('/', 1)[-1] in ('pose', 'twist'))
         deliver(1_000_000_000)
         deadline = time.monotonic() + TIMEOUT
         while not acks and time.monotonic() < deadline:
@@ -142,7 +147,7 @@ def test_a_stopping_recorder_keeps_pacing_the_node_until_it_is_gone(tmp_path):
             recorder.publishers_matched[topic] = 1
         done = recorder.cut()
         assert not done()   # the other topics lag
-        assert probe.count_publishers(f'{NODE}/recorded') == 1   # still pacing the node
+        assert probe.count_publishers(f'{target}/recorded') == 1   # still pacing the node
         deliver(2_000_000_000)
         recorder.report()
         executor.spin_once(timeout_sec=0.2)

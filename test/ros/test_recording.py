@@ -178,3 +178,47 @@ def test_a_recorder_killed_with_sigkill_loses_at_most_a_second_and_recovers(own_
     again = subprocess.run([executable('contact_sim_record'), '--recover', str(bag)], env=env,
                            capture_output=True, text=True, timeout=TIMEOUT)
     assert again.returncode == 2 and 'metadata.yaml already' in again.stderr
+
+
+@pytest.mark.slow
+def test_a_flat_out_node_stopped_first_leaves_nothing_it_published_out_of_the_bag(own_domain,
+                                                                                   workdir):
+    """The recorder started first, a flat-out node, the node stopped first (issue 22: the bag
+    ended 3 simulated s before the last tick the node had published). The bag holds every tick
+    from the first (t = 0.01 s) to the last the node published, which the node names at its stop
+    and which is at least the last /clock this test saw, on every per-tick topic."""
+    env, clock, spin_until, _ = own_domain
+    bag = workdir / 'node_first'
+    clock.clear()
+    recorder = Process('contact_sim_record', ['-o', str(bag)], env, workdir)
+    spin_until(lambda: 'recording' in recorder.output(), 'the recorder to start')
+    node = Process('contact_sim_node', ['--ros-args', '-p', 'real_time_factor:=.inf'], env,
+                   workdir)
+    try:
+        spin_until(lambda: clock and clock[-1] > 20e9, '20 simulated seconds', timeout=300)
+        assert_clean_exit(node)
+        seen = clock[-1]     # published by the node: it reached at least this
+    finally:
+        try:
+            assert_clean_exit(node)
+        finally:
+            assert_clean_exit(recorder)
+    recorded = read_bag(bag)
+    assert set(recorded) == set(TYPE_NAMES)
+    ends = {}
+    for topic, items in recorded.items():
+        stamps = stamps_in_bag(topic, items)
+        assert [ts for ts, _ in items] == stamps   # bag time = simulated time
+        if topic.endswith('impact'):
+            continue
+        ends[topic] = stamps[-1]
+        assert stamps[-1] >= seen, (topic, stamps[-1], seen)   # what this test saw published
+        if cs_msgs.TOPIC[topic.rsplit('/', 1)[1]].kind in ('state', 'clock'):
+            ticks = np.rint(np.array(stamps) / 1e7).astype(int)   # 100 Hz ticks from 0
+            missing = sorted(set(range(1, ticks[-1] + 1)) - set(ticks.tolist()))
+            assert not missing and len(ticks) == ticks[-1], (topic, missing[:5], len(missing))
+    # and to the last tick the node published, as it says at its stop
+    match = re.search(r'the recorder has every tick published, to t = ([0-9.]+) s',
+                      node.output())
+    assert match, node.output()
+    assert set(ends.values()) == {cs_msgs.to_ns(float(match.group(1)))}, ends

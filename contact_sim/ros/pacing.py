@@ -1,0 +1,117 @@
+"""Pacing by a recorder, the node's side: a node running as fast as possible publishes no more
+than ``LEAD_MESSAGES`` messages beyond what ``contact_sim_record`` has acknowledged recording.
+
+The protocol (the recorder's side is ``recorder.Recorder.report``):
+
+1. The recorder publishes on ``~/recorded`` (``rosgraph_msgs/Clock``, reliable, transient-local,
+   depth 1) the simulated time up to which every per-tick topic it subscribes to with a matched
+   publisher is recorded (``Topic.paced``: the sample and state topics and /clock). Before it
+   has recorded something on each of them, but once every one has a matched publisher, it
+   publishes ``READY_NS`` (0): "ready, nothing of yours yet". It acknowledges after every
+   ``recorder.ACK_EVERY`` messages it records, and every ``recorder.REPORT_PERIOD`` s.
+2. The node counts the messages it publishes on those topics and notes, after each engine call,
+   (the last tick end published, the count so far). An acknowledgement of time t releases every
+   note stamped at or before t; ``READY_NS`` releases everything published so far (what went out
+   before the recorder matched is not the recorder's to acknowledge). The node publishes while
+   fewer than ``LEAD_MESSAGES`` are unreleased, and pauses otherwise, until the next
+   acknowledgement or until the recorder goes away.
+3. Why messages and not ticks: Fast DDS delivers between processes of one machine through a
+   shared-memory port whose queue holds 512 messages by default; a burst larger than that is,
+   most likely, dropped there and repaired by the reliable protocol only at a later heartbeat,
+   and the node, waiting for an acknowledgement of what is being repaired, stalls (measured:
+   a lead of 300 ticks, 2,400 messages at rest, ran at 1.2x real time with both processes
+   under 6 % of a core; 30 ticks, 6.2x; docs/ros.md). A tick at rest is 8 messages, a tick of
+   the settling up to ~2,700: only a count of messages bounds the burst.
+4. At the start, a node running as fast as possible publishes nothing for ``START_GRACE`` s of
+   wall time unless it has discovered a recorder (then it waits for its ``READY_NS``), so that a
+   recorder started first records from t = 0.
+5. At a stop of the node (``drained``), it publishes nothing more and waits until the recorder
+   has acknowledged everything it published, so a node stopped first leaves nothing out of the
+   bag. At a stop of the recorder, the recorder's acknowledgement stands still until it is gone
+   (``recorder.Recorder.cut``).
+"""
+import math
+import time
+from collections import deque
+
+from .messages import PROGRESS
+
+LEAD_MESSAGES = 256   # unacknowledged messages on the paced topics (< the 512 of a shm port)
+START_GRACE = 3.0     # s of wall time a flat-out node waits at its start for a recorder
+READY_NS = 0          # an acknowledgement of nothing: the recorder is ready
+
+
+class RecorderPace:
+    """How far a node running as fast as possible may run ahead of its recorder.
+
+    Parameters
+    ----------
+    node : rclpy.node.Node
+        The node (the subscription to ``~/recorded`` is made on it).
+    sent : callable
+        () -> int: the messages published so far on the paced topics.
+    on_room : callable
+        Called (no arguments) when an acknowledgement makes room.
+
+    Examples
+    --------
+    A node publishing flat out asks ``room()`` before each engine call, ``mark(ns)`` after it;
+    without a recorder (after ``START_GRACE``) the room is infinite.
+    """
+
+    def __init__(self, node, sent, on_room):
+        self._subscription = node.create_subscription(PROGRESS.msg_type, PROGRESS.name,
+                                                      self._on_ack, PROGRESS.qos)
+        self._sent, self._on_room = sent, on_room
+        self._marks = deque()     # (stamp ns, messages sent up to it), not yet acknowledged
+        self._acked = 0           # messages sent that the recorder has acknowledged
+        self.recorded_ns = None   # the recorder's last acknowledgement (ns); None: none yet
+        self._grace_until = time.monotonic() + START_GRACE
+        self._present = False     # a recorder was there at the last look (``watch``)
+
+    def recorders(self):
+        """The number of recorders pacing this node (publishers of ``~/recorded``)."""
+        return self._subscription.get_publisher_count()
+
+    def watch(self):
+        """Look whether a recorder is there (a graph query, ~tens of us: done by a timer, every
+        ``loop.WATCH_PERIOD``, and while waiting at the start, not before every engine call)."""
+        self._present = self.recorders() > 0
+
+    def room(self):
+        """Messages the node may still publish: ``math.inf`` without a recorder (after the
+        start's grace), 0 while a recorder has not said it is ready."""
+        if not self._present and time.monotonic() < self._grace_until:
+            self.watch()
+        if not self._present:
+            if self.recorded_ns is not None:   # the recorder went away: a next one starts afresh
+                self.recorded_ns = None
+                self._marks.clear()
+            return 0 if time.monotonic() < self._grace_until else math.inf
+        if self.recorded_ns is None:
+            return 0
+        return LEAD_MESSAGES - (self._sent() - self._acked)
+
+    def mark(self, stamp_ns):
+        """After an engine call: the tick ends sent so far reach ``stamp_ns`` (ns). (Contact
+        samples of a tick begun are counted with it: released up to one engine call early, but
+        an acknowledgement of the tick ends, which every per-tick topic reaches, always comes.)"""
+        if self.recorded_ns is not None:
+            self._marks.append((stamp_ns, self._sent()))
+
+    def drained(self):
+        """True when no recorder waits for anything this node has published."""
+        return self.recorders() == 0 or self.recorded_ns is None or self._acked >= self._sent()
+
+    def _on_ack(self, msg):
+        ns = PROGRESS.stamp_ns(msg)
+        self._present = True
+        if ns == READY_NS:
+            self._marks.clear()
+            self._acked = self._sent()
+        marks = self._marks
+        while marks and marks[0][0] <= ns:
+            self._acked = marks.popleft()[1]
+        self.recorded_ns = ns
+        if self.room() > 0:
+            self._on_room()

@@ -1,0 +1,101 @@
+"""The node's topics for viewers (``messages.VIEW_TOPICS``): ``~/markers`` (``markers``) at the
+ticks it publishes and ``/diagnostics`` (``diagnostics``) once a wall second.
+
+Markers: in real time one MarkerArray per tick, from the tick's end (the publish rate); as fast as
+possible the last tick of an engine call, at most ``publish_rate`` a wall second (more than a
+viewer draws would only slow the run). A viewer that falls behind loses old arrays: a refused
+publish is dropped, never waited for (the samples of record are on the other topics).
+"""
+import math
+import time
+
+import rclpy
+from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
+
+from contact_sim.drop import sphere_motion
+
+from .diagnostics import PERIOD, Progress, diagnostics_msg, mode_of, rates
+from .markers import markers_msg
+from .messages import VIEW_TOPICS, to_ns
+
+
+class View:
+    """Publishers of ``~/markers`` and ``/diagnostics`` for ``ContactSimNode``.
+
+    Parameters
+    ----------
+    node : ContactSimNode
+        Its ``_model``, ``_sim``, ``_offset`` and the loop's counters are read.
+    """
+
+    def __init__(self, node):
+        self._node = node
+        self._pub = {topic.key: node.create_publisher(topic.msg_type, topic.name, topic.qos)
+                     for topic in VIEW_TOPICS}
+        self._last_wall = -math.inf
+        self.ticks = 0        # ticks published since the start
+        self.steps = 0        # integrator steps of the drops before the running one
+        self._before = self._progress()
+        node.create_timer(PERIOD, self.publish_diagnostics, clock=node._steady)
+
+    def _publish(self, key, msg):
+        try:
+            self._pub[key].publish(msg)
+        except _rclpy.RCLError:
+            if not rclpy.ok(context=self._node.context):
+                raise
+
+    def publish_batch(self, batch, offset):
+        """The markers of an engine call's ticks (``DropSimulation.advance_ticks``)."""
+        n = batch.ticks
+        if not n:
+            return
+        model = self._node._model
+        if model.fast:
+            now = time.monotonic()
+            if now - self._last_wall < 1.0 / model.publish_rate:
+                return
+            self._last_wall = now
+            ticks = [n - 1]
+        else:
+            ticks = range(n)
+        weight = model.mass * model.gravity
+        for i in ticks:
+            t, z, zdot, force = (float(batch.time[i]), float(batch.penetration[i]),
+                                 float(batch.penetration_rate[i]), float(batch.force[i]))
+            p, pv = float(batch.plate_position[i]), float(batch.plate_velocity[i])
+            if not all(math.isfinite(v) for v in (t, z, zdot, force, p, pv)):
+                continue
+            height = sphere_motion(model.radius, z, zdot, p, pv)[0]
+            self._publish('markers', markers_msg(to_ns(offset + t), model.frame_id, model.radius,
+                                                 height, p, model.plate_radius, force, weight))
+
+    def reset(self, old_sim):
+        """A new drop (~/reset): its integrator steps count on from the old one's."""
+        self.steps += old_sim.total_steps
+
+    def _progress(self):
+        node = self._node
+        return Progress(time.monotonic(), node._offset + node._sim.time,
+                        self.steps + node._sim.total_steps, self.ticks)
+
+    def lag(self):
+        """s of simulated time a real-time run is behind its schedule (0 as fast as possible)."""
+        node = self._node
+        model = node._model
+        if model.fast:
+            return 0.0
+        due = (time.monotonic() - node._anchor_wall) * model.real_time_factor
+        return max(0.0, due - (node._sim.time - node._anchor_sim))
+
+    def publish_diagnostics(self):
+        """/diagnostics over the wall time since the last one."""
+        node = self._node
+        after = self._progress()
+        achieved, steps, ticks = rates(self._before, after)
+        self._before = after
+        model = node._model
+        target = math.inf if model.fast else model.real_time_factor
+        self._publish('diagnostics', diagnostics_msg(
+            to_ns(after.simulated), node.get_fully_qualified_name(), target, achieved,
+            self.lag(), steps, ticks, mode_of(node._sim), node._pace.recorders() > 0))
