@@ -20,13 +20,19 @@ release height (m).  Accepted as they come from the phone or the lab:
 """
 import csv
 import io
+import os
 import re
 import zipfile
 from dataclasses import dataclass
 
 import numpy as np
 
-from contact_sim.validation import require_positive
+from contact_sim.validation import InputError, require_positive
+
+MAX_CLICKS = 5000          # impact times per sequence and in all (a fit of 2000 takes ~14 s)
+MAX_SEQUENCES = 200        # sequences in one fit (each adds its own start and release)
+MAX_ROWS = 100_000         # lines of a CSV file read for impact times
+MAX_BYTES = 64 * 2**20     # size of a file read for impact times
 
 
 @dataclass(frozen=True)
@@ -39,6 +45,10 @@ class ImpactTimes:
 
     def __post_init__(self):
         t = np.asarray(self.times, dtype=float).ravel()
+        if t.size > MAX_CLICKS:
+            raise InputError('times', t.size, '%s: {n[times]} holds {value} impact times: '
+                             'allowed at most %d per sequence' % (self.name or 'sequence',
+                                                                  MAX_CLICKS), value=t.size)
         if t.size < 3:
             raise ValueError(f'{self.name or "sequence"}: {t.size} impact time(s): allowed at '
                              'least 3 (two bounce flights)')
@@ -144,6 +154,11 @@ def _read_text(path):
                  if re.search(r'\ball\b', m.rsplit('/', 1)[-1], re.IGNORECASE)]
         return texts[named[0] if named else max(members, key=lambda m: texts[m].count('\n'))]
     try:
+        size = os.path.getsize(path)
+        if size > MAX_BYTES:
+            raise InputError('data', name, '{n[data]} = {value} holds %d bytes: allowed at most '
+                             '%d (%d MB) for a file of impact times' % (size, MAX_BYTES,
+                                                                       MAX_BYTES // 2**20))
         with open(path, encoding='utf-8-sig') as f:
             return f.read()
     except (OSError, UnicodeDecodeError) as error:
@@ -173,6 +188,9 @@ def parse_impact_times(text, source='data', columns=None):
         If no impact times are found, a column asked for is not there, or a sequence is bad.
     """
     lines = [ln.split('#', 1)[0] for ln in text.splitlines()]
+    if len(lines) > MAX_ROWS:
+        raise InputError('data', source, '{n[data]} = {value} has %d lines: allowed at most %d'
+                         % (len(lines), MAX_ROWS))
     delimiter, decimal_comma = _dialect(lines)
     rows = [[c.strip() for c in next(csv.reader(io.StringIO(ln), delimiter=delimiter))]
             for ln in lines if ln.strip()]
@@ -257,6 +275,23 @@ def _selected(columns, labels, width, source):
             raise ValueError(f'column = {text!r} is not in {source}: allowed a header '
                              f'({headers}) or a number 1 to {width}')
     return chosen
+
+
+def require_sizes(sequences):
+    """Refuse more than ``MAX_SEQUENCES`` sequences or ``MAX_CLICKS`` impact times in all.
+
+    Raises
+    ------
+    InputError
+        Naming ``sequences`` and the limit.
+    """
+    total = sum(s.times.size for s in sequences)
+    if len(sequences) > MAX_SEQUENCES:
+        raise InputError('sequences', len(sequences), '{n[sequences]} holds {value} sequences: '
+                         'allowed at most %d in one fit' % MAX_SEQUENCES)
+    if total > MAX_CLICKS:
+        raise InputError('sequences', total, '{n[sequences]} hold {value} impact times in all: '
+                         'allowed at most %d in one fit' % MAX_CLICKS)
 
 
 def read_impact_times(path, columns=None):
