@@ -28,7 +28,8 @@ UNTRUSTED_FIT = 3     # the exit status of a report whose best fit is not to be 
 NOTES = """
 
 data: CSV files of impact times (s), one column per sequence (several runs side by side are
-fine; --column picks some), or phyphox "Acoustic Stopwatch" exports read as they are (the CSV
+fine; --column picks some; --group-by splits a long table by its trial column), or phyphox
+"Acoustic Stopwatch" exports read as they are (.xlsx/.xls workbooks, the CSV
 of the All sheet, any separator and decimal comma, or the zip of the CSV export), or WAV
 recordings of the bounces (the clicks are found by contact_sim.calibration.audio).  Columns
 that number the events (event_index, 0 1 2 ...) are not times; an interval column beside a time
@@ -91,6 +92,10 @@ def add_parser(sub):
     p.add_argument('--column', action='append', metavar='COL',
                    help='read only this column of the CSV files: its header or its number from '
                         '1 (repeatable; default every time column)')
+    p.add_argument('--group-by', metavar='COL',
+                   help='a long table of trials: one sequence per value of this column (its '
+                        'header or number from 1), the times from --column or the first time '
+                        'column; a height in the value (80cm) is that sequence\'s')
     p.add_argument('--height', action='append', type=_float_list, metavar='H',
                    help='release height in m of each sequence, in order (repeatable)')
     p.add_argument('--height-error', type=float, default=0.01, metavar='DH',
@@ -135,7 +140,8 @@ def _sequences(args):
             sequences.append(ImpactTimes(onsets.times, height_from_label(
                 str(path).rsplit('/', 1)[-1]), f'{path} (audio)'))
         else:
-            sequences.extend(read_impact_times(path, columns=args.column))
+            sequences.extend(read_impact_times(path, columns=args.column,
+                                               group_by=args.group_by))
     if args.height:
         if len(args.height) != len(sequences):
             raise ValueError(f'height is given {len(args.height)} time(s) for '

@@ -192,3 +192,31 @@ def test_cli_bounces_micro_bounce_cut_is_adjustable_and_help_is_right(golf_csv, 
     text = ' '.join(capsys.readouterr().out.split())
     assert 'the linear law is kept: its k is derived' in text
     assert 'the linear law is skipped' not in text
+
+
+def test_cli_bounces_reads_a_long_table_grouped_and_an_xlsx_workbook(golf_csv, tmp_path,
+                                                                      capsys):
+    # found: no grouping by a trial column; .xls/.xlsx refused
+    import openpyxl
+    rows = [ln.split(',') for ln in golf_csv.read_text().splitlines()[1:]]
+    long = tmp_path / 'trials.csv'
+    long.write_text('trial,time (s)\n' + ''.join(
+        f'{name},{row[k]}\n' for k, name in ((0, 'drop 80cm'), (1, 'drop 1m'))
+        for row in rows if row[k]))
+    base = ['--mass', str(GOLF_MASS), '--stiffness', str(GOLF_K), '--radius', '0.0214',
+            '--drag-coefficient', '0.3', '--law', 'azad_featherstone']
+    assert cli.main(['bounces', str(long), '--group-by', 'trial'] + base) == 0
+    out = capsys.readouterr().out
+    assert '2 sequence(s), 19 clicks' in out
+    assert 'trial = drop 1m, 9 clicks, released from 1 m' in out
+    book = openpyxl.Workbook()
+    sheet = book.active
+    sheet.title = 'All'
+    sheet.append(['Event time (s)', 'Interval (s)'])
+    for row in rows:
+        sheet.append([float(row[0]), None])
+    path = tmp_path / 'golf 80cm.xlsx'
+    book.save(path)
+    assert cli.main(['bounces', str(path)] + base) == 0
+    assert 'golf 80cm.xlsx: Event time (s), 10 clicks, released from 0.8 m' in \
+        capsys.readouterr().out
