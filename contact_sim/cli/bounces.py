@@ -328,30 +328,20 @@ def write_params(path, fit, args):
 
 
 def _plot(args, fit, table):
-    pyplot = plotting.load_pyplot()
-    fig, (ax_e, ax_r) = pyplot.subplots(2, 1, figsize=(8.0, 7.0), layout='constrained')
+    """The figure of ``plotting.bounce_figure``: the corrected e(v) with every law's curve,
+    and the best law's timing residuals per run."""
+    columns = [np.array(c) for c in zip(*table)] if table else [np.zeros(0)] * 4
+    curves = {}
     if table:
-        _, v, e, se = (np.array(c) for c in zip(*table))
-        ax_e.errorbar(v, e, yerr=se, fmt='o', color='k', ms=4, label='measured (corrected)')
+        v = columns[1]
         dense = np.geomspace(v.min() * 0.8, v.max() * 1.2, 200)
-        for f in fit.fits:
-            ax_e.plot(dense, restitution_curve(f, fit.mass, dense),
-                      label=f'{f.law.name}: rms {f.rms * 1e3:.3g} ms')
-    ax_e.set_xlabel('impact speed (m/s)')
-    ax_e.set_ylabel('coefficient of restitution e')
-    ax_e.legend(fontsize=8)
-    ax_e.grid(True, alpha=0.4)
-    best = fit.best
-    for j, (s, r) in enumerate(zip(fit.sequences, best.residuals)):
-        ax_r.plot(s.times - s.times[0], r * 1e3, 'o-', ms=3, label=f'sequence {j + 1}')
-    ax_r.axhline(0.0, color='k', lw=0.8)
-    ax_r.set_xlabel('time since the first click (s)')
-    ax_r.set_ylabel(f'predicted - measured (ms), {best.law.name}')
-    ax_r.grid(True, alpha=0.4)
-    if len(fit.sequences) <= 10:
-        ax_r.legend(fontsize=8)
-    fig.suptitle(f'Bounce calibration: {", ".join(str(d) for d in args.data)}', fontsize=10)
-    plotting.save_figure(fig, args.plot)
+        curves = {f'{f.law.name}: rms {f.rms * 1e3:.3g} ms':
+                  (dense, restitution_curve(f, fit.mass, dense)) for f in fit.fits}
+    runs = [(s.name or f'sequence {j + 1}', s.times - s.times[0])
+            for j, s in enumerate(fit.sequences)]
+    title = f'Bounce calibration: {", ".join(str(d) for d in args.data)}'
+    fig = plotting.bounce_figure(args.plot, columns, curves, runs, fit.best.residuals,
+                                 fit.best.law.name, title)
     print(f'# plot written to {args.plot}')
     return fig
 
