@@ -1,42 +1,60 @@
-"""Impact times from a sound recording of the bounces, and synthetic recordings to test it.
+"""Impact times from a sound recording of the bounces.
 
-``bounce_times_from_audio(path)`` reads a WAV file (``scipy.io.wavfile``: mono or stereo, 8/16/
-24/32-bit integer or float) and finds the onset of every impact click with ``scipy.signal``:
+``bounce_times_from_audio(path)`` reads a WAV file in blocks (``wav.open_wav``: mono or stereo,
+8/16/24/32-bit integer or 32/64-bit float) and finds the onset of every impact click, also when
+the clicks come a few ms apart, each on the ringing tail of the one before:
 
 1. high-pass (4th-order Butterworth at ``highpass`` Hz, zero phase): hard impacts are broadband
    clicks, while hum, voices and handling noise are mostly below 1-2 kHz;
-2. envelope: the magnitude of the analytic signal, smoothed over ``smooth`` s, the channels
-   combined by their maximum;
-3. adaptive threshold: ``threshold`` times the local noise floor, a running median of the
-   envelope over ``noise_window`` s (so slow changes of the room noise are followed), never below
-   ``threshold`` times the global noise (the median of the whole envelope);
-4. candidates are the envelope peaks above it, at least the refractory gap ``refractory`` s apart
-   (the click's own ringing cannot fire again);
-5. amplitude gating against echoes and the ball's rattle: a candidate within ``gate`` s after an
-   accepted click must reach, and rise from the tail by, ``gate_ratio`` of that click's peak (an
-   echo or rattle is much quieter than the impact before it, a real bounce only a little
-   quieter); a candidate rising by less than half its own height is the ringing of a click;
-6. the onset of each accepted click: scanning forward from the foot of its rise (at most 5 ms
-   before the peak), the first sample where the sharp (unsmoothed Hilbert) envelope reaches
-   ``onset_fraction`` of the click's peak and four times the median envelope (so that noise
-   cannot start a quiet click early), interpolated linearly between samples.
+2. two envelopes, each the rms over ``smooth`` s (channels averaged in power): of the high-passed
+   signal (loudness), and of its prediction error by a linear predictor of order ``order``
+   refitted every 1 ms to the 16 ms before (the innovation; ridge 1 % of the power).  The ringing of the ball and the plate, and the room's
+   reverberation, are damped sinusoids, which a linear predictor follows: the prediction error
+   stays at the noise while a click rings down and jumps at the next impact however loud the
+   tail it lands on (a person hears that new crack, not a louder tone);
+3. a click is where either envelope rises above ``threshold`` times its local noise floor (the
+   10th percentile of its 5 ms rms over ``noise_window`` s) and above ``rise`` times its own
+   maximum over the ``lookback`` s before (the tail of the previous click, which only decays);
+   candidates at least ``refractory`` s apart (the strongest rise kept);
+4. a click starting while the recording was clipped (full scale within ``lookback`` before it)
+   is the clipped click itself, not a new one;
+5. echoes and rattles: within ``gate`` s after an accepted click a candidate whose strength (its
+   innovation peak) is below ``gate_ratio`` of that click's is left out; a spurious weak click,
+   below ``weak`` of the strength of both its neighbours, is left out too (a real bounce is about
+   as loud as the bounce before or after it);
+6. the onset: from the click's peak (in the innovation when it stands well above the noise, else
+   in the sharp Hilbert envelope of the high-passed signal) back to the last sample below
+   ``onset_fraction`` of the rise from the level before, interpolated linearly.
+
+Memory: the file is read and processed in blocks of ``block`` frames (2^19 by default, 11 s at
+48 kHz), each with ``noise_window`` / 2 + 10 ms of neighbouring samples: about 25 float arrays
+of one block, some 120 MB for mono, whatever the recording's length.
 
 Returns ``AudioOnsets``: times (s from the start of the file), peak amplitudes (full scale = 1)
 and a confidence in [0, 1] per onset (from its signal-to-noise ratio and, for clicks that came
-close to the echo gate, its margin above it).  A quiet late bounce below the threshold is simply
-not found: the bounce fit then names it a missed bounce.
+close to the echo gate, its margin above it).  A bounce below the noise is simply not found: the
+bounce fit then names it a missed bounce.
 """
-import math
 from dataclasses import dataclass
 
-import struct
-
 import numpy as np
-from scipy.io import wavfile
-from scipy.ndimage import median_filter, uniform_filter1d
-from scipy.signal import butter, find_peaks, hilbert, sosfiltfilt
+from scipy.ndimage import maximum_filter1d, percentile_filter, uniform_filter1d
+from scipy.signal import butter, hilbert, sosfiltfilt
 
+from contact_sim.calibration.synthetic_audio import impact_click, synthesize_recording
+from contact_sim.calibration.wav import open_wav, read_wav, write_wav
 from contact_sim.validation import require_positive, require_range
+
+__all__ = ['AudioOnsets', 'bounce_times_from_audio', 'detect_onsets', 'impact_click',
+           'read_wav', 'synthesize_recording', 'write_wav']
+
+CLIP_LEVEL = 0.999        # |sample| at or above this (full scale 1) is clipped
+CHUNK = 5e-3              # s, the noise floor's rms chunks
+BLOCK = 1 << 19           # frames processed at once
+RIDGE = 1e-2              # the predictor's ridge, relative to the signal's power
+REACH = 6e-4              # s: an impact's crack peaks within this time of its onset
+WEAK_WINDOW = 1.0         # s: a click this close after a louder one is compared with it
+FRAME, FIT = 1e-3, 16e-3  # s: the predictor is refitted every FRAME to the FIT before it
 
 
 @dataclass(frozen=True)
@@ -51,214 +69,340 @@ class AudioOnsets:
     noise: float
 
 
-def read_wav(path):
-    """(sample rate Hz, samples as float array (n, channels) in full-scale units)."""
-    try:
-        rate, data = wavfile.read(path)
-    except (OSError, ValueError, struct.error) as error:   # struct: a header cut off
-        reason = getattr(error, 'strerror', None) or str(error)
-        raise ValueError(f'audio = {str(path)!r} cannot be read as WAV: {reason}') from None
-    data = np.asarray(data)
-    if data.dtype == np.uint8:
-        x = (data.astype(float) - 128.0) / 128.0
-    elif np.issubdtype(data.dtype, np.integer):
-        x = data.astype(float) / float(-np.iinfo(data.dtype).min)
-    else:
-        x = data.astype(float)
-    if x.ndim == 1:
-        x = x[:, None]
-    if x.shape[0] < 16:
-        raise ValueError(f'audio = {str(path)!r} holds {x.shape[0]} samples: allowed a recording '
-                         'of at least 16 samples')
-    return float(rate), x
+@dataclass(frozen=True)
+class _Settings:
+    rate: float
+    highpass: float
+    threshold: float
+    rise: float
+    lookback: float
+    refractory: float
+    gate: float
+    gate_ratio: float
+    weak: float
+    onset_fraction: float
+    smooth: float
+    noise_window: float
+    order: int
 
 
-def bounce_times_from_audio(path, highpass=2000.0, threshold=8.0, refractory=0.002, gate=0.03,
-                            gate_ratio=0.6, onset_fraction=0.1, smooth=1e-3, noise_window=0.5):
-    """Onsets of the impact clicks in a WAV file (the steps are in the module doc).
+def bounce_times_from_audio(path, block=BLOCK, **settings):
+    """Onsets of the impact clicks in the WAV file at ``path``, read ``block`` frames at a time.
 
     Parameters
     ----------
-    path : str or path-like
-        The WAV file (mono or stereo; 8/16/24/32-bit integer or float).
-    highpass : float, optional
-        The high-pass corner, Hz, 0 < f < rate/2 (default 2000).
-    threshold : float, optional
-        Times the local noise floor a click must reach, > 1 (default 8).
-    refractory : float, optional
-        The shortest gap between two clicks, s, > 0 (default 0.002).
-    gate : float, optional
-        The echo gate after a click, s, >= 0 (default 0.03).
-    gate_ratio : float, optional
-        The share of the click's peak a candidate in the gate must reach, 0 to 1 (default 0.6).
-    onset_fraction : float, optional
-        The share of the peak that marks the onset, 0 < x < 1 (default 0.1).
-    smooth : float, optional
-        The envelope's smoothing window, s (default 1e-3).
-    noise_window : float, optional
-        The running noise floor's window, s (default 0.5).
+    path : str or path
+        The WAV file.
+    block : int
+        Frames processed at once (bounds the memory: module doc), >= 4096.
+    **settings
+        The detector's settings, as ``detect_onsets``.
 
     Returns
     -------
     AudioOnsets
-        Onset times (s from the start of the file), peak amplitudes (full scale 1) and a
-        confidence in [0, 1] per click.
 
     Raises
     ------
-    InputError
-        Keyed by the option out of its range.
     ValueError
-        The file cannot be read as WAV, or holds fewer than 16 samples.
+        The file cannot be read as WAV (named), or a setting is out of range (named).
 
     Examples
     --------
-    >>> import os, tempfile
-    >>> from contact_sim.calibration import bounce_times_from_audio
-    >>> from contact_sim.calibration.audio import synthesize_recording, write_wav
-    >>> path = os.path.join(tempfile.mkdtemp(), 'drop.wav')
-    >>> write_wav(path, synthesize_recording([0.1, 0.4, 0.6], [0.8, 0.6, 0.45], duration=0.8),
-    ...           48000)
-    >>> print(*(f"{t:.3f}" for t in bounce_times_from_audio(path).times))
-    0.100 0.400 0.600
+    >>> import tempfile, os
+    >>> from contact_sim.calibration import audio
+    >>> path = os.path.join(tempfile.mkdtemp(), 'two.wav')
+    >>> audio.write_wav(path, audio.synthesize_recording([0.1, 0.4], [0.5, 0.4]), 48000)
+    >>> [round(float(t), 3) for t in audio.bounce_times_from_audio(path).times]
+    [0.1, 0.4]
     """
-    rate, x = read_wav(path)
-    return detect_onsets(x, rate, highpass, threshold, refractory, gate, gate_ratio,
-                         onset_fraction, smooth, noise_window)
+    wav = open_wav(path)
+    return _detect(wav.read, wav.frames, wav.rate, block, _settings(wav.rate, **settings))
 
 
-def detect_onsets(samples, rate, highpass=2000.0, threshold=8.0, refractory=0.002, gate=0.03,
-                  gate_ratio=0.6, onset_fraction=0.1, smooth=1e-3, noise_window=0.5):
-    """``bounce_times_from_audio`` on samples already read: array (n,) or (n, channels)."""
-    rate = require_positive('sample_rate', rate)
-    highpass = require_range('highpass', highpass, 0.0, rate / 2.0, low_open=True,
-                             high_open=True)
-    threshold = require_range('threshold', threshold, 1.0, low_open=True)
-    refractory = require_positive('refractory', refractory)
-    gate = require_range('gate', gate, 0.0)
-    gate_ratio = require_range('gate_ratio', gate_ratio, 0.0, 1.0)
-    onset_fraction = require_range('onset_fraction', onset_fraction, 0.0, 1.0, low_open=True,
-                                   high_open=True)
+def detect_onsets(samples, rate, highpass=2000.0, threshold=4.0, rise=1.5, lookback=2e-3,
+                  refractory=1.5e-3, gate=0.03, gate_ratio=0.5, weak=0.25, onset_fraction=0.2,
+                  smooth=2e-4, noise_window=1.0, order=16, block=BLOCK):
+    """``bounce_times_from_audio`` on samples already read.
+
+    Parameters
+    ----------
+    samples : array_like
+        (n,) or (n, channels), full scale 1.
+    rate : float
+        Sample rate in Hz, > 0.
+    highpass : float
+        High-pass corner in Hz, 0 < highpass < rate / 2.
+    threshold : float
+        A click rises above this many times the local noise floor, > 1.
+    rise : float
+        ... and above this many times the envelope's maximum over ``lookback``, > 1.
+    lookback : float
+        s, > 0: the tail a new click must rise above (and the clipping looked for).
+    refractory : float
+        s, > 0: the least time between two clicks.
+    gate, gate_ratio : float
+        s >= 0 and 0 <= ratio <= 1: the echo gate (module doc).
+    weak : float
+        0 <= weak <= 1: a click below this share of both neighbours' strength is spurious.
+    onset_fraction : float
+        0 < fraction < 1: share of the rise that marks the onset.
+    smooth : float
+        s, > 0: the envelopes' rms window.
+    noise_window : float
+        s, > 0: the noise floor's window.
+    order : int
+        The linear predictor's order, 1 to 64.
+    block : int
+        Frames processed at once, >= 4096.
+
+    Returns
+    -------
+    AudioOnsets
+
+    Raises
+    ------
+    ValueError
+        A setting out of range, named with its allowed range.
+
+    Examples
+    --------
+    >>> from contact_sim.calibration import audio
+    >>> x = audio.synthesize_recording([0.1, 0.105, 0.3], [0.5, 0.45, 0.4], echo_gain=0.0)
+    >>> [round(float(t), 4) for t in audio.detect_onsets(x, 48000).times]
+    [0.1, 0.105, 0.3]
+    """
+    settings = _settings(rate, highpass, threshold, rise, lookback, refractory, gate, gate_ratio,
+                         weak, onset_fraction, smooth, noise_window, order)
     x = np.asarray(samples, dtype=float)
     if x.ndim == 1:
         x = x[:, None]
-    sos = butter(4, highpass, btype='highpass', fs=rate, output='sos')
+    return _detect(lambda a, b: x[a:b], x.shape[0], settings.rate, block, settings)
+
+
+def _settings(rate, highpass=2000.0, threshold=4.0, rise=1.5, lookback=2e-3, refractory=1.5e-3,
+              gate=0.03, gate_ratio=0.5, weak=0.25, onset_fraction=0.2, smooth=2e-4,
+              noise_window=1.0, order=16):
+    rate = require_positive('sample_rate', rate)
+    order = require_range('order', order, 1, 64)
+    return _Settings(
+        rate, require_range('highpass', highpass, 0.0, rate / 2.0, low_open=True, high_open=True),
+        require_range('threshold', threshold, 1.0, low_open=True),
+        require_range('rise', rise, 1.0, low_open=True), require_positive('lookback', lookback),
+        require_positive('refractory', refractory), require_range('gate', gate, 0.0),
+        require_range('gate_ratio', gate_ratio, 0.0, 1.0), require_range('weak', weak, 0.0, 1.0),
+        require_range('onset_fraction', onset_fraction, 0.0, 1.0, low_open=True,
+                      high_open=True),
+        require_positive('smooth', smooth), require_positive('noise_window', noise_window),
+        int(order))
+
+
+def _detect(read, frames, rate, block, s):
+    block = int(require_range('block', block, 4096))
+    pad = int((s.noise_window / 2 + 0.01 + s.lookback) * rate)
+    found, noise = [], []
+    for start in range(0, frames, block):
+        a, b = max(start - pad, 0), min(start + block + pad, frames)
+        cands, floor = _candidates(read(a, b), s)
+        keep = (cands[:, 0] + a >= start) & (cands[:, 0] + a < start + block)
+        cands = cands[keep]
+        cands[:, 0] += a
+        cands[:, 1] += a / rate
+        found.append(cands)
+        noise.append(floor)
+    cands = np.concatenate(found) if found else np.zeros((0, 7))
+    times, amps, conf = _accept(cands, s)
+    return AudioOnsets(times, amps, conf, rate, float(np.median(noise)))
+
+
+def _lpc_residual(y, order, frame, fit):
+    """Prediction error of ``y`` by a linear predictor of order ``order`` refitted for every
+    ``frame`` samples to the ``fit`` samples just before it (the tail the frame continues)."""
+    n = y.size
+    count = n // frame
+    if count < 2 or fit <= 4 * order:
+        return y
+    # lag products' running sums: r_k over [start - fit, start) for every frame start
+    starts = np.arange(count) * frame
+    lo = np.maximum(starts - fit, 0)
+    r = np.empty((count, order + 1))
+    for k in range(order + 1):
+        prod = np.zeros(n + 1)
+        np.cumsum(y[k:] * y[:n - k], out=prod[k + 1:])
+        prod[1:k + 1] = 0.0
+        r[:, k] = prod[starts] - prod[np.minimum(lo + k, starts)]
+    r[:, 0] = r[:, 0] * (1.0 + RIDGE) + 1e-30
+    lags = np.abs(np.arange(order)[:, None] - np.arange(order)[None, :])
+    a = np.linalg.solve(r[:, lags], r[:, 1:, None])[:, :, 0]       # (count, order)
+    a[starts < fit] = 0.0                    # no tail before: no prediction
+    which = np.minimum(np.arange(n) // frame, count - 1)
+    e = y.copy()
+    for k in range(1, order + 1):
+        e[k:] -= a[which[k:], k - 1] * y[:n - k]
+    return e
+
+
+def _floor(env, rate, window):
+    """Local noise floor: the 10th percentile of the 5 ms rms over ``window`` s."""
+    m = max(int(CHUNK * rate), 1)
+    count = max(env.size // m, 1)
+    rms = np.sqrt(np.mean(env[:count * m].reshape(count, m) ** 2, axis=1))
+    low = percentile_filter(rms, 10, size=max(int(window / CHUNK), 3), mode='nearest')
+    full = np.repeat(low, m)
+    full = np.concatenate([full, np.full(env.size - full.size, low[-1])])
+    return np.maximum(full, 1e-12)
+
+
+def _before(env, lookback, gap):
+    """Maximum of ``env`` over [i - lookback, i - gap] samples, for each i."""
+    size = max(lookback - gap, 1)
+    m = maximum_filter1d(env, size, mode='nearest')
+    shift = gap + size // 2
+    return np.concatenate([np.full(shift, m[0]), m[:env.size - shift]])
+
+
+def _mean_before(power, lookback, gap):
+    """Mean of ``power`` over [i - lookback, i - gap] samples, for each i."""
+    size = max(lookback - gap, 1)
+    m = uniform_filter1d(power, size, mode='nearest')
+    shift = gap + size // 2
+    return np.concatenate([np.full(shift, m[0]), m[:power.size - shift]])
+
+
+def _candidates(x, s):
+    """Candidate clicks in one block: rows (index, onset s, strength, amplitude, snr) and the
+    block's noise level (median floor of the high-passed envelope)."""
+    rate = s.rate
+    empty = np.zeros((0, 7))
+    if x.shape[0] < 32:
+        return empty, 0.0
+    sos = butter(4, s.highpass, btype='highpass', fs=rate, output='sos')
     hp = sosfiltfilt(sos, x, axis=0)
-    fine = np.abs(hilbert(hp, axis=0)).max(axis=1)          # sharp, beats inside a click
-    width = max(int(round(smooth * rate)), 1)
-    coarse = np.sqrt(uniform_filter1d((hp * hp).max(axis=1), width))   # smooth rms envelope
-    noise_global = float(np.median(coarse))
-    fine_noise = float(np.median(fine))
-    window = max(int(noise_window * rate) | 1, 3)
-    step = max(window // 8, 1)
-    # running median on a decimated envelope (cheap), brought back to full length
-    local = median_filter(coarse[::step], size=max(window // step, 3), mode='nearest')
-    floor = np.maximum(np.repeat(local, step)[:coarse.size], noise_global)
-    level = threshold * floor
-    distance = max(int(refractory * rate), 1)
-    peaks, props = find_peaks(coarse, height=level, distance=distance, prominence=0.0)
-    # a new click rises from at most half its height (a ringing tail does not)
-    fresh = props['prominences'] >= 0.5 * props['peak_heights']
-    peaks, bases = peaks[fresh], props['left_bases'][fresh]
-    rises = props['prominences'][fresh]
-    times, amps, conf = [], [], []
-    last_peak_time, last_amp = -math.inf, 0.0
-    back, ahead = int(5e-3 * rate), int(1e-3 * rate)
-    for p, base, rise in zip(peaks, bases, rises):
-        t_peak = p / rate
-        amp = float(coarse[p])
+    width = max(int(round(s.smooth * rate)), 1)
+    env = np.sqrt(uniform_filter1d((hp * hp).mean(axis=1), width))
+    frame, fit = max(int(FRAME * rate), 1), max(int(FIT * rate), 4 * s.order + 1)
+    res2 = np.mean([_lpc_residual(hp[:, c], s.order, frame, fit) ** 2
+                    for c in range(hp.shape[1])], axis=0)
+    res = np.sqrt(uniform_filter1d(res2, max(width // 3, 1)))   # the innovation is a spike
+    look, gap = max(int(s.lookback * rate), 2), max(2 * width, 2)
+    floors, scores = [], []
+    tail_rms = np.sqrt(_mean_before(res2, look, gap))
+    env_before = _before(env, look, gap)
+    for e, tail in ((env, env_before), (res, tail_rms)):
+        floor = _floor(e, rate, s.noise_window)
+        ref = np.maximum(tail, floor)
+        ok = (e >= s.threshold * floor) & (e >= s.rise * ref)
+        floors.append(floor)
+        scores.append(np.where(ok, e / ref, 0.0))
+    score = np.maximum(scores[0], scores[1])
+    clipped = np.abs(x).max(axis=1) >= CLIP_LEVEL
+    if clipped.any():
+        recent = _before(clipped.astype(float), look, gap) > 0
+        score[recent] = 0.0
+    peaks = _peaks(score, max(int(s.refractory * rate), 1))
+    fine = np.sqrt((np.abs(hilbert(hp, axis=0)) ** 2).mean(axis=1))
+    sharp = np.sqrt(res2)
+    rows = []
+    near = max(int(0.75e-3 * rate), gap + 1)    # the onset lies this close before the peak
+    reach = max(int(REACH * rate), 1)
+    for p in peaks:
+        lo, hi = max(p - near, 1), min(p + gap + 1, x.shape[0])
+        # the innovation's energy over the click's first ms, above the noise's
+        energy = float(res2[p - gap if p >= gap else 0:p + look // 2].sum())
+        noise_energy = (look // 2 + gap) * float(floors[1][p]) ** 2
+        strength = max(energy - noise_energy, 0.0) ** 0.5
+        amp = float(np.abs(hp[p - gap if p >= gap else 0:min(p + look, x.shape[0])]).max())
+        onset = _first_rise(sharp, res2, lo, hi, look, s.onset_fraction, reach)
+        if onset is None:
+            onset = _onset(fine, lo, hi, s.onset_fraction)
+        snr = max(env[p] / floors[0][p], res[p] / floors[1][p])
+        top = float(env[p - gap if p >= gap else 0:p + look // 2].max())
+        # the tail the click rises from: its highest over the lookback (a beating ring's
+        # next swell does not rise above the swell before it)
+        level = max(float(env[max(int(onset) - gap, 0)]), float(env_before[p]))
+        rows.append((p, onset / rate, strength, amp, snr, top, max(top - level, 0.0)))
+    return (np.array(rows) if rows else empty), float(np.median(floors[0]))
+
+
+def _peaks(score, distance):
+    """Indices of the local maxima of ``score`` > 0, at least ``distance`` apart (greedy by
+    height, like ``scipy.signal.find_peaks``'s distance rule)."""
+    idx = np.flatnonzero(score > 0)
+    if idx.size == 0:
+        return idx
+    # runs of consecutive positive samples: one maximum each, then the distance rule
+    splits = np.flatnonzero(np.diff(idx) > 1) + 1
+    tops = np.array([run[np.argmax(score[run])] for run in np.split(idx, splits)])
+    order = np.argsort(-score[tops], kind='stable')
+    taken = np.zeros(tops.size, bool)
+    blocked = np.zeros(tops.size, bool)
+    for k in order:
+        if blocked[k]:
+            continue
+        taken[k] = True
+        near = np.abs(tops - tops[k]) < distance
+        blocked |= near
+    return np.sort(tops[taken])
+
+
+def _first_rise(sharp, power, lo, hi, look, fraction, reach):
+    """Fractional sample where the innovation ``sharp`` first exceeds both ``fraction`` of its
+    peak in [lo, hi) and 4 times its rms over the ``look`` samples before ``lo``, at most
+    ``reach`` samples before that peak; None if never."""
+    seg = sharp[lo:hi]
+    q = int(np.argmax(seg))
+    before = float(np.sqrt(np.mean(power[max(lo - look, 0):lo]))) if lo > 0 else 0.0
+    target = max(fraction * float(seg[q]), 4.0 * before)
+    first = max(q - reach, 0)            # the crack peaks within ``reach`` of the onset
+    above = np.flatnonzero(seg[first:q + 1] >= target)
+    if above.size == 0:
+        return None
+    j = lo + first + int(above[0])
+    a, b = float(sharp[j - 1]), float(sharp[j])
+    frac = (target - a) / (b - a) if b > a else 1.0
+    return j - 1 + min(max(frac, 0.0), 1.0)
+
+
+def _onset(signal, lo, hi, fraction):
+    """Fractional sample where ``signal`` last rises through ``fraction`` of its rise (from its
+    level at ``lo`` to its peak in [lo, hi)) before that peak."""
+    seg = signal[lo:hi]
+    q = int(np.argmax(seg))
+    base = float(np.median(signal[max(lo - (hi - lo), 0):lo + 1]))
+    target = base + fraction * (float(seg[q]) - base)
+    below = np.flatnonzero(seg[:q + 1] < target)
+    if below.size == 0:
+        return float(lo)
+    j = min(int(below[-1]), seg.size - 2)
+    a, b = float(seg[j]), float(seg[j + 1])
+    frac = (target - a) / (b - a) if b > a else 0.0
+    return lo + j + min(max(frac, 0.0), 1.0)
+
+
+def _accept(cands, s):
+    """Refractory, echo gate and weak-click rules over all candidates (rows sorted by index)."""
+    cands = cands[np.argsort(cands[:, 0], kind='stable')]
+    kept, conf = [], []
+    last_t, last_strength, last_amp, last_top = -np.inf, 0.0, 0.0, 0.0
+    for row in cands:
+        t, strength = row[1], row[2]
         margin = 1.0
-        if t_peak - last_peak_time < gate:
-            # an echo, the rattle or the beating ring of the click before: quieter than it,
-            # or rising by less than gate_ratio of it from that click's tail
-            if min(amp, float(rise)) < gate_ratio * last_amp:
+        if t - last_t < s.refractory:
+            continue
+        if t - last_t < WEAK_WINDOW and row[3] < s.weak * last_amp:
+            continue          # far quieter than the click before: a rattle or a tick
+        if t - last_t < s.gate:
+            # an echo, a rattle or the ring of the click before: neither its crack (innovation)
+            # nor its rise above the tail reaches gate_ratio of that click's
+            ratio = max(strength / last_strength, row[6] / last_top)
+            if ratio < s.gate_ratio:
                 continue
-            margin = min(1.0, float(rise) / (gate_ratio * last_amp) - 1.0)
-        # onset: scanning forward from the rise's foot, the first sample of the sharp envelope
-        # above onset_fraction of the click's sharp peak, interpolated linearly
-        start = max(int(base), p - back, 1)
-        stop = min(p + ahead, fine.size - 1)
-        top = float(fine[start:stop + 1].max())
-        target = max(onset_fraction * top, 4.0 * fine_noise)   # above the noise's envelope
-        above = np.flatnonzero(fine[start:stop + 1] >= target)
-        j = start + int(above[0])
-        a, b = float(fine[j - 1]), float(fine[j])
-        frac = (target - a) / (b - a) if b > a else 1.0
-        t_on = (j - 1 + min(max(frac, 0.0), 1.0)) / rate
-        snr = amp / float(floor[p])
-        times.append(t_on)
-        amps.append(top)
-        conf.append(float(np.clip(1.0 - threshold / snr, 0.0, 1.0)) * margin)
-        last_peak_time, last_amp = t_peak, amp
-    return AudioOnsets(np.array(times), np.array(amps), np.array(conf), rate, noise_global)
-
-
-# -- synthetic recordings (tests and demonstrations) --------------------------------------------
-def impact_click(rate, duration=0.04, rise=1e-4, rng=None):
-    """One impact click shaped like a hard-ball impact: a broadband burst rising in ``rise`` s
-    (a few resonances 3-9 kHz, decay 1-4 ms) plus the ball's ringing (1.2-2 kHz, 15 ms)."""
-    rng = rng if rng is not None else np.random.default_rng(0)
-    n = int(duration * rate)
-    t = np.arange(n) / rate
-    attack = 1.0 - np.exp(-t / rise)
-    burst = np.zeros(n)
-    for f, tau in zip(rng.uniform(3000.0, 9000.0, 4), rng.uniform(1e-3, 4e-3, 4)):
-        burst += np.sin(2 * math.pi * f * t + rng.uniform(0, 2 * math.pi)) * np.exp(-t / tau)
-    ring = 0.3 * np.sin(2 * math.pi * rng.uniform(1200.0, 2000.0) * t) * np.exp(-t / 0.015)
-    click = attack * (burst + ring)
-    return click / np.max(np.abs(click))
-
-
-def synthesize_recording(times, amplitudes, rate=48000, duration=None, noise=0.002,
-                         echo_delay=0.008, echo_gain=0.35, hum=0.02, seed=0):
-    """A mono recording of clicks starting at ``times`` (s) with peak ``amplitudes`` (full
-    scale), room noise (white, ``noise`` rms, and mains hum at 50 Hz), and one echo of every
-    click ``echo_delay`` s later at ``echo_gain``.  Returns float samples in [-1, 1]."""
-    rng = np.random.default_rng(seed)
-    times = np.asarray(times, dtype=float)
-    end = duration if duration is not None else float(times.max()) + 0.2
-    n = int(end * rate)
-    x = rng.normal(0.0, noise, n) + hum * np.sin(2 * math.pi * 50.0 * np.arange(n) / rate)
-    for t0, amp in zip(times, amplitudes):
-        click = impact_click(rate, rng=rng) * amp
-        for delay, gain in ((0.0, 1.0), (echo_delay, echo_gain)):
-            # the click starts between samples: shift by the fraction with a sinc-free
-            # linear interpolation of its own samples
-            start = (t0 + delay) * rate
-            i0 = int(math.ceil(start))
-            frac = i0 - start
-            k = np.arange(click.size - 1)
-            shifted = click[k] + frac * (click[k + 1] - click[k])
-            seg = slice(i0, min(i0 + shifted.size, n))
-            x[seg] += gain * shifted[:seg.stop - seg.start]
-    return np.clip(x, -1.0, 1.0)
-
-
-def write_wav(path, samples, rate, bits=16):
-    """Write float samples (n,) or (n, channels) in [-1, 1] as a WAV file: ``bits`` 16, 24 or
-    32 (integer PCM) or 'float' (32-bit IEEE float).  24-bit is written by hand (scipy's writer
-    has no 24-bit integer type)."""
-    x = np.asarray(samples, dtype=float)
-    if bits == 'float':
-        wavfile.write(path, int(rate), x.astype(np.float32))
-        return
-    if bits == 16:
-        wavfile.write(path, int(rate), np.round(x * 32767.0).astype(np.int16))
-        return
-    if bits == 32:
-        wavfile.write(path, int(rate), np.round(x * 2147483647.0).astype(np.int32))
-        return
-    if bits != 24:
-        raise ValueError(f'bits = {bits!r} is unknown: allowed 16, 24, 32 or float')
-    channels = 1 if x.ndim == 1 else x.shape[1]
-    ints = np.round(np.clip(x, -1.0, 1.0) * 8388607.0).astype('<i4').reshape(-1)
-    raw = ints.view(np.uint8).reshape(-1, 4)[:, :3].tobytes()
-    block = 3 * channels
-    header = b''.join([
-        b'RIFF', (36 + len(raw)).to_bytes(4, 'little'), b'WAVE',
-        b'fmt ', (16).to_bytes(4, 'little'), (1).to_bytes(2, 'little'),
-        channels.to_bytes(2, 'little'), int(rate).to_bytes(4, 'little'),
-        (int(rate) * block).to_bytes(4, 'little'), block.to_bytes(2, 'little'),
-        (24).to_bytes(2, 'little'), b'data', len(raw).to_bytes(4, 'little')])
-    with open(path, 'wb') as f:
-        f.write(header + raw)
+            if s.gate_ratio > 0:
+                margin = min(1.0, ratio / s.gate_ratio - 1.0)
+        kept.append(row)
+        conf.append(float(np.clip(1.0 - s.threshold / row[4], 0.0, 1.0)) * margin)
+        last_t, last_strength, last_amp, last_top = t, strength, row[3], row[5]
+    if not kept:
+        return np.zeros(0), np.zeros(0), np.zeros(0)
+    rows, conf = np.array(kept), np.array(conf)
+    return rows[:, 1], rows[:, 3], conf

@@ -21,7 +21,7 @@ from contact_sim.calibration.adequacy import check_adequacy
 from contact_sim.calibration.glitches import (MICRO_BOUNCE_RATIO, Glitch, MicroBounceCut,
                                               prepare_sequence)
 from contact_sim.calibration.holdout import predict_held, split_sequences
-from contact_sim.calibration.recordings import ImpactTimes
+from contact_sim.calibration.recordings import ImpactTimes, require_sizes
 from contact_sim.calibration.results import BounceFit
 from contact_sim.calibration.timing_fit import fit_law
 from contact_sim.drop import VELOCITY_MAX
@@ -155,6 +155,7 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     seqs = [s if isinstance(s, ImpactTimes)
             else ImpactTimes(np.asarray(s), None, f'sequence {i + 1}')
             for i, s in enumerate(sequences)]
+    require_sizes(seqs)
     for s in seqs:
         check_recording(s, gravity, resolution)
     # the names given are resolved here, once: from now on the laws are ContactLaw objects

@@ -1,15 +1,19 @@
 """Detector glitches named before a bounce fit, and the clicks prepared for it.
 
-Glitches are found from the intervals between clicks, which shrink by about the restitution ē
-(the median of the interval ratios) at each bounce:
+Glitches are found by walking the clicks in order, each interval predicting the next single
+flight (the last one times ē, the median of the interval ratios); each glitch is named once:
 
-* a doubled click (an echo or the ball's rattle): an interval far shorter (< 0.4 ×) than the one
-  expected; the later click is left out;
+* a doubled click (an echo or the ball's rattle, within 0.1 of a flight after a click) or a
+  spurious click (anywhere else): a click that splits an expected flight, so that the two parts
+  together fit one or more flights better than the first part alone; it is left out, and the
+  flight is judged whole;
 * missed bounces: an interval close to (1 + ē + … + ē^m) times the one expected, for any m (no
   cap; ``_flights_in``); nothing is left out, the following clicks are numbered m bounces later;
-* a late start (the first impact was missed): with a release height, a first interval that
-  matches the second bounce's flight rather than the first; the sequence is numbered from 1.
-  Without a release height a late start cannot be told from a lower release;
+* a growing interval: longer by more than 5 % than the flight before it with no missed click to
+  explain it (bounce flights shrink); kept, and it predicts the next;
+* a late start (the first impacts were missed): with a release height, a first interval that
+  matches the flight of bounce j + 1 rather than the first (any j up to 100); the sequence is
+  numbered from j.  Without a release height a late start cannot be told from a lower release;
 * micro-bounces (``MicroBounceCut``): from the first flight shorter than ``min_flight``, or
   whose impact lasts more than ``ratio`` of it, the final clicks are left out: there the ball
   spends a sizeable part of each bounce in contact, gravity acts during the contact beyond the
@@ -32,7 +36,11 @@ from contact_sim.validation import require_nonnegative, require_positive
 
 MICRO_BOUNCE_RATIO = 0.016   # contact time / flight time beyond which clicks are left out
 MISSED_FLIGHT_SHARE = 0.01   # a flight shorter than this share of an interval: not counted
-DOUBLED_RATIO = 0.4          # an interval below this fraction of the expected one: doubled click
+SPLIT_RATIO = 0.7        # an interval below this share of the expected flight: a split one
+DOUBLED_SHARE = 0.1      # a split this close after the click before: a doubled click
+GROWTH = 0.05            # an interval longer than the flight before by this share: growing
+MAX_LATE = 100           # impacts missed before the first click, at most (late starts)
+LEFT_OUT = ('doubled click', 'spurious click')
 
 
 @dataclass(frozen=True)
@@ -135,6 +143,70 @@ def _flights_in(interval, expected, e_bar):
     return int(np.argmin([abs(math.log(interval / total)) for total in sums]))
 
 
+def _walk(t, e_bar, split=True):
+    """Number the clicks ``t`` by the physics: each interval predicts the next single flight
+    (the last one times ``e_bar``).  Returns the clicks kept, their bounce numbers and the
+    glitches found as (kind, time, detail):
+
+    * a click that splits an expected flight in two (the two parts together fit one or more
+      flights better than the first part alone) is left out: a 'doubled click' when it comes
+      within ``DOUBLED_SHARE`` of a flight after the click before (an echo, a rattle), else a
+      'spurious click';
+    * an interval of m + 1 expected flights (any m) holds m 'missed bounce' clicks;
+    * an interval longer by more than ``GROWTH`` than the flight before it, with no missed
+      click to explain it, is a 'growing interval' (kept; it becomes the next prediction).
+
+    ``split=False``: no click is left out (the numbering after the micro-bounce cut).
+    """
+    kept, index, found = [0], [0], []
+    last = None           # the last single flight (s)
+    i = 1
+    while i < t.size:
+        dt = t[i] - t[kept[-1]]
+        if last is None:
+            # the first interval: against the next one, unless that one holds a miss
+            nxt = t[i + 1] - t[i] if i + 1 < t.size else dt
+            expected = nxt / e_bar if nxt <= dt * (1.0 + 0.5 * e_bar) else dt
+            if nxt < SPLIT_RATIO * e_bar * dt and i + 2 < t.size:
+                expected = dt   # the next click splits the second flight: judged there
+        else:
+            expected = last * e_bar
+        if split and dt < SPLIT_RATIO * expected:
+            merged = (t[i + 1] - t[kept[-1]]) if i + 1 < t.size else None
+            alone = abs(math.log(dt / expected))
+            m_merged = _flights_in(merged, expected, e_bar) if merged is not None else 0
+            fits = merged is not None and abs(math.log(
+                merged / _flight_sum(expected, e_bar, m_merged))) < alone
+            if fits or merged is None:
+                kind = 'doubled click' if dt < DOUBLED_SHARE * expected else 'spurious click'
+                found.append((kind, t[i], f'{dt * 1e3:.2f} ms after the click before, expected '
+                                          f'a flight of about {expected * 1e3:.1f} ms'))
+                i += 1
+                continue
+        m = _flights_in(dt, expected, e_bar)
+        if m:
+            found.append(('missed bounce', t[i], f'interval {dt * 1e3:.1f} ms is about {1 + m} '
+                                                 f'flights of {expected * 1e3:.1f} ms, {m} '
+                                                 'click(s) missing before it'))
+            single = dt * e_bar ** m / _flight_sum(1.0, e_bar, m)    # the last of the m + 1
+        else:
+            single = dt
+            if last is not None and dt > (1.0 + GROWTH) * last:
+                found.append(('growing interval', t[i], f'interval {dt * 1e3:.1f} ms is longer '
+                                                        f'than the flight of {last * 1e3:.1f} ms'
+                                                        ' before it: bounce flights shrink'))
+        kept.append(i)
+        index.append(index[-1] + 1 + m)
+        last = single
+        i += 1
+    return t[kept], np.array(index, dtype=int), found
+
+
+def _flight_sum(first, e_bar, m):
+    """first (1 + ē + … + ē^m): the time of m + 1 flights, the first ``first`` s long."""
+    return first * sum(e_bar ** j for j in range(m + 1))
+
+
 def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, cut=MicroBounceCut()):
     """Find the glitches in one recorded sequence (module doc).
 
@@ -157,29 +229,10 @@ def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, cut=MicroBounceCut())
     """
     t = np.asarray(seq.times, dtype=float)
     glitches = []
-    keep = np.ones(t.size, dtype=bool)
-    # doubled clicks: drop the later click of an interval far shorter than both neighbours'
-    # expectation, repeatedly (the expectation comes from the kept clicks)
-    changed = True
-    while changed and keep.sum() >= 4:
-        changed = False
-        kt = t[keep]
-        dt = np.diff(kt)
-        e_bar = _interval_restitution(dt)
-        for i in range(dt.size):
-            prev_dt = dt[i - 1] * e_bar if i > 0 else None
-            next_dt = dt[i + 1] / e_bar if i + 1 < dt.size else None
-            ref = [x for x in (prev_dt, next_dt) if x is not None]
-            if ref and dt[i] < DOUBLED_RATIO * min(ref):
-                # the echo (or rattle) is the later click of the pair
-                j = np.flatnonzero(keep)[i + 1]
-                keep[j] = False
-                glitches.append(Glitch(number, 'doubled click', float(t[j]), True,
-                                       f'{dt[i] * 1e3:.2f} ms after the click before, '
-                                       f'expected about {min(ref) * 1e3:.1f} ms'))
-                changed = True
-                break
-    kt = t[keep]
+    # doubled and spurious clicks, by the physics: the clicks kept after the walk
+    kt, _, found = _walk(t, _interval_restitution(np.diff(t)))
+    glitches.extend(Glitch(number, kind, float(when), True, detail)
+                    for kind, when, detail in found if kind in LEFT_OUT)
     dt = np.diff(kt)
     # micro-bounces: the final clicks from the first flight the cut names
     over = cut.first(dt, gravity) if dt.size > 2 else None
@@ -190,24 +243,11 @@ def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, cut=MicroBounceCut())
         kt = kt[:end]
         dt = np.diff(kt)
     e_bar = _interval_restitution(dt)
-    index = np.zeros(kt.size, dtype=int)
-    # missed bounces: number the clicks so that each interval is one or more bounce flights
-    last = None     # the last single-bounce flight time
-    for i in range(dt.size):
-        if last is None:
-            # the first interval: compare with the next one (if any)
-            expected = dt[i + 1] / e_bar if i + 1 < dt.size else dt[i]
-            if i + 1 < dt.size and dt[i + 1] > dt[i] * (1.0 + 0.5 * e_bar):
-                expected = dt[i]   # the next interval is the one that holds a miss
-        else:
-            expected = last * e_bar
-        m = _flights_in(dt[i], expected, e_bar)
-        index[i + 1] = index[i] + 1 + m
-        if m:
-            glitches.append(Glitch(number, 'missed bounce', float(kt[i + 1]), False,
-                                   f'interval {dt[i] * 1e3:.1f} ms is about {1 + m} flights of '
-                                   f'{expected * 1e3:.1f} ms, {m} click(s) missing before it'))
-        last = dt[i] * e_bar ** m / sum(e_bar ** j for j in range(m + 1))
+    # missed bounces and growing intervals: each interval predicts the next
+    kt, index, found = _walk(kt, e_bar, split=False)
+    dt = np.diff(kt)
+    glitches.extend(Glitch(number, kind, float(when), kind in LEFT_OUT, detail)
+                    for kind, when, detail in found)
     # late start: the first flight against the fall from the release height, with the
     # restitution's trend over the first bounces extrapolated back (it can change with speed)
     if seq.height is not None and dt.size:
@@ -229,11 +269,15 @@ def prepare_sequence(number, seq, gravity=9.81, kappa=0.0, cut=MicroBounceCut())
         first = dt[0] if index[1] == 1 else dt[0] / sum(e_bar ** j for j in range(index[1]))
         options = []
         released = float(release_speed(seq.height, gravity, kappa))
-        for late in range(3):
+        late = 0
+        while late <= MAX_LATE:     # bounce 1, 2, ... until its flight is far below the first
             v = released
             for j in range(-late, 0):
                 v = float(flight_to_plate(e_at(j) * v, gravity, kappa)[1])
             options.append(float(flight_to_plate(e_at(0) * v, gravity, kappa)[0]))
+            if options[-1] < 0.5 * first:
+                break
+            late += 1
         late = int(np.argmin([abs(math.log(first / s)) for s in options]))
         if late:
             index = index + late

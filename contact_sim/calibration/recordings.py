@@ -16,17 +16,26 @@ release height (m).  Accepted as they come from the phone or the lab:
   ``1,5 m``; a number glued to a word is not one: ``Lancio1,10cm`` is 0.10 m), one in the file
   name for every run of the file or one per run in order, or given separately (``--height`` on
   the command line);
+* phyphox workbooks (``.xlsx`` by openpyxl, ``.xls`` by xlrd): the ``All`` sheet, read like
+  its CSV;
+* a long table of trials (``group_by``): one sequence per value of a trial column;
 * text after ``#`` on a line is a comment.
 """
 import csv
 import io
+import os
 import re
 import zipfile
 from dataclasses import dataclass
 
 import numpy as np
 
-from contact_sim.validation import require_positive
+from contact_sim.validation import InputError, require_positive
+
+MAX_CLICKS = 5000          # impact times per sequence and in all (a fit of 2000 takes ~14 s)
+MAX_SEQUENCES = 200        # sequences in one fit (each adds its own start and release)
+MAX_ROWS = 100_000         # lines of a CSV file read for impact times
+MAX_BYTES = 64 * 2**20     # size of a file read for impact times
 
 
 @dataclass(frozen=True)
@@ -39,6 +48,10 @@ class ImpactTimes:
 
     def __post_init__(self):
         t = np.asarray(self.times, dtype=float).ravel()
+        if t.size > MAX_CLICKS:
+            raise InputError('times', t.size, '%s: {n[times]} holds {value} impact times: '
+                             'allowed at most %d per sequence' % (self.name or 'sequence',
+                                                                  MAX_CLICKS), value=t.size)
         if t.size < 3:
             raise ValueError(f'{self.name or "sequence"}: {t.size} impact time(s): allowed at '
                              'least 3 (two bounce flights)')
@@ -62,6 +75,7 @@ _HEIGHT_KEY = re.compile(r'(?<![^\W_])(?:h|height|hoehe|höhe|altura|hauteur|alt
 _UNITS = {'mm': 1e-3, 'cm': 1e-2, 'm': 1.0}
 # columns that number the events rather than time them
 _INDEX = re.compile(r'(?<![^\W_])(index|idx|nr|no|number|count|n|#)(?![^\W_])', re.IGNORECASE)
+_TIME = re.compile(r'time|zeit|tempo|temps|tiempo|\(s\)', re.IGNORECASE)
 _INTERVAL = re.compile(r'interval|difference|differenz|interv|abstand', re.IGNORECASE)
 
 
@@ -127,9 +141,9 @@ def _dialect(lines):
 
 def _read_text(path):
     name = str(path)
-    if name.lower().endswith(('.xls', '.xlsx', '.ods')):
-        raise ValueError(f'data = {name!r} is a spreadsheet workbook: allowed CSV; export the '
-                         'phyphox data as CSV (or save its All sheet as CSV)')
+    if name.lower().endswith('.ods'):
+        raise ValueError(f'data = {name!r} is an OpenDocument workbook: allowed CSV, .xlsx or '
+                         '.xls; save its All sheet as CSV')
     if name.lower().endswith('.zip'):
         try:
             with zipfile.ZipFile(path) as z:
@@ -145,6 +159,11 @@ def _read_text(path):
                  if re.search(r'\ball\b', m.rsplit('/', 1)[-1], re.IGNORECASE)]
         return texts[named[0] if named else max(members, key=lambda m: texts[m].count('\n'))]
     try:
+        size = os.path.getsize(path)
+        if size > MAX_BYTES:
+            raise InputError('data', name, '{n[data]} = {value} holds %d bytes: allowed at most '
+                             '%d (%d MB) for a file of impact times' % (size, MAX_BYTES,
+                                                                       MAX_BYTES // 2**20))
         with open(path, encoding='utf-8-sig') as f:
             return f.read()
     except (OSError, UnicodeDecodeError) as error:
@@ -152,7 +171,37 @@ def _read_text(path):
         raise ValueError(f'data = {name!r} cannot be read: {reason}') from None
 
 
-def parse_impact_times(text, source='data', columns=None):
+def _read_workbook(path):
+    """The rows (lists of cell texts) of a workbook's ``All`` sheet (else its longest sheet):
+    ``.xlsx`` by openpyxl, ``.xls`` by xlrd, both imported only here."""
+    name = str(path)
+    try:
+        if name.lower().endswith('.xlsx'):
+            import openpyxl
+            book = openpyxl.load_workbook(path, read_only=True, data_only=True)
+            sheets = {ws.title: [list(r) for r in ws.iter_rows(values_only=True)]
+                      for ws in book.worksheets}
+            book.close()
+        else:
+            import xlrd
+            book = xlrd.open_workbook(path)
+            sheets = {sh.name: [sh.row_values(i) for i in range(sh.nrows)]
+                      for sh in book.sheets()}
+    except ImportError as error:
+        raise ValueError(f'data = {name!r} is a workbook and {error.name} is not installed: '
+                         'pip install openpyxl xlrd (or save the All sheet as CSV)') from None
+    except Exception as error:      # each library has its own errors for a bad file
+        raise ValueError(f'data = {name!r} cannot be read as a workbook: {error}') from None
+    named = [n for n in sheets if re.search(r'\ball\b', n, re.IGNORECASE)]
+    rows = sheets[named[0]] if named else max(sheets.values(), key=len, default=[])
+    if len(rows) > MAX_ROWS:
+        raise InputError('data', name, '{n[data]} = {value} has %d rows: allowed at most %d'
+                         % (len(rows), MAX_ROWS))
+    return [['' if c is None else repr(float(c)) if isinstance(c, (int, float)) else str(c)
+             for c in row] for row in rows]
+
+
+def parse_impact_times(text, source='data', columns=None, group_by=None):
     """Sequences (list of ``ImpactTimes``) from the text of a CSV file; see module doc.
 
     Parameters
@@ -163,6 +212,10 @@ def parse_impact_times(text, source='data', columns=None):
         Its name, in the sequences' names and the messages.
     columns : list of str, optional
         The columns to read (headers or numbers from 1); default every time column.
+    group_by : str, optional
+        A trial column (header or number from 1) of a long table: one sequence per value, in
+        the order they come, its times from the first of ``columns`` (else the first time
+        column); a height in the value (``80cm``) goes to its sequence.
 
     Returns
     -------
@@ -174,9 +227,18 @@ def parse_impact_times(text, source='data', columns=None):
         If no impact times are found, a column asked for is not there, or a sequence is bad.
     """
     lines = [ln.split('#', 1)[0] for ln in text.splitlines()]
+    if len(lines) > MAX_ROWS:
+        raise InputError('data', source, '{n[data]} = {value} has %d lines: allowed at most %d'
+                         % (len(lines), MAX_ROWS))
     delimiter, decimal_comma = _dialect(lines)
     rows = [[c.strip() for c in next(csv.reader(io.StringIO(ln), delimiter=delimiter))]
             for ln in lines if ln.strip()]
+    return _parse_rows(rows, decimal_comma, source, columns, group_by)
+
+
+def _parse_rows(rows, decimal_comma, source, columns, group_by):
+    """``parse_impact_times`` on rows of cell texts."""
+    rows = [[c.strip() for c in row] for row in rows if any(c.strip() for c in row)]
     if not rows:
         raise ValueError(f'{source} has no impact times: allowed one column of times (s) per '
                          'sequence, or a phyphox Acoustic Stopwatch export')
@@ -197,6 +259,8 @@ def parse_impact_times(text, source='data', columns=None):
             if t:
                 sequences.append(ImpactTimes(np.array(t), None, f'{source} row {number}'))
         return sequences
+    if group_by is not None:
+        return _grouped(rows, labels, width, decimal_comma, source, columns, group_by)
     chosen = _selected(columns, labels, width, source) if columns else [
         i for i in range(width)
         if not _INTERVAL.search(labels[i]) and not _INDEX.search(labels[i])]
@@ -219,6 +283,36 @@ def parse_impact_times(text, source='data', columns=None):
         raise ValueError(f'{source} has no impact times: allowed one column of times (s) per '
                          'sequence, or a phyphox Acoustic Stopwatch export')
     return sequences
+
+
+def _grouped(rows, labels, width, decimal_comma, source, columns, group_by):
+    """One sequence per value of the trial column ``group_by``, in the order they come: the
+    times of its rows in the time column (``columns``' first, else the first time column)."""
+    (key,) = _selected([group_by], labels, width, source)
+    if columns:
+        times = _selected(columns[:1], labels, width, source)[0]
+    else:
+        candidates = [i for i in range(width) if i != key and not _INTERVAL.search(labels[i])
+                      and not _INDEX.search(labels[i])
+                      and any(_number(r[i], decimal_comma) is not None
+                              for r in rows if i < len(r))]
+        if not candidates:
+            raise ValueError(f'{source} has no time column beside the trial column '
+                             f'{group_by!r}: allowed a table of trial and time columns')
+        timed = [i for i in candidates if _TIME.search(labels[i])]
+        times = (timed or candidates)[0]
+    groups = {}
+    for row in rows:
+        if key >= len(row) or not row[key] or times >= len(row):
+            continue
+        t = _number(row[times], decimal_comma)
+        if t is not None:
+            groups.setdefault(row[key], []).append(t)
+    if not groups:
+        raise ValueError(f'{source} has no impact times grouped by {group_by!r}')
+    label = labels[key] or f'column {key + 1}'
+    return [ImpactTimes(np.array(values), height_from_label(value),
+                        f'{source}: {label} = {value}') for value, values in groups.items()]
 
 
 def _column(rows, i, decimal_comma):
@@ -260,8 +354,26 @@ def _selected(columns, labels, width, source):
     return chosen
 
 
-def read_impact_times(path, columns=None):
-    """Sequences of impact times from a CSV file or phyphox export (``.csv`` or ``.zip``).
+def require_sizes(sequences):
+    """Refuse more than ``MAX_SEQUENCES`` sequences or ``MAX_CLICKS`` impact times in all.
+
+    Raises
+    ------
+    InputError
+        Naming ``sequences`` and the limit.
+    """
+    total = sum(s.times.size for s in sequences)
+    if len(sequences) > MAX_SEQUENCES:
+        raise InputError('sequences', len(sequences), '{n[sequences]} holds {value} sequences: '
+                         'allowed at most %d in one fit' % MAX_SEQUENCES)
+    if total > MAX_CLICKS:
+        raise InputError('sequences', total, '{n[sequences]} hold {value} impact times in all: '
+                         'allowed at most %d in one fit' % MAX_CLICKS)
+
+
+def read_impact_times(path, columns=None, group_by=None):
+    """Sequences of impact times from a CSV file or phyphox export (``.csv``, ``.zip`` of CSV,
+    ``.xlsx`` or ``.xls``: the workbook's ``All`` sheet, else its longest).
 
     Release heights in the file name go to the sequences without a height of their own: one
     height to every run, or as many heights as runs, in order.
@@ -269,8 +381,8 @@ def read_impact_times(path, columns=None):
     Parameters
     ----------
     path : str or Path
-    columns : list of str, optional
-        The columns to read (``parse_impact_times``).
+    columns, group_by : optional
+        The columns to read and the trial column (``parse_impact_times``).
 
     Returns
     -------
@@ -282,7 +394,11 @@ def read_impact_times(path, columns=None):
         If the file cannot be read, holds no impact times, or its name holds a number of
         heights that is neither one nor the number of runs.
     """
-    sequences = parse_impact_times(_read_text(path), source=str(path), columns=columns)
+    if str(path).lower().endswith(('.xlsx', '.xls')):
+        sequences = _parse_rows(_read_workbook(path), False, str(path), columns, group_by)
+    else:
+        sequences = parse_impact_times(_read_text(path), source=str(path), columns=columns,
+                                       group_by=group_by)
     heights = heights_from_label(str(path).replace('\\', '/').rsplit('/', 1)[-1])
     if len(heights) == 1:
         heights = heights * len(sequences)

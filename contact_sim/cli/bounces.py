@@ -28,7 +28,8 @@ UNTRUSTED_FIT = 3     # the exit status of a report whose best fit is not to be 
 NOTES = """
 
 data: CSV files of impact times (s), one column per sequence (several runs side by side are
-fine; --column picks some), or phyphox "Acoustic Stopwatch" exports read as they are (the CSV
+fine; --column picks some; --group-by splits a long table by its trial column), or phyphox
+"Acoustic Stopwatch" exports read as they are (.xlsx/.xls workbooks, the CSV
 of the All sheet, any separator and decimal comma, or the zip of the CSV export), or WAV
 recordings of the bounces (the clicks are found by contact_sim.calibration.audio).  Columns
 that number the events (event_index, 0 1 2 ...) are not times; an interval column beside a time
@@ -91,6 +92,10 @@ def add_parser(sub):
     p.add_argument('--column', action='append', metavar='COL',
                    help='read only this column of the CSV files: its header or its number from '
                         '1 (repeatable; default every time column)')
+    p.add_argument('--group-by', metavar='COL',
+                   help='a long table of trials: one sequence per value of this column (its '
+                        'header or number from 1), the times from --column or the first time '
+                        'column; a height in the value (80cm) is that sequence\'s')
     p.add_argument('--height', action='append', type=_float_list, metavar='H',
                    help='release height in m of each sequence, in order (repeatable)')
     p.add_argument('--height-error', type=float, default=0.01, metavar='DH',
@@ -135,7 +140,8 @@ def _sequences(args):
             sequences.append(ImpactTimes(onsets.times, height_from_label(
                 str(path).rsplit('/', 1)[-1]), f'{path} (audio)'))
         else:
-            sequences.extend(read_impact_times(path, columns=args.column))
+            sequences.extend(read_impact_times(path, columns=args.column,
+                                               group_by=args.group_by))
     if args.height:
         if len(args.height) != len(sequences):
             raise ValueError(f'height is given {len(args.height)} time(s) for '
@@ -322,30 +328,20 @@ def write_params(path, fit, args):
 
 
 def _plot(args, fit, table):
-    pyplot = plotting.load_pyplot()
-    fig, (ax_e, ax_r) = pyplot.subplots(2, 1, figsize=(8.0, 7.0), layout='constrained')
+    """The figure of ``plotting.bounce_figure``: the corrected e(v) with every law's curve,
+    and the best law's timing residuals per run."""
+    columns = [np.array(c) for c in zip(*table)] if table else [np.zeros(0)] * 4
+    curves = {}
     if table:
-        _, v, e, se = (np.array(c) for c in zip(*table))
-        ax_e.errorbar(v, e, yerr=se, fmt='o', color='k', ms=4, label='measured (corrected)')
+        v = columns[1]
         dense = np.geomspace(v.min() * 0.8, v.max() * 1.2, 200)
-        for f in fit.fits:
-            ax_e.plot(dense, restitution_curve(f, fit.mass, dense),
-                      label=f'{f.law.name}: rms {f.rms * 1e3:.3g} ms')
-    ax_e.set_xlabel('impact speed (m/s)')
-    ax_e.set_ylabel('coefficient of restitution e')
-    ax_e.legend(fontsize=8)
-    ax_e.grid(True, alpha=0.4)
-    best = fit.best
-    for j, (s, r) in enumerate(zip(fit.sequences, best.residuals)):
-        ax_r.plot(s.times - s.times[0], r * 1e3, 'o-', ms=3, label=f'sequence {j + 1}')
-    ax_r.axhline(0.0, color='k', lw=0.8)
-    ax_r.set_xlabel('time since the first click (s)')
-    ax_r.set_ylabel(f'predicted - measured (ms), {best.law.name}')
-    ax_r.grid(True, alpha=0.4)
-    if len(fit.sequences) <= 10:
-        ax_r.legend(fontsize=8)
-    fig.suptitle(f'Bounce calibration: {", ".join(str(d) for d in args.data)}', fontsize=10)
-    plotting.save_figure(fig, args.plot)
+        curves = {f'{f.law.name}: rms {f.rms * 1e3:.3g} ms':
+                  (dense, restitution_curve(f, fit.mass, dense)) for f in fit.fits}
+    runs = [(s.name or f'sequence {j + 1}', s.times - s.times[0])
+            for j, s in enumerate(fit.sequences)]
+    title = f'Bounce calibration: {", ".join(str(d) for d in args.data)}'
+    fig = plotting.bounce_figure(args.plot, columns, curves, runs, fit.best.residuals,
+                                 fit.best.law.name, title)
     print(f'# plot written to {args.plot}')
     return fig
 

@@ -10,7 +10,7 @@ import numpy as np
 from contact_sim.cli import plotting
 from contact_sim.cli.contact import build_setup, contact_lines, damping_unit, describe_contact
 from contact_sim.cli.options import LAW_NAMES, contact_command, law_list, plot_option
-from contact_sim.impact import compare_laws, fit_damping, restitution
+from contact_sim.impact import MAX_POINTS, compare_laws, fit_damping, restitution
 from contact_sim.validation import require_range
 
 
@@ -54,20 +54,23 @@ def read_restitution_csv(path, with_uncertainties=False):
     A third column is the uncertainty of e (> 0; returned as a third array, NaN where empty,
     with ``with_uncertainties``); further columns are ignored.  e >= 1 is accepted (noise)."""
     name = 'stdin' if path == '-' else path
+    rows = []
     try:
-        if path == '-':
-            text = sys.stdin.read()
-        else:
-            with open(path, encoding='utf-8') as f:
-                text = f.read()
+        f = sys.stdin if path == '-' else open(path, encoding='utf-8')
+        try:      # line by line, no further than the core's limit on points (+ a header)
+            for number, line in enumerate(f, 1):
+                content = line.split('#', 1)[0].strip()
+                if content:
+                    rows.append((number, next(csv.reader(io.StringIO(content)))))
+                if len(rows) > MAX_POINTS + 1:
+                    raise ValueError(f'data = {name!r} has more than {MAX_POINTS} rows: allowed '
+                                     f'at most {MAX_POINTS} (speed, restitution) points')
+        finally:
+            if f is not sys.stdin:
+                f.close()
     except (OSError, UnicodeDecodeError) as error:
         reason = getattr(error, 'strerror', None) or str(error)
         raise ValueError(f'data = {name!r} cannot be read: {reason}') from None
-    rows = []
-    for number, line in enumerate(text.splitlines(), 1):
-        content = line.split('#', 1)[0].strip()
-        if content:
-            rows.append((number, next(csv.reader(io.StringIO(content)))))
     speeds, values, sigmas = [], [], []
     for index, (number, cells) in enumerate(rows):
         where = f'{name} line {number}'

@@ -136,3 +136,95 @@ def dense_speeds(speeds, log_speed, count=200):
     if log_speed and lo > 0.0 and math.isfinite(hi):
         return np.geomspace(lo, hi, count)
     return np.linspace(lo, hi, count)
+
+
+ERROR_BAR_CLIP = 0.1        # e: error bars longer than this are drawn clipped, with a note
+OUTLIER_MADS = 5.0          # a point this many robust spreads off the best curve is marked
+LEGEND_RUNS = 12            # more runs than this: a colour bar instead of a legend
+
+
+def bounce_figure(path, table, curves, runs, residuals, law_name, title):
+    """The bounce calibration's figure.
+
+    ``table`` = (run j, speeds m/s, e, σ_e) arrays of the corrected restitutions (may be empty:
+    then there is no e(v) panel); ``curves`` = {label: (speeds, e)} of the fitted laws, the
+    best first; ``runs`` = [(name, times from the first click s)] and ``residuals`` = the best
+    law's predicted - measured times (s) of each run.  e > 1 and outliers (more than
+    ``OUTLIER_MADS`` robust spreads off the best curve) are marked; error bars longer than
+    ``ERROR_BAR_CLIP`` are clipped, with a note; every run has its label or colour bar.
+    """
+    pyplot = load_pyplot()
+    has_e = len(table[1]) > 0
+    fig, axes = pyplot.subplots(2 if has_e else 1, 1, figsize=(8.0, 7.0 if has_e else 4.2),
+                                layout='constrained', squeeze=False)
+    axes = axes[:, 0]
+    colours = pyplot.get_cmap('viridis' if len(runs) > 10 else 'tab10')
+
+    def colour(j):
+        return colours(j / max(len(runs) - 1, 1) if len(runs) > 10 else j % 10)
+
+    if has_e:
+        _restitution_panel(axes[0], table, curves, colour)
+    else:
+        fig.text(0.01, 0.005, 'no e(v) panel: no two consecutive single flights to read e from',
+                 fontsize=8, color='0.3')
+    ax_r = axes[-1]
+    for j, ((name, t), r) in enumerate(zip(runs, residuals)):
+        ax_r.plot(t, np.asarray(r) * 1e3, 'o-', ms=3, color=colour(j),
+                  label=f'{j + 1}: {name}' if len(runs) <= LEGEND_RUNS else None)
+    ax_r.axhline(0.0, color='k', lw=0.8)
+    ax_r.set_xlabel('time since the first click (s)')
+    ax_r.set_ylabel(f'predicted - measured (ms), {law_name}')
+    ax_r.grid(True, alpha=0.4)
+    if len(runs) <= LEGEND_RUNS:
+        ax_r.legend(fontsize=7, title='run', title_fontsize=7)
+    else:
+        from matplotlib.cm import ScalarMappable
+        from matplotlib.colors import Normalize
+        bar = fig.colorbar(ScalarMappable(Normalize(1, len(runs)), colours), ax=list(axes))
+        bar.set_label(f'run (1 to {len(runs)}, in the order read)')
+    fig.suptitle(title, fontsize=10)
+    save_figure(fig, path)
+    return fig
+
+
+def _restitution_panel(ax, table, curves, colour):
+    runs, v, e, se = (np.asarray(c, dtype=float) for c in table)
+    best_v, best_e = next(iter(curves.values()))
+    off = e - np.interp(v, best_v, best_e)
+    spread = 1.4826 * float(np.median(np.abs(off - np.median(off)))) or 1e-12
+    outlier = np.abs(off) > OUTLIER_MADS * spread
+    above = e > 1.0
+    clipped = se > ERROR_BAR_CLIP
+    bars = np.minimum(se, ERROR_BAR_CLIP)
+    normal = ~outlier & ~above
+    for j in np.unique(runs[normal]).astype(int):
+        sel = normal & (runs == j)
+        ax.errorbar(v[sel], e[sel], yerr=bars[sel], fmt='o', ms=4, color=colour(j),
+                    elinewidth=0.8, label='measured (corrected)' if j == runs[normal].min()
+                    else None)
+    if np.any(outlier & ~above):
+        sel = outlier & ~above
+        ax.errorbar(v[sel], e[sel], yerr=bars[sel], fmt='s', ms=6, mfc='none', color='tab:orange',
+                    label=f'outlier (> {OUTLIER_MADS:g} robust spreads off the best law)')
+    if np.any(above):
+        ax.errorbar(v[above], e[above], yerr=bars[above], fmt='x', ms=7, color='tab:red',
+                    label='e > 1: a mis-numbered click?')
+        ax.axhline(1.0, color='tab:red', lw=0.6, ls=':')
+    for label, (cv, ce) in curves.items():
+        ax.plot(cv, ce, label=label)
+    if np.any(clipped):
+        ax.text(0.01, 0.02, f'{int(clipped.sum())} error bar(s) clipped at ±{ERROR_BAR_CLIP:g}'
+                f' (largest ±{float(se.max()):.2g})', transform=ax.transAxes, fontsize=8,
+                color='0.3')
+    kept = e[normal] if np.any(normal) else e
+    lo = min(float(kept.min()), min(float(np.min(c[1])) for c in curves.values()))
+    hi = max(float(kept.max()), max(float(np.max(c[1])) for c in curves.values()))
+    if np.any(above):
+        hi = max(hi, float(e[above].max()))
+    pad = 0.1 * max(hi - lo, 0.02) + ERROR_BAR_CLIP * float(np.any(clipped))
+    ax.set_ylim(lo - pad, hi + pad)
+    ax.set_xlabel('impact speed (m/s)')
+    ax.set_ylabel('coefficient of restitution e')
+    ax.legend(fontsize=7)
+    ax.grid(True, alpha=0.4)

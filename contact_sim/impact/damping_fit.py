@@ -196,6 +196,9 @@ def _check_data(speeds, restitutions):
                          'allowed equal lengths')
     if v.size < 1:
         raise ValueError('speeds is empty: allowed at least one (speed, restitution) point')
+    if v.size > MAX_POINTS:
+        raise InputError('speeds', v.size, '{n[speeds]} holds {value} points: allowed at most '
+                         '%d (speed, restitution) points in one fit' % MAX_POINTS)
     for name, arr, ok, rng in (('speeds', v, np.isfinite(v) & (v > 0), '0 < speed < inf'),
                                ('restitutions', e, np.isfinite(e) & (e > 0),
                                 '0 < restitution < inf (e >= 1 is kept and flagged)')):
@@ -205,6 +208,7 @@ def _check_data(speeds, restitutions):
     return v, e
 
 
+MAX_POINTS = 2000   # points of one fit of λ (about 30 ms a point on the project's machine)
 LOSSES = ('linear', 'soft_l1', 'huber', 'cauchy', 'arctan')   # scipy.optimize.least_squares
 LOWER_BOUND_WIDENINGS = 12   # x 3 in ln λ (e^-36): how far points at e >= 1 may pull λ down
 

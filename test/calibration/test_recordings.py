@@ -37,8 +37,8 @@ def test_phyphox_exports_read_as_they_are(tmp_path):
                                           '1,9;\n2,2;\n')
     (f,) = read_impact_times(other)
     assert np.allclose(f.times, [1.0, 1.5, 1.9, 2.2])
-    with pytest.raises(ValueError, match='is a spreadsheet workbook: allowed CSV'):
-        read_impact_times(tmp_path / 'run.xlsx')
+    with pytest.raises(ValueError, match='is an OpenDocument workbook: allowed CSV, .xlsx or'):
+        read_impact_times(tmp_path / 'run.ods')
     with pytest.raises(ValueError, match='has no impact times'):
         parse_impact_times('"a";"b"\n')
 
@@ -100,3 +100,63 @@ def test_messages_carry_plain_numbers():
         parse_impact_times('t\n120\n110\n130\n')
     assert 'times[1] = 110.0 is out of range' in str(error.value)
     assert 'np.' not in str(error.value)
+
+
+PHYPHOX_SHEETS = {
+    'Simple': [['Start (s)', 'Stop (s)', 'Difference (s)'], [1.0, 1.5, 0.5]],
+    'Multiple': [['Start (s)', 'Stop 1 (s)', 'Stop 2 (s)'], [1.0, 1.5, 1.9]],
+    'All': [['Event time (s)', 'Interval (s)'], [1.0, 0.5], [1.5, 0.4], [1.9, 0.33],
+            [2.23, 0.28]],              # the last event kept only as an interval: 2.51 s
+    'Metadata Device': [['property', 'value'], ['model', 'phone']],
+}
+PHYPHOX_ALL = [1.0, 1.5, 1.9, 2.23, 2.51]
+
+
+def test_a_phyphox_xlsx_workbook_is_read_directly(tmp_path):
+    # found: .xls/.xlsx were refused ("allowed CSV")
+    import openpyxl
+    book = openpyxl.Workbook()
+    book.remove(book.active)
+    for name, rows in PHYPHOX_SHEETS.items():
+        sheet = book.create_sheet(name)
+        for row in rows:
+            sheet.append(row)
+    path = tmp_path / 'Lancio2,80cm.xlsx'
+    book.save(path)
+    (seq,) = read_impact_times(path)
+    assert np.allclose(seq.times, PHYPHOX_ALL)
+    assert seq.height == pytest.approx(0.8)
+
+
+def test_a_phyphox_xls_workbook_is_read_directly(tmp_path):
+    import xlwt
+    book = xlwt.Workbook()
+    for name, rows in PHYPHOX_SHEETS.items():
+        sheet = book.add_sheet(name)
+        for i, row in enumerate(rows):
+            for j, cell in enumerate(row):
+                sheet.write(i, j, cell)
+    path = tmp_path / 'golf 1m.xls'
+    book.save(str(path))
+    (seq,) = read_impact_times(path)
+    assert np.allclose(seq.times, PHYPHOX_ALL)
+    assert seq.height == pytest.approx(1.0)
+    bad = tmp_path / 'broken.xlsx'
+    bad.write_bytes(b'not a zip')
+    with pytest.raises(ValueError, match="data = '.*broken.xlsx' cannot be read as a workbook"):
+        read_impact_times(bad)
+
+
+def test_a_long_table_is_grouped_by_its_trial_column(tmp_path):
+    # found: no grouping of a long table by its trial column
+    path = tmp_path / 'trials.csv'
+    path.write_text('trial;event;time (s)\n'
+                    'drop 80cm;1;0,40\ndrop 80cm;2;1,10\ndrop 80cm;3;1,70\n'
+                    'drop 1m;1;0,45\ndrop 1m;2;1,25\ndrop 1m;3;1,93\ndrop 1m;4;2,50\n')
+    first, second = read_impact_times(path, group_by='trial')
+    assert np.allclose(first.times, [0.40, 1.10, 1.70]) and first.height == pytest.approx(0.8)
+    assert np.allclose(second.times, [0.45, 1.25, 1.93, 2.50])
+    assert second.height == pytest.approx(1.0)
+    assert second.name.endswith('trial = drop 1m')
+    with pytest.raises(ValueError, match="column = 'run' is not in"):
+        read_impact_times(path, group_by='run')

@@ -192,3 +192,93 @@ def test_cli_bounces_micro_bounce_cut_is_adjustable_and_help_is_right(golf_csv, 
     text = ' '.join(capsys.readouterr().out.split())
     assert 'the linear law is kept: its k is derived' in text
     assert 'the linear law is skipped' not in text
+
+
+def test_cli_bounces_reads_a_long_table_grouped_and_an_xlsx_workbook(golf_csv, tmp_path,
+                                                                      capsys):
+    # found: no grouping by a trial column; .xls/.xlsx refused
+    import openpyxl
+    rows = [ln.split(',') for ln in golf_csv.read_text().splitlines()[1:]]
+    long = tmp_path / 'trials.csv'
+    long.write_text('trial,time (s)\n' + ''.join(
+        f'{name},{row[k]}\n' for k, name in ((0, 'drop 80cm'), (1, 'drop 1m'))
+        for row in rows if row[k]))
+    base = ['--mass', str(GOLF_MASS), '--stiffness', str(GOLF_K), '--radius', '0.0214',
+            '--drag-coefficient', '0.3', '--law', 'azad_featherstone']
+    assert cli.main(['bounces', str(long), '--group-by', 'trial'] + base) == 0
+    out = capsys.readouterr().out
+    assert '2 sequence(s), 19 clicks' in out
+    assert 'trial = drop 1m, 9 clicks, released from 1 m' in out
+    book = openpyxl.Workbook()
+    sheet = book.active
+    sheet.title = 'All'
+    sheet.append(['Event time (s)', 'Interval (s)'])
+    for row in rows:
+        sheet.append([float(row[0]), None])
+    path = tmp_path / 'golf 80cm.xlsx'
+    book.save(path)
+    assert cli.main(['bounces', str(path)] + base) == 0
+    assert 'golf 80cm.xlsx: Event time (s), 10 clicks, released from 0.8 m' in \
+        capsys.readouterr().out
+
+
+def figure_texts(fig):
+    texts = [t.get_text() for t in fig.texts]
+    for ax in fig.axes:
+        texts += [t.get_text() for t in ax.texts]
+        legend = ax.get_legend()
+        if legend is not None:
+            texts += [t.get_text() for t in legend.get_texts()]
+    return texts
+
+
+def test_bounce_figure_marks_e_above_1_and_outliers_clips_bars_and_labels_30_runs(tmp_path):
+    # found: error bars of +-0.75 swamping a panel, e > 1 unmarked, 30 runs unlabelled
+    import warnings
+    from contact_sim.cli import plotting
+    rng = np.random.default_rng(0)
+    v = np.tile(np.linspace(1.0, 3.0, 8), 30)
+    e = 0.8 - 0.02 * v + rng.normal(0.0, 0.003, v.size)
+    e[5], e[17] = 1.12, 0.3                         # a mis-numbered click, an outlier
+    se = np.full(v.size, 0.01)
+    se[40] = 0.75
+    table = [np.repeat(np.arange(30), 8), v, e, se]
+    dense = np.linspace(0.8, 3.6, 50)
+    curves = {'hunt_crossley': (dense, 0.8 - 0.02 * dense)}
+    runs = [(f'drop {j}', np.arange(8) * 0.3) for j in range(30)]
+    residuals = [rng.normal(0, 1e-4, 8) for _ in range(30)]
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        fig = plotting.bounce_figure(tmp_path / 'b.png', table, curves, runs, residuals,
+                                     'hunt_crossley', 'title')
+    texts = figure_texts(fig)
+    assert 'e > 1: a mis-numbered click?' in texts
+    assert any(t.startswith('outlier') for t in texts)
+    assert '1 error bar(s) clipped at ±0.1 (largest ±0.75)' in texts
+    low, high = fig.axes[0].get_ylim()
+    assert high - low < 1.5 and high > 1.12               # the e > 1 point is in view
+    assert any('run (1 to 30' in ax.get_ylabel() for ax in fig.axes)   # the colour bar
+    assert (tmp_path / 'b.png').stat().st_size > 0
+
+
+def test_bounce_figure_without_any_e_has_no_empty_panel(tmp_path):
+    # found: an empty e(v) panel with a matplotlib warning on stderr
+    import warnings
+    from contact_sim.cli import plotting
+    empty = [np.zeros(0)] * 4
+    with warnings.catch_warnings():
+        warnings.simplefilter('error')
+        fig = plotting.bounce_figure(tmp_path / 'b.png', empty, {}, [('run', np.arange(4.0))],
+                                     [np.zeros(4)], 'linear', 'title')
+    assert len(fig.axes) == 1 and fig.axes[0].has_data()
+    assert any('no e(v) panel' in t for t in figure_texts(fig))
+
+
+def test_cli_bounces_plot_writes_no_matplotlib_warning(golf_csv, tmp_path, capfd):
+    plot = tmp_path / 'p.png'
+    code = cli.main(['bounces', str(golf_csv), '--mass', str(GOLF_MASS), '--stiffness',
+                     str(GOLF_K), '--radius', '0.0214', '--drag-coefficient', '0.3', '--law',
+                     'azad_featherstone', '--plot', str(plot)])
+    out, err = capfd.readouterr()
+    assert code == 0 and 'plot written' in out and plot.stat().st_size > 0
+    assert 'Warning' not in err and 'matplotlib' not in err
