@@ -93,7 +93,9 @@ def _type_path(cls):
 
 def _summary(callback):
     doc = getattr(callback, '__doc__', None) or ''
-    return ' '.join(doc.strip().split('\n\n')[0].split())
+    text = ' '.join(doc.strip().split('\n\n')[0].split())
+    name = getattr(callback, '__qualname__', '')
+    return text or f'`{name}` (described below)'
 
 
 def interfaces_table():
