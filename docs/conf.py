@@ -60,4 +60,5 @@ doctest_test_doctest_blocks = 'default'
 html_theme = 'alabaster'
 html_title = 'contact_sim'
 html_static_path = []
-html_theme_options = {'description': 'Compliant contact, Azad–Featherstone model', 'fixed_sidebar': True}
+html_theme_options = {'description': 'Compliant contact, Azad–Featherstone model', 'fixed_sidebar': True,
+                      'page_width': '1280px', 'body_max_width': 'none'}   # room for the tables
