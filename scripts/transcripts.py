@@ -131,6 +131,14 @@ def stiffness_loop():
     return '\n'.join(lines) + '\n'
 
 
+def node_help():
+    """``contact_sim_node --help``: the installed executable, in its own process (no ROS starts)."""
+    node = Path(sys.executable).parent / 'contact_sim_node'
+    done = subprocess.run([str(node), '--help'], capture_output=True, text=True)
+    return done.stdout + done.stderr
+
+
+TRANSCRIPTS['node_help'] = [('contact_sim_node --help', node_help)]
 TRANSCRIPTS['paper_drop'] = [('python examples/paper_drop.py', lambda: example('paper_drop.py'))]
 TRANSCRIPTS['restitution_curves'] = [
     ('python examples/restitution_curves.py', lambda: example('restitution_curves.py'))]
