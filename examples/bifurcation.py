@@ -8,7 +8,7 @@ plots the table phase of the next ``--bounces`` impacts.  The dashed lines are t
 thresholds Γ₁(0.7) and Γ₂(0.7) (``table``).  The sweep runs on local processes, or on a Dask
 cluster with ``--dask SCHEDULER_ADDRESS`` (``distributed.Client(address).get_executor()``).
 
-    python examples/bifurcation.py [--points 200] [--bounces 300] [--out docs/bifurcation.png]
+    python examples/bifurcation.py [--points 200] [--bounces 300] [--out bifurcation.png]
 """
 import argparse
 import math
@@ -42,7 +42,7 @@ def main(argv=None):
     ap.add_argument('--transient', type=int, default=100)
     ap.add_argument('--workers', type=int, default=None)
     ap.add_argument('--dask', default=None, help='a Dask scheduler address (optional extra)')
-    ap.add_argument('--out', default='docs/bifurcation.png')
+    ap.add_argument('--out', default='bifurcation.png')
     args = ap.parse_args(argv)
     gammas = np.linspace(*args.gamma, args.points)
     executor = None

@@ -297,7 +297,8 @@ def fill_message(msg, values):
 
 
 def readme():
-    return (ROOT / 'README.md').read_text()
+    """The README and the node's docs page (docs/node.md), where its `ros2` examples are."""
+    return (ROOT / 'README.md').read_text() + (ROOT / 'docs' / 'node.md').read_text()
 
 
 def yaml_parameters(path):
