@@ -26,7 +26,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contact_sim.validation import require_positive
+from contact_sim.validation import InputError, require_positive, require_real_array
+
+MAX_TIMES = 10_000   # impact times of one sequence (a recorded drop has a few hundred)
 
 
 @dataclass(frozen=True)
@@ -38,17 +40,23 @@ class ImpactTimes:
     name: str = ''
 
     def __post_init__(self):
-        t = np.asarray(self.times, dtype=float).ravel()
+        where = (self.name or 'sequence').replace('{', '{{').replace('}', '}}')
+        try:
+            t = require_real_array('times', self.times, MAX_TIMES)
+        except InputError as error:
+            raise InputError('times', error.value, where + ': ' + error.template,
+                             **error.params) from None
+        if t.ndim != 1:
+            raise InputError('times', t.shape, where + ': {n[times]} has the shape {value}: '
+                             'allowed one sequence of times, a 1-D array', value=str(t.shape))
         if t.size < 3:
-            raise ValueError(f'{self.name or "sequence"}: {t.size} impact time(s): allowed at '
-                             'least 3 (two bounce flights)')
-        if not np.all(np.isfinite(t)):
-            raise ValueError(f'{self.name or "sequence"}: impact times must be finite numbers')
+            raise InputError('times', t.size, where + ': {value} impact time(s): allowed at '
+                             'least 3 (two bounce flights)', value=str(t.size))
         if np.any(np.diff(t) <= 0.0):
             i = int(np.flatnonzero(np.diff(t) <= 0.0)[0])
-            raise ValueError(f'{self.name or "sequence"}: times[{i + 1}] = {float(t[i + 1])!r} is '
-                             f'out of range: allowed times[{i + 1}] > times[{i}] = '
-                             f'{float(t[i])!r} (increasing)')
+            raise InputError('times', float(t[i + 1]), where + ': {n[times]}[%d] = {value} is '
+                             'out of range: allowed {n[times]}[%d] > {n[times]}[%d] = %r '
+                             '(increasing)' % (i + 1, i + 1, i, float(t[i])))
         object.__setattr__(self, 'times', t)
         if self.height is not None:
             object.__setattr__(self, 'height', require_positive('height', self.height))
@@ -172,6 +180,9 @@ def parse_impact_times(text, source='data', columns=None):
     ValueError
         If no impact times are found, a column asked for is not there, or a sequence is bad.
     """
+    if not isinstance(text, str):
+        raise InputError('text', text, '{n[text]} = {value} is not text: allowed the text of a '
+                         'CSV file (str)')
     lines = [ln.split('#', 1)[0] for ln in text.splitlines()]
     delimiter, decimal_comma = _dialect(lines)
     rows = [[c.strip() for c in next(csv.reader(io.StringIO(ln), delimiter=delimiter))]

@@ -5,8 +5,8 @@ Subcommands: materials, restitution, drop, fit, bounces.  Run `contact-sim <subc
 import argparse
 import sys
 
-from contact_sim.cli import (audit, bounces, drop, errors, export, fit, materials, plotting,
-                             restitution)
+from contact_sim.cli import (audit, bounces, drop, errors, export, fit, materials, outputs,
+                             plotting, restitution)
 from contact_sim.cli.options import EXIT_HELP
 
 SUBCOMMANDS = (materials, restitution, drop, fit, bounces, export, audit)   # in the order of --help
@@ -27,9 +27,9 @@ def main(argv=None):
     """Run `contact-sim` on ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
     args = build_parser().parse_args(argv)
     try:
-        if getattr(args, 'plot', None):
+        outputs.check_outputs(args)   # every output file, before any work
+        if getattr(args, 'plot', None) is not None:
             plotting.load_pyplot()
-            plotting.check_output(args.plot)
         return args.run(args)
     except errors.REPORTED as error:
         return errors.report(error, args)

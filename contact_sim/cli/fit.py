@@ -149,7 +149,9 @@ def print_fit_summary(fits, radius, confidence):
         low, high = fit.confidence_interval
         print(f'{law.name}: lambda = {fit.damping:.9e} {damping_unit(law)}')
         if math.isnan(low):
-            print(f'  {level} confidence interval: n/a (one point: no residual variance)')
+            why = 'every point has e >= 1: the elastic contact fits best' \
+                if fit.damping == 0.0 else 'one point: no residual variance'
+            print(f'  {level} confidence interval: n/a ({why})')
         else:
             print(f'  {level} confidence interval: [{low:.6e}, {high:.6e}]')
         print(f'  rms residual in e: {fit.rms_residual:.3e}')

@@ -40,7 +40,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from contact_sim.validation import require_nonnegative, require_positive, require_range
+from contact_sim.validation import (InputError, require_nonnegative, require_positive,
+                                    require_range, require_real)
 
 AIR_DENSITY = 1.204          # kg/m³: dry air at 20 °C and 101.325 kPa
 SPHERE_DRAG_COEFFICIENT = 0.47   # smooth sphere, subcritical Reynolds number (1e3 - 2e5)
@@ -204,9 +205,12 @@ class FlightPath:
     beta: float = 0.0
 
     def __post_init__(self):
-        require_positive('gravity', self.gravity)
-        require_nonnegative('kappa', self.kappa)
-        require_nonnegative('beta', self.beta)
+        for name, value in (('height', require_real('height', self.height)),
+                            ('velocity', require_real('velocity', self.velocity)),
+                            ('gravity', require_positive('gravity', self.gravity)),
+                            ('kappa', require_nonnegative('kappa', self.kappa)),
+                            ('beta', require_nonnegative('beta', self.beta))):
+            object.__setattr__(self, name, value)
         if _linear_term_too_large(self.kappa, self.beta, self.gravity):
             raise ValueError(f'beta = {self.beta!r} is out of range: allowed beta < '
                              f'2 sqrt(kappa g) = {2.0 * math.sqrt(self.kappa * self.gravity):g}')
@@ -262,10 +266,16 @@ class FlightPath:
         return float(fall_time(self.height - level, -self.velocity, g, kappa, beta)[0])
 
     def touch(self, level=0.0):
-        """(time s, downward speed m/s) at the next passage of ``level`` going down."""
+        """(time s, downward speed m/s) at the next passage of ``level`` (m) going down.
+
+        Raises ``InputError`` on ``level`` if the flight never comes down through it (its apex
+        is below ``level``)."""
+        level = require_real('level', level)
         t = self.time_to_height(level)
         if not math.isfinite(t):
-            return t, math.nan
+            raise InputError('level', level, '{n[level]} = {value} m is above the flight: its '
+                             'apex is at %g m; allowed {n[level]} <= %g m'
+                             % (self.apex_height, self.apex_height))
         return t, -self.state(t)[1]
 
 
