@@ -25,14 +25,16 @@ REPORTED = (ValueError, ArithmeticError, MissingMatplotlib, BrokenPipeError)
 DATA_FIELDS = {'speeds': 'speed', 'restitutions': 'restitution', 'uncertainties': 'uncertainty'}
 
 
-def option_names(args):
+def option_names(args, error=None):
     """The field -> option map for ``args``: a derived quantity is named with the options it
     comes from (lambda from --damping-factor, the Hertz k from the materials), a data file's
     columns by their names (the file is named before the message, never inside a field)."""
     names = dict(OPTION_NAMES)
     if getattr(args, 'damping', None) is None and getattr(args, 'damping_factor', None) is not None:
         names['damping'] = 'lambda = --damping-factor x sqrt(R)'
-    if getattr(args, 'stiffness', 1.0) is None and getattr(args, 'radius', None) is not None:
+    computed = getattr(error, 'value', 0.0) is not None   # a value, not a missing option
+    if computed and getattr(args, 'stiffness', 1.0) is None \
+            and getattr(args, 'radius', None) is not None:
         names['stiffness'] = 'the Hertz stiffness of --sphere/--plate/--radius'
         names['mass'] = '--mass' if getattr(args, 'mass', None) is not None else \
             'the mass from --sphere and --radius'
@@ -53,14 +55,16 @@ def report(error, args):
     """Print ``error`` (one of ``REPORTED``) on stderr as the command line words it and return
     the exit status: 2 for bad input, 1 for a missing matplotlib or a closed stdout."""
     if isinstance(error, InputError):
-        print(f'contact-sim: error: {_source(error, args)}{error.render(option_names(args))}',
+        print(f'contact-sim: error: {_source(error, args)}{error.render(option_names(args, error))}',
               file=sys.stderr)
         return 2
     if isinstance(error, ValueError):
         print(f'contact-sim: error: {error}', file=sys.stderr)
         return 2
     if isinstance(error, ArithmeticError):   # extreme values that overflow the model
-        print(f'contact-sim: error: the values given overflow the model ({error}): allowed '
+        args = error.args   # OverflowError(34, 'Numerical result out of range'): the text only
+        reason = args[1] if len(args) == 2 and isinstance(args[0], int) else str(error)
+        print(f'contact-sim: error: the values given overflow the model ({reason}): allowed '
               'physically sensible magnitudes', file=sys.stderr)
         return 2
     if isinstance(error, MissingMatplotlib):
