@@ -222,7 +222,9 @@ def predict_bounces(contact, mass, height=None, first_flight=None, count=10, gra
     kappa, beta = drag.rates(mass, gravity) if drag is not None else (0.0, 0.0)
     law, k, lam = contact.law, contact.stiffness, contact.damping
     if (height is None) == (first_flight is None):
-        raise ValueError('release is missing: give exactly one of height (m) and first_flight (s)')
+        raise InputError('height', height, 'release is %s: give exactly one of {n[height]} (m) '
+                         'and {n[first_flight]} (s)'
+                         % ('missing' if height is None else 'given twice'))
     if height is not None:
         h = require_range('height', height, 0.0, HEIGHT_MAX, low_open=True, unit='m')
         v1 = float(release_speed(h, gravity, kappa, beta))

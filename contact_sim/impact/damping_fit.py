@@ -14,7 +14,7 @@ from contact_sim.impact.dimensionless import dimensionless
 from contact_sim.impact.restitution import damping_from_group, restitution
 from contact_sim.impact.scales import ZETA_MAX, checked_scales
 from contact_sim.model import LAWS, Contact, ContactLaw, get_law
-from contact_sim.validation import (InputError, require_positive, require_range,
+from contact_sim.validation import (InputError, require_mass, require_positive, require_range,
                                     require_real_array)
 
 
@@ -191,7 +191,7 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     """
     law = get_law(law)
     stiffness = require_positive('stiffness', stiffness)
-    mass = require_positive('mass', mass)
+    mass = require_mass(mass)
     confidence, loss = require_fit_options(confidence, loss)
     v, e = _check_data(speeds, restitutions)
     if uncertainties is None:
@@ -212,7 +212,9 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
             lam_i = _damping_for_restitution(law, stiffness, mass, min(ei, 1.0), vi)
             pointwise[i] = lam_i if ei <= 1.0 else math.nan
         except InputError as error:    # name the data point it came from
-            which = {'speed': 'speeds', 'restitution': 'restitutions'}[error.field]
+            which = {'speed': 'speeds', 'restitution': 'restitutions'}.get(error.field)
+            if which is None:          # the contact's own (stiffness, mass): as it is
+                raise
             template = error.template.replace('{n[%s]}' % error.field,
                                               '{n[%s]}[%d]' % (which, i))
             raise InputError(which, error.value, template, **error.params) from None

@@ -9,6 +9,9 @@ import numpy as np
 from contact_sim.validation import InputError, require_real_array
 
 ZETA_MAX = 1e8   # beyond this damping group (e < 1e-10) the exact integration is not attempted
+# below this damping group a damped contact is elastic to every digit (1 - e ~ ζ), and its
+# lift-off quantities (∝ k z / λ) overflow the doubles: give λ = 0 instead
+ZETA_MIN = 1e-100
 # the shortest contact time scale T = Z / v of any path (impacts, drops): a shorter contact is
 # stiffer than any material (steel on steel at 10 m/s: T ~ 2e-5 s)
 CONTACT_TIME_MIN = 1e-12   # s
@@ -62,8 +65,8 @@ def checked_scales(contact, mass, speed, name='speeds'):
     ------
     InputError
         On ``name``: a speed not finite and positive, or whose Z or T is not a finite positive
-        number; on ``stiffness``: T below ``CONTACT_TIME_MIN`` or Z above ``CONTACT_LENGTH_MAX``; on ``damping``: ζ above
-        ``ZETA_MAX``.
+        number; on ``stiffness``: T below ``CONTACT_TIME_MIN`` or Z above
+        ``CONTACT_LENGTH_MAX``; on ``damping``: ζ above ``ZETA_MAX``, or 0 < ζ < ``ZETA_MIN``.
     """
     law = contact.law
     v = require_speeds(speed, name)
@@ -71,7 +74,8 @@ def checked_scales(contact, mass, speed, name='speeds'):
         length, time = impact_scales(law, contact.stiffness, mass, v)
         zeta = damping_group_of(law, length, v, contact.damping, mass)
     finite = (length > 0.0) & np.isfinite(length) & (time > 0.0) & np.isfinite(time)
-    ok = finite & (time >= CONTACT_TIME_MIN) & (length <= CONTACT_LENGTH_MAX) & (zeta <= ZETA_MAX)
+    ok = finite & (time >= CONTACT_TIME_MIN) & (length <= CONTACT_LENGTH_MAX) & (zeta <= ZETA_MAX) \
+        & ((zeta == 0.0) | (zeta >= ZETA_MIN))
     if not np.all(ok):
         i = np.flatnonzero(~np.broadcast_to(ok, np.shape(v)).ravel())[0]
         bad = float(np.ravel(v)[i])
@@ -98,6 +102,13 @@ def checked_scales(contact, mass, speed, name='speeds'):
                              'm)' % (n, float(mass), bad, depth, k_min, n, CONTACT_LENGTH_MAX),
                              value='%g' % k)
         z = float(np.ravel(zeta)[i])
+        if z < ZETA_MIN:
+            raise InputError('damping', contact.damping, '{n[damping]} = {value} is too small to '
+                             'damp a %g kg sphere at %g m/s: the damping group would be zeta = '
+                             '%.3g, elastic to every digit; allowed {n[damping]} = 0 (elastic) or '
+                             '{n[damping]} >= %.4g (zeta >= %g)'
+                             % (float(mass), bad, z, contact.damping * (ZETA_MIN / z), ZETA_MIN),
+                             value='%g' % contact.damping)
         lam_max = contact.damping * (ZETA_MAX / z)
         raise InputError('damping', contact.damping, '{n[damping]} = {value} is too large for a '
                          '%g kg sphere at %g m/s: the damping group would be zeta = %.3g; '

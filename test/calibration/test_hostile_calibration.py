@@ -71,3 +71,11 @@ def test_a_sequence_longer_than_the_limit_is_refused_before_the_work():
     with pytest.raises(cs.InputError, match='allowed at most'):
         cs.fit_bounces([times], 0.066, 1e10)
     assert math.isfinite(times[-1])
+
+
+@pytest.mark.parametrize('release', [dict(), dict(height=1.0, first_flight=0.5)])
+def test_predict_bounces_wants_exactly_one_release(release):
+    # found by scripts/hostile_inputs.py: a plain ValueError
+    with pytest.raises(cs.InputError,
+                       match=r'^release is .*: give exactly one of height \(m\) and first_flight'):
+        cs.predict_bounces(C, 0.066, count=3, **release)

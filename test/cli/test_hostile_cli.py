@@ -114,3 +114,14 @@ def test_an_overflow_is_reported_without_its_errno_tuple(capsys):
     assert errors.report(OverflowError(34, 'Numerical result out of range'), None) == 2
     err = capsys.readouterr().err
     assert '(Numerical result out of range)' in err and '34' not in err
+
+
+def test_a_damping_too_small_to_matter_is_refused_not_warned_about(capsys):
+    # reproduced: `drop --damping 1e-308` exited 0 after RuntimeWarnings (overflow in divide)
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter('error', RuntimeWarning)
+        code, out, err = run(capsys, ['drop', '--stiffness', '1e10', '--damping', '1e-308',
+                                      '--mass', '0.066'])
+    assert code == 2 and out == ''
+    assert '--damping = 1e-308 is too small' in err and "--damping = 0 (elastic)" in err

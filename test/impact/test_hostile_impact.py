@@ -111,3 +111,13 @@ def test_no_message_shows_a_numpy_repr():
     with pytest.raises(cs.InputError) as info:
         cs.simulate_impact(C, np.float64(-1.0), 1.0)
     assert 'np.' not in str(info.value) and 'mass = -1.0' in str(info.value)
+
+
+@pytest.mark.parametrize('stiffness, mass, field', [(1e308, M, 'stiffness'),
+                                                   (1e-308, M, 'stiffness'),
+                                                   (1e10, 1e308, 'mass'), (1e10, 1e-308, 'mass')])
+def test_fit_damping_names_an_extreme_contact(stiffness, mass, field):
+    # found by scripts/hostile_inputs.py: KeyError 'stiffness'
+    with pytest.raises(cs.InputError) as info:
+        cs.fit_damping(cs.AZAD_FEATHERSTONE, stiffness, mass, V, E)
+    assert info.value.field == field
