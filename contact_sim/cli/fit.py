@@ -1,5 +1,6 @@
 """`contact-sim fit`: the damping lambda fitted to measured (speed, restitution) points, per law,
 with k fixed from the materials or --stiffness (the paper's Fig. 5)."""
+import contextlib
 import csv
 import io
 import math
@@ -10,8 +11,8 @@ import numpy as np
 from contact_sim.cli import plotting
 from contact_sim.cli.contact import build_setup, contact_lines, damping_unit, describe_contact
 from contact_sim.cli.options import LAW_NAMES, contact_command, law_list, plot_option
-from contact_sim.impact import compare_laws, fit_damping, restitution
-from contact_sim.validation import require_range
+from contact_sim.impact import MAX_POINTS, compare_laws, fit_damping, restitution
+from contact_sim.validation import InputError, require_range
 
 
 def add_parser(sub):
@@ -54,20 +55,21 @@ def read_restitution_csv(path, with_uncertainties=False):
     A third column is the uncertainty of e (> 0; returned as a third array, NaN where empty,
     with ``with_uncertainties``); further columns are ignored.  e >= 1 is accepted (noise)."""
     name = 'stdin' if path == '-' else path
+    rows = []
     try:
-        if path == '-':
-            text = sys.stdin.read()
-        else:
-            with open(path, encoding='utf-8') as f:
-                text = f.read()
+        opened = contextlib.nullcontext(sys.stdin) if path == '-' else open(path, encoding='utf-8')
+        with opened as source:
+            for number, line in enumerate(source, 1):   # line by line: bounded memory
+                content = line.split('#', 1)[0].strip()
+                if content:
+                    rows.append((number, next(csv.reader(io.StringIO(content)))))
+                if len(rows) > MAX_POINTS + 1:   # + a header
+                    raise InputError('data', name, 'data = {value} has more than %d rows: '
+                                     'allowed at most %d (speed, restitution) points'
+                                     % (MAX_POINTS, MAX_POINTS), value=repr(name))
     except (OSError, UnicodeDecodeError) as error:
         reason = getattr(error, 'strerror', None) or str(error)
         raise ValueError(f'data = {name!r} cannot be read: {reason}') from None
-    rows = []
-    for number, line in enumerate(text.splitlines(), 1):
-        content = line.split('#', 1)[0].strip()
-        if content:
-            rows.append((number, next(csv.reader(io.StringIO(content)))))
     speeds, values, sigmas = [], [], []
     for index, (number, cells) in enumerate(rows):
         where = f'{name} line {number}'

@@ -125,3 +125,13 @@ def test_a_damping_too_small_to_matter_is_refused_not_warned_about(capsys):
                                       '--mass', '0.066'])
     assert code == 2 and out == ''
     assert '--damping = 1e-308 is too small' in err and "--damping = 0 (elastic)" in err
+
+
+def test_fit_refuses_a_data_file_beyond_the_point_limit_while_reading(capsys, tmp_path):
+    # reproduced: 100,000 rows gave no answer in 120 s; 10 million a MemoryError traceback
+    from contact_sim.impact import MAX_POINTS
+    data = tmp_path / 'big.csv'
+    data.write_text('speed,restitution\n' + '1.0,0.8\n' * (MAX_POINTS + 5))
+    code, out, err = run(capsys, ['fit', str(data), *MATERIALS, '--law', 'azad_featherstone'])
+    assert code == 2 and out == ''
+    assert f'has more than {MAX_POINTS} rows' in err and err.count('\n') == 1
