@@ -72,8 +72,8 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
         return                      # never lands: nothing to check
     law, k, lam = contact.law, contact.stiffness, contact.damping
     n = law.n
-    if speed > 0.0:   # the first impact, by the impact layer's ranges (T, Z, ζ; named k or λ)
-        checked_scales(contact, mass, speed, 'speed')
+    if speed > 0.0:   # the first impact, by the impact layer's ranges (T, Z, tiny ζ; k or λ)
+        checked_scales(contact, mass, speed, 'speed', zeta_max=math.inf)   # large ζ: below
     regimes = []
     if speed > 0.0:
         regimes.append(_scales_or_none(lambda: phase_scales(contact, mass, 0.0, 0.0, speed)))

@@ -42,7 +42,7 @@ def damping_group_of(law, length, speed, damping, mass):
     return damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
 
 
-def checked_scales(contact, mass, speed, name='speeds'):
+def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX):
     """The scales of impacts of one contact at the given speeds.
 
     Parameters
@@ -55,6 +55,9 @@ def checked_scales(contact, mass, speed, name='speeds'):
         Impact speeds in m/s.
     name : str, optional
         The field an ``InputError`` names.
+    zeta_max : float, optional
+        The largest damping group accepted (``ZETA_MAX``; ``check_drop`` passes inf and
+        applies its own bound, at the impact and at rest).
 
     Returns
     -------
@@ -74,7 +77,7 @@ def checked_scales(contact, mass, speed, name='speeds'):
         length, time = impact_scales(law, contact.stiffness, mass, v)
         zeta = damping_group_of(law, length, v, contact.damping, mass)
     finite = (length > 0.0) & np.isfinite(length) & (time > 0.0) & np.isfinite(time)
-    ok = finite & (time >= CONTACT_TIME_MIN) & (length <= CONTACT_LENGTH_MAX) & (zeta <= ZETA_MAX) \
+    ok = finite & (time >= CONTACT_TIME_MIN) & (length <= CONTACT_LENGTH_MAX) & (zeta <= zeta_max) \
         & ((zeta == 0.0) | (zeta >= ZETA_MIN))
     if not np.all(ok):
         i = np.flatnonzero(~np.broadcast_to(ok, np.shape(v)).ravel())[0]
@@ -109,9 +112,9 @@ def checked_scales(contact, mass, speed, name='speeds'):
                              '{n[damping]} >= %.4g (zeta >= %g)'
                              % (float(mass), bad, z, contact.damping * (ZETA_MIN / z), ZETA_MIN),
                              value='%g' % contact.damping)
-        lam_max = contact.damping * (ZETA_MAX / z)
+        lam_max = contact.damping * (zeta_max / z)
         raise InputError('damping', contact.damping, '{n[damping]} = {value} is too large for a '
                          '%g kg sphere at %g m/s: the damping group would be zeta = %.3g; '
                          'allowed {n[damping]} <= %.4g (zeta <= %g)'
-                         % (float(mass), bad, z, lam_max, ZETA_MAX), value='%g' % contact.damping)
+                         % (float(mass), bad, z, lam_max, zeta_max), value='%g' % contact.damping)
     return length, time, zeta

@@ -303,7 +303,7 @@ def strict_run(capsys, argv):
     (['drop', '--stiffness', '1e300', '--damping', '1e5', '--mass', '0.066'],
      '--stiffness = 1e+300'),
     (['drop', '--stiffness', '1e10', '--damping', '1e30', '--mass', '0.066'],
-     '--damping = 1e+30 is too large for a 0.066 kg sphere'),
+     '--damping = 1e+30 is too large for this drop'),
     (['drop', *DIRECT, '--sample-rate', '1e9', '--plot', 'PNG'], '--sample-rate = 1000000000.0'),
     (['drop', *DIRECT, '--duration', '1e6', '--plot', 'PNG'],
      'allowed at most 200000 (--sample-rate x --duration <= 200000)'),
