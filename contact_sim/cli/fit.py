@@ -11,7 +11,6 @@ import numpy as np
 from contact_sim.cli import plotting
 from contact_sim.cli.contact import build_setup, contact_lines, damping_unit, describe_contact
 from contact_sim.cli.options import LAW_NAMES, contact_command, law_list, plot_option
-from contact_sim.impact import MAX_POINTS, compare_laws, fit_damping, restitution
 from contact_sim.validation import InputError, require_range
 
 
@@ -54,6 +53,7 @@ def read_restitution_csv(path, with_uncertainties=False):
 
     A third column is the uncertainty of e (> 0; returned as a third array, NaN where empty,
     with ``with_uncertainties``); further columns are ignored.  e >= 1 is accepted (noise)."""
+    from contact_sim.impact import MAX_POINTS   # the engine: after the arguments are parsed
     name = 'stdin' if path == '-' else path
     rows = []
     try:
@@ -96,6 +96,7 @@ def read_restitution_csv(path, with_uncertainties=False):
 def run(args):
     """Fit lambda per law to the data file and print the ranking and the points (and draw
     them with --plot); returns the exit status 0."""
+    from contact_sim.impact import compare_laws, fit_damping
     speeds, measured, sigmas = read_restitution_csv(args.data, with_uncertainties=True)
     if np.all(np.isnan(sigmas)):
         sigmas = None
@@ -174,6 +175,7 @@ def print_fit_points(fit, speeds, measured):
 
 
 def _plot(args, setup, fits, speeds, measured):
+    from contact_sim.impact import restitution
     dense = plotting.dense_speeds(speeds, log_speed=True)
     curves = {f'{fit.law.name}: \u03bb = {fit.damping:.4g} {damping_unit(fit.law)}, '
               f'rms {fit.rms_residual:.2g}':

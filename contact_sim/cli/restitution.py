@@ -9,7 +9,6 @@ from contact_sim.cli import plotting
 from contact_sim.cli.contact import build_setup, contact_lines, damping_unit, describe_contact, \
     stiffness_unit
 from contact_sim.cli.options import LAW_NAMES, contact_command, law_list, plot_option
-from contact_sim.impact import require_speeds, restitution
 from contact_sim.validation import InputError, require_int
 
 MAX_POINTS = 1_000_000   # --points: the table is printed, one line a speed
@@ -58,6 +57,7 @@ def add_parser(sub):
 
 def _speeds(args):
     if args.speeds is not None:
+        from contact_sim.impact import require_speeds   # the engine: after parsing
         return require_speeds(args.speeds)
     low, high = args.speed_range
     if not 0.0 < low < high < math.inf:
@@ -69,6 +69,7 @@ def _speeds(args):
 
 def run(args):
     """Print e per law at each speed (and draw it with --plot); returns the exit status 0."""
+    from contact_sim.impact import restitution   # the engine: after the arguments are parsed
     speeds = _speeds(args)
     setup = build_setup(args, law_list(args, LAW_NAMES))
     table = {name: restitution(contact, setup.mass, speeds)
@@ -86,6 +87,7 @@ def run(args):
 
 
 def _plot(args, setup, speeds, table):
+    from contact_sim.impact import restitution
     dense = plotting.dense_speeds(speeds, args.log_speed)
     curves, points = {}, {}
     for name, contact in setup.contacts.items():

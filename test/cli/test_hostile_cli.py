@@ -135,3 +135,22 @@ def test_fit_refuses_a_data_file_beyond_the_point_limit_while_reading(capsys, tm
     code, out, err = run(capsys, ['fit', str(data), *MATERIALS, '--law', 'azad_featherstone'])
     assert code == 2 and out == ''
     assert f'has more than {MAX_POINTS} rows' in err and err.count('\n') == 1
+
+
+@pytest.mark.parametrize('command', ['restitution', 'drop', 'fit', 'materials'])
+def test_an_argument_error_is_refused_before_the_engine_is_imported(command):
+    # reproduced: argparse errors took 1.3-5 s (12 s on a loaded machine) because every
+    # subcommand's engine was imported before the arguments were parsed
+    import subprocess
+    import sys
+    probe = ('import sys\nfrom contact_sim.cli.app import main\n'
+             f'try:\n    main([{command!r}, "--no-such-option"])\nexcept SystemExit as stop:\n'
+             '    print(stop.code)\n'
+             'print(sorted(m for m in sys.modules if m.split(".")[0] == "numba" or m in '
+             '("contact_sim.phase", "contact_sim.impact", "contact_sim.drop", '
+             '"contact_sim.calibration", "contact_sim.export")))\n')
+    done = subprocess.run([sys.executable, '-c', probe], capture_output=True, text=True,
+                          timeout=300)
+    code, engine = done.stdout.strip().splitlines()[-2:]
+    assert code == '2' and 'error: ' in done.stderr
+    assert engine == '[]'
