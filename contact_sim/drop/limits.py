@@ -4,7 +4,7 @@ import math
 
 from contact_sim.model import require_contact
 from contact_sim.phase import phase_scales
-from contact_sim.impact import CONTACT_LENGTH_MAX, CONTACT_TIME_MIN, checked_scales
+from contact_sim.impact import CONTACT_LENGTH_MAX, CONTACT_TIME_MIN, ZETA_MIN, checked_scales
 from contact_sim.validation import (GRAVITY_MAX, HEIGHT_MAX, MASS_RANGE, InputError,
                                     require_range)
 
@@ -73,7 +73,8 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
     law, k, lam = contact.law, contact.stiffness, contact.damping
     n = law.n
     if speed > 0.0:   # the first impact, by the impact layer's ranges (T, Z, tiny ζ; k or λ)
-        checked_scales(contact, mass, speed, 'speed', zeta_max=math.inf)   # large ζ: below
+        checked_scales(contact, mass, speed, 'speed', zeta_max=math.inf,   # large ζ: below
+                       zeta_min=ZETA_MIN)
     regimes = []
     if speed > 0.0:
         regimes.append(_scales_or_none(lambda: phase_scales(contact, mass, 0.0, 0.0, speed)))

@@ -9,8 +9,8 @@ import numpy as np
 from contact_sim.validation import InputError, require_real_array
 
 ZETA_MAX = 1e8   # beyond this damping group (e < 1e-10) the exact integration is not attempted
-# below this damping group a damped contact is elastic to every digit (1 - e ~ ζ), and its
-# lift-off quantities (∝ k z / λ) overflow the doubles: give λ = 0 instead
+# below this damping group a damped contact is elastic to every digit (1 - e ~ ζ), and a
+# drop's lift-off quantities (∝ k z / λ) overflow the doubles: a drop wants λ = 0 instead
 ZETA_MIN = 1e-100
 # the shortest contact time scale T = Z / v of any path (impacts, drops): a shorter contact is
 # stiffer than any material (steel on steel at 10 m/s: T ~ 2e-5 s)
@@ -42,7 +42,7 @@ def damping_group_of(law, length, speed, damping, mass):
     return damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
 
 
-def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX):
+def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX, zeta_min=0.0):
     """The scales of impacts of one contact at the given speeds.
 
     Parameters
@@ -58,6 +58,10 @@ def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX):
     zeta_max : float, optional
         The largest damping group accepted (``ZETA_MAX``; ``check_drop`` passes inf and
         applies its own bound, at the impact and at rest).
+    zeta_min : float, optional
+        The smallest non-zero damping group accepted: 0 (every λ; ``restitution`` answers
+        e = 1 - 2ζ/3... down to ζ = 1e-300), ``ZETA_MIN`` for a drop (whose lift-off quantities
+        overflow below it).
 
     Returns
     -------
@@ -69,7 +73,7 @@ def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX):
     InputError
         On ``name``: a speed not finite and positive, or whose Z or T is not a finite positive
         number; on ``stiffness``: T below ``CONTACT_TIME_MIN`` or Z above
-        ``CONTACT_LENGTH_MAX``; on ``damping``: ζ above ``ZETA_MAX``, or 0 < ζ < ``ZETA_MIN``.
+        ``CONTACT_LENGTH_MAX``; on ``damping``: ζ above ``zeta_max``, or 0 < ζ < ``zeta_min``.
     """
     law = contact.law
     v = require_speeds(speed, name)
@@ -78,7 +82,7 @@ def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX):
         zeta = damping_group_of(law, length, v, contact.damping, mass)
     finite = (length > 0.0) & np.isfinite(length) & (time > 0.0) & np.isfinite(time)
     ok = finite & (time >= CONTACT_TIME_MIN) & (length <= CONTACT_LENGTH_MAX) & (zeta <= zeta_max) \
-        & ((zeta == 0.0) | (zeta >= ZETA_MIN))
+        & ((zeta == 0.0) | (zeta >= zeta_min))
     if not np.all(ok):
         i = np.flatnonzero(~np.broadcast_to(ok, np.shape(v)).ravel())[0]
         bad = float(np.ravel(v)[i])
@@ -105,12 +109,12 @@ def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX):
                              'm)' % (n, float(mass), bad, depth, k_min, n, CONTACT_LENGTH_MAX),
                              value='%g' % k)
         z = float(np.ravel(zeta)[i])
-        if z < ZETA_MIN:
+        if z < zeta_min:
             raise InputError('damping', contact.damping, '{n[damping]} = {value} is too small to '
                              'damp a %g kg sphere at %g m/s: the damping group would be zeta = '
                              '%.3g, elastic to every digit; allowed {n[damping]} = 0 (elastic) or '
                              '{n[damping]} >= %.4g (zeta >= %g)'
-                             % (float(mass), bad, z, contact.damping * (ZETA_MIN / z), ZETA_MIN),
+                             % (float(mass), bad, z, contact.damping * (zeta_min / z), zeta_min),
                              value='%g' % contact.damping)
         lam_max = contact.damping * (zeta_max / z)
         raise InputError('damping', contact.damping, '{n[damping]} = {value} is too large for a '
