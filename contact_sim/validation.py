@@ -130,8 +130,23 @@ def _rebuild(field, value, template, params):
     return InputError(field, value, template, **params)
 
 
+def _plain(value):
+    """A numpy scalar as the Python number it holds (so no message shows ``np.float64(...)``)."""
+    item = getattr(value, 'item', None)
+    if item is not None and getattr(value, 'shape', None) == ():
+        try:
+            return item()
+        except (TypeError, ValueError):
+            return value
+    return value
+
+
 def _describe(value):
-    return repr(value) if isinstance(value, str) else f'{value!r}'
+    value = _plain(value)
+    if isinstance(value, (str, bool, int, float, complex)) or value is None:
+        return repr(value)
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + '...'
 
 
 def _fmt(x):
@@ -143,6 +158,10 @@ def require_real(name, value):
     if isinstance(value, bool):
         raise InputError(name, value, '{n[%s]} = {value} is not a number; it must be a finite '
                          'real number' % name, value=repr(value))
+    if isinstance(value, complex) or getattr(getattr(value, 'dtype', None), 'kind', 'f') \
+            not in 'iuf' or getattr(value, 'mask', None) is not None:
+        raise InputError(name, value, '{n[%s]} = {value} is not a real number; it must be a '
+                         'finite real number' % name, value=_describe(value))
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -151,6 +170,51 @@ def require_real(name, value):
     if not math.isfinite(x):
         raise InputError(name, x, '{n[%s]} = {value} is not finite; it must be a finite real '
                          'number' % name, value=repr(x))
+    return x
+
+
+MAX_VALUES = 10_000_000   # values of one array argument (80 MB of doubles)
+
+
+def require_real_array(name, values, max_size=MAX_VALUES, finite=True):
+    """``values`` (a number or an array-like of them) as a float ndarray of finite reals.
+
+    Refused, as an ``InputError`` on ``name``: strings, ``None``, booleans, complex numbers
+    (their imaginary part would be lost), dates and times (``datetime64``, ``timedelta64``),
+    masked arrays (their mask would be ignored), ragged or object arrays, non-finite values and
+    more than ``max_size`` values; non-finite values unless ``finite`` is false (the caller
+    then states its range).
+    """
+    import numpy as np   # here, so that parsing a command line does not import numpy
+    if values is None or isinstance(values, (str, bytes, bool, complex)) \
+            or getattr(values, 'mask', None) is not None:
+        what = 'a masked array' if getattr(values, 'mask', None) is not None else None
+        raise InputError(name, values, '{n[%s]} = {value} is not a real number or an array of '
+                         'them: allowed finite real numbers' % name,
+                         value=what or _describe(values))
+    try:
+        size = np.size(values)
+    except Exception:   # noqa: BLE001  (ragged input: numpy's own error)
+        size = None
+    if size is not None and size > max_size:
+        raise InputError(name, size, '{n[%s]} has {value} values: allowed at most %d'
+                         % (name, max_size), value=str(size))
+    try:
+        raw = np.asarray(values)
+    except Exception:   # noqa: BLE001
+        raw = None
+    if raw is None or raw.dtype.kind not in 'iuf':
+        kind = {'c': 'complex numbers', 'M': 'dates', 'm': 'time differences',
+                'b': 'booleans', 'U': 'text', 'S': 'text'}.get(
+                    getattr(getattr(raw, 'dtype', None), 'kind', 'O'), 'values that are not numbers')
+        raise InputError(name, None, '{n[%s]} holds %s: allowed finite real numbers (a number '
+                         'or an array of them)' % (name, kind))
+    x = raw.astype(float)
+    if finite and not np.all(np.isfinite(x)):
+        bad = float(x[~np.isfinite(x)].flat[0])
+        where = '' if x.ndim == 0 else '[%d]' % int(np.flatnonzero(~np.isfinite(x.ravel()))[0])
+        raise InputError(name, bad, '{n[%s]}%s = {value} is not finite: allowed finite real '
+                         'numbers' % (name, where), value=repr(bad))
     return x
 
 
@@ -209,6 +273,20 @@ def require_instance(name, value, kind, what):
         raise InputError(name, value, '{n[%s]} = {value} is not %s' % (name, what),
                          value=_describe(value))
     return value
+
+
+# The (reduced) mass of every path (impacts, drops, fits, the node): outside it the doubles of
+# the model overflow (a 1e308 kg sphere gives a contact of 5e119 s).
+MASS_RANGE = (1e-12, 1e9)   # kg
+
+
+GRAVITY_MAX = 1e6   # m/s²
+HEIGHT_MAX = 1e6    # m: a release height
+
+
+def require_mass(value, name='mass'):
+    """A (reduced) mass in kg within ``MASS_RANGE``."""
+    return require_range(name, value, *MASS_RANGE, unit='kg')
 
 
 # Tolerances of the exact integrators: looser than 1e-3 gives wrong results without warning

@@ -2,7 +2,10 @@
 """Replay hostile inputs across the library, the command line and the node; count what breaks.
 
 Every case is one bad input (a non-finite, negative, huge, tiny, wrongly typed or empty value of
-one argument of a public function, one option of a subcommand, one parameter of the node).  The
+one argument of a public function, one option of a subcommand, one parameter of the node), or
+one call of the issue-17 campaign (``EXPRESSIONS``: refused naming the field given, or, with no
+field, accepted with finite numbers), or an output file that cannot be written (``--plot ''``,
+a directory, ``/dev/full``, a missing directory).  The
 expected outcome is a refusal: an ``InputError`` naming the argument (library), one line on
 stderr and exit 2 (command line), one ``[FATAL]`` line and exit 2 (node).  Anything else is
 counted:
@@ -11,9 +14,13 @@ counted:
 * ``hang``: no answer within ``--timeout`` seconds;
 * ``memory``: a ``MemoryError`` (each case runs under a 2 GiB address-space limit);
 * ``nonsense``: accepted, with a non-finite number in the result (library) or in the output;
-* ``unnamed``: refused, but the message does not name the argument the user gave.
+* ``unnamed``: refused, but the message does not name the argument the user gave, or shows a
+  numpy repr (``np.float64(...)``).
+A RuntimeWarning in a library call that succeeds is raised as an error, so it counts as a
+``traceback``.
 
-    python scripts/hostile_inputs.py [--only library|cli|node] [--timeout 20] [--list]
+    python scripts/hostile_inputs.py [--only library|cli|node] [--timeout 20] [--in-process]
+                                     [--list]
 
 It prints one line per case that is not a clean refusal, then the counts; exit status 1 if any.
 The node cases need ROS (the set-up's venv); they are skipped with a note where rclpy is absent.
@@ -56,6 +63,37 @@ LIBRARY = [
                             speeds=[0.5, 1.0, 2.0], restitutions=[0.8, 0.75, 0.7])),
 ]
 
+# -- the library, named calls of the 2026-12-01 campaign: (expression, the name a refusal must
+# give); C is Contact('azad_featherstone', 1e10, 1e5), T six impact times
+EXPRESSIONS = [
+    ("cs.simulate_impact(C, 1e308, 1.0)", 'mass'),
+    ("cs.simulate_impact(C, 0.066, 1e308)", 'speed'),
+    ("cs.simulate_impact(C, 0.066, 1e-308)", 'speed'),
+    ("cs.restitution(C, 0.066, np.array([1 + 1j]))", 'speeds'),
+    ("cs.restitution(C, 0.066, np.array(['2020-01-01'], dtype='datetime64[D]'))", 'speeds'),
+    ("cs.contact_duration(C, 0.066, np.ma.masked_array([1.0, -1.0], [0, 1]))", 'speeds'),
+    ("cs.restitution(cs.Contact('azad_featherstone', 1e300, 1e5), 0.066, 1.0)", 'stiffness'),
+    ("cs.restitution(C, 1e300, 1.0)", 'mass'),
+    ("cs.FlightPath(-1.0, 0.0, 9.81).touch()", 'level'),
+    ("cs.predict_bounces(C, 0.066, height=1.0, count=60)", ''),
+    ("cs.predict_bounces(C, 0.066, height=1e308, count=5)", 'height'),
+    ("cs.fit_damping('azad_featherstone', 1e10, 0.066, [1, 2], [0.8])", 'restitutions'),
+    ("cs.fit_damping('azad_featherstone', 1e10, 0.066, [0.5, 1, 2, 3], [0.8, 0.75, 0.7, 0.66], "
+     "uncertainties=np.full(4, 1e-300))", ''),
+    ("cs.fit_damping('azad_featherstone', 1e10, 0.066, [0.5, 1, 2, 3], [0.8, 0.75, 0.7, 0.66], "
+     "uncertainties=np.full(4, 1e300))", ''),
+    ("cs.damping_group('azad_featherstone', 1e10, 0.066, 1.0, 1e5)", ''),
+    ("cs.simulate_drop(C, 0.066, 1.0, duration=1.0, drag=0.5)", 'drag'),
+    ("cs.fit_bounces([T], 0.066, 1e10, drag=0.5)", 'drag'),
+    ("cs.compare_laws(1e10, 0.066, [1, 2], [0.8, 0.7], laws=0.0)", 'laws'),
+    ("cs.DropSimulation(C, 0.066, 1.0).advance(1e308)", 't_end'),
+    ("parse_impact_times(1.0)", 'text'),
+    ("cs.fit_bounces(np.vstack([T, T + 1]), 0.066, 1e10, laws=['azad_featherstone'])", ''),
+    ("cs.simulate_drop(C, 0.066, 1.0, duration=1.0, radius=1e-308)", 'radius'),
+    ("cs.drop.sweep(abs, [1], max_workers=10 ** 6)", 'max_workers'),
+    ("cs.DropSimulation(C, 0.066, 1.0).advance(1.0, max_steps=0.5)", 'max_steps'),
+]
+
 # -- the command line: (subcommand with a valid set of options, option names to spoil) --------
 CLI = [
     (['restitution', '--law', 'azad_featherstone', '--sphere', 'steel', '--plate', 'cast_iron',
@@ -88,6 +126,11 @@ def library_cases():
                 yield ('library', f'{call}({name}={bad!r})', (call, kwargs, name, bad))
 
 
+def expression_cases():
+    for expr, field in EXPRESSIONS:
+        yield ('library', expr, ('__expr__', {'expr': expr}, field, None))
+
+
 def cli_cases():
     for argv, options in CLI:
         for option in options:
@@ -98,6 +141,12 @@ def cli_cases():
                 else:
                     spoilt += [option, bad]
                 yield ('cli', 'contact-sim ' + ' '.join(spoilt), (spoilt, option))
+    # output files: each refused before the work, naming the option (issue 17, item 3)
+    for argv, _ in CLI:
+        for option, bad in (('--plot', ''), ('--plot', '.'), ('--plot', '/dev/full'),
+                            ('--plot', '/nonexistent/dir/x.png')):
+            yield ('cli', 'contact-sim ' + ' '.join(argv + [option, repr(bad)]),
+                   (argv + [option, bad], option))
 
 
 def node_cases():
@@ -107,12 +156,16 @@ def node_cases():
 
 
 LIBRARY_WORKER = r"""
-import json, math, sys
+import json, math, sys, warnings
 import numpy as np
 import contact_sim as cs
+from contact_sim.calibration import parse_impact_times
 C = cs.Contact('azad_featherstone', 1e10, 1e5)
-# documented non-finite values: a time not reached (nan), a permanent contact's duration (inf)
-DOCUMENTED = {'permanent_contact_time', 'settle_time', 'contact_duration'}
+T = np.cumsum([0.0, 0.45, 0.40, 0.36, 0.32, 0.29])
+# documented non-finite values: a time not reached (nan), a permanent contact's duration (inf),
+# the interval of a drag not fitted and the AIC difference without both kinds of law (nan)
+DOCUMENTED = {'permanent_contact_time', 'settle_time', 'contact_duration', 'drag_interval',
+              'delta_aic'}
 
 def decode(bad):
     if isinstance(bad, str) and bad in ('nan', 'inf', '-inf'):
@@ -142,7 +195,9 @@ for line in sys.stdin:
     args = {k: (C if v == 'C' else abs if v == 'abs' else v) for k, v in kwargs.items()}
     args[name] = decode(bad)
     try:
-        result = eval(call)(**args)
+        with warnings.catch_warnings():
+            warnings.simplefilter('error', RuntimeWarning)   # a warning on a success counts
+            result = eval(args['expr']) if call == '__expr__' else eval(call)(**args)
         answer = {'outcome': 'accepted' if all(math.isfinite(v) for v in numbers(result))
                   else 'nonsense'}
     except cs.InputError as error:
@@ -151,6 +206,8 @@ for line in sys.stdin:
         answer = {'outcome': 'memory'}
     except Exception as error:
         answer = {'outcome': 'traceback', 'message': f'{type(error).__name__}: {error}'}
+    if 'np.' in answer.get('message', ''):          # a numpy repr in a message
+        answer = {'outcome': 'unnamed', 'message': answer['message']}
     print(json.dumps(answer), flush=True)
 """
 
@@ -200,7 +257,7 @@ class LibraryWorker:
             self.stop()
             return 'memory', 'the worker died'
         outcome, message = answer['outcome'], answer.get('message', '')
-        if outcome == 'refused' and name not in message:
+        if outcome == 'refused' and (not name or name not in message):
             return 'unnamed', message
         return ('ok' if outcome in ('refused', 'accepted') else outcome), message
 
@@ -211,6 +268,73 @@ class LibraryWorker:
             self.proc = None
 
 
+CLI_WORKER = r"""
+import contextlib, io, json, os, sys, tempfile, traceback
+os.chdir(tempfile.gettempdir())
+from contact_sim.cli.app import main
+print('ready', flush=True)
+for line in sys.stdin:
+    argv = json.loads(line)
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            code = main(argv)
+        except SystemExit as stop:
+            code = stop.code if isinstance(stop.code, int) else (0 if stop.code is None else 2)
+        except BaseException:
+            traceback.print_exc(file=err)
+            code = 1
+    print(json.dumps({'code': code, 'out': out.getvalue()[-4000:], 'err': err.getvalue()[-4000:]}),
+          flush=True)
+"""
+
+
+class CliWorker(LibraryWorker):
+    """``contact-sim``'s ``main`` in one long-lived process (``--in-process``): the same verdicts
+    as the executable, without paying the import for every case (on a loaded machine the
+    import alone can exceed the timeout)."""
+
+    def _start(self):
+        self.proc = subprocess.Popen([sys.executable, '-c', CLI_WORKER], text=True,
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                     stderr=subprocess.DEVNULL, preexec_fn=_limit_memory)
+        self._read(300.0)
+
+    def run(self, case):
+        argv, option = case
+        if self.proc is None or self.proc.poll() is not None:
+            self._start()
+        self.proc.stdin.write(json.dumps(argv) + '\n')
+        self.proc.stdin.flush()
+        try:
+            answer = json.loads(self._read(self.timeout))
+        except TimeoutError:
+            self.stop()
+            return 'hang', ''
+        except EOFError:
+            self.stop()
+            return 'memory', 'the worker died'
+        return verdict(answer['code'], answer['out'], answer['err'], option)
+
+
+def verdict(code, stdout, stderr, option):
+    """The outcome of one command line from its exit status and output."""
+    text = stdout + stderr
+    if 'Traceback' in text:
+        return 'traceback', stderr[-300:]
+    if 'MemoryError' in text:
+        return 'memory', ''
+    if code == 0:
+        if re.search(r'\b(nan|inf)\b', stdout):
+            return 'nonsense', stdout[-200:]
+        if 'Warning' in stderr:
+            return 'nonsense', stderr[-200:]   # a warning on a run that exits 0
+        return 'ok', ''
+    if code == 2 and option not in stderr:
+        return 'unnamed', stderr.strip()[-200:]
+    return 'ok', ''
+
+
 def run_cli(case, timeout, exe):
     argv, option = case
     try:
@@ -218,18 +342,7 @@ def run_cli(case, timeout, exe):
                              preexec_fn=_limit_memory, cwd=tempfile.gettempdir())
     except subprocess.TimeoutExpired:
         return 'hang', ''
-    text = out.stdout + out.stderr
-    if 'Traceback' in text:
-        return 'traceback', out.stderr[-300:]
-    if 'MemoryError' in text:
-        return 'memory', ''
-    if out.returncode == 0:
-        if re.search(r'\b(nan|inf)\b', out.stdout):
-            return 'nonsense', out.stdout[-200:]
-        return 'ok', ''
-    if out.returncode == 2 and option not in out.stderr:
-        return 'unnamed', out.stderr.strip()[-200:]
-    return 'ok', ''
+    return verdict(out.returncode, out.stdout, out.stderr, option)
 
 
 def run_node(case, timeout, exe, domain):
@@ -257,9 +370,14 @@ def main(argv=None):
     parser.add_argument('--only', choices=['library', 'cli', 'node'])
     parser.add_argument('--timeout', type=float, default=20.0)
     parser.add_argument('--list', action='store_true', help='list the cases and stop')
+    parser.add_argument('--in-process', action='store_true',
+                        help="run the command lines through contact-sim's main in one worker "
+                             'process instead of one executable each (for a loaded machine)')
     args = parser.parse_args(argv)
     groups = {'library': library_cases, 'cli': cli_cases, 'node': node_cases}
     cases = [c for kind, make in groups.items() if args.only in (None, kind) for c in make()]
+    if args.only in (None, 'library'):
+        cases[len(list(library_cases())):len(list(library_cases()))] = list(expression_cases())
     if args.list:
         for kind, label, _ in cases:
             print(kind, label)
@@ -271,11 +389,13 @@ def main(argv=None):
     counts = {}
     domain = 150 + os.getpid() % 50
     library = LibraryWorker(args.timeout)
+    cli = CliWorker(args.timeout) if args.in_process else None
     for kind, label, case in cases:
         if kind == 'library':
             outcome, detail = library.run(case)
         elif kind == 'cli':
-            outcome, detail = run_cli(case, args.timeout, exe_cli)
+            outcome, detail = (cli.run(case) if cli is not None
+                               else run_cli(case, args.timeout, exe_cli))
         elif not os.path.exists(exe_node):
             outcome, detail = 'skipped', 'no contact_sim_node next to this python'
         else:
@@ -284,6 +404,8 @@ def main(argv=None):
         if outcome not in ('ok', 'skipped'):
             print(f'{outcome:9s} {label}: {" ".join(detail.split())[:160]}', flush=True)
     library.stop()
+    if cli is not None:
+        cli.stop()
     print(f'{len(cases)} cases: ' + ', '.join(f'{counts.get(k, 0)} {k}' for k in
           ('ok', 'traceback', 'hang', 'memory', 'nonsense', 'unnamed', 'skipped')))
     return 1 if any(counts.get(k) for k in ('traceback', 'hang', 'memory', 'nonsense',

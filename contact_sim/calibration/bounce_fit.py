@@ -145,15 +145,28 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     resolution = require_positive('timing_resolution', timing_resolution)
     height_error = require_positive('height_error', height_error)
     confidence, loss = require_fit_options(confidence, loss)
+    if drag is not None and not isinstance(drag, AirDrag):
+        raise InputError('drag', drag, '{n[drag]} = {value} is not None or an AirDrag(air_density, '
+                         'drag_coefficient, radius)')
     if fit_drag and (drag is None or drag.air_density == 0.0):
         raise ValueError('drag is missing: fitting the drag coefficient needs an AirDrag with '
                          'the air density and the sphere radius')
     if drag is not None and fit_drag and drag.drag_coefficient <= 0.0:
         drag = AirDrag(drag.air_density, 0.47, drag.radius, drag.linear_coefficient)
-    if not sequences:
-        raise ValueError('sequences is empty: allowed one or more recorded sequences')
+    if isinstance(sequences, np.ndarray):
+        if sequences.ndim != 2:
+            raise InputError('sequences', sequences.shape, '{n[sequences]} is an array of shape '
+                             '{value}: allowed a list of sequences of times, or a 2-D array with '
+                             'one sequence a row', value=str(sequences.shape))
+        sequences = list(sequences)
+    if isinstance(sequences, (str, bytes, ImpactTimes)) or not hasattr(sequences, '__len__'):
+        raise InputError('sequences', sequences, '{n[sequences]} = {value} is not a list of '
+                         'sequences: allowed a list of ImpactTimes or of arrays of times (s)')
+    if len(sequences) == 0:
+        raise InputError('sequences', 0, '{n[sequences]} is empty: allowed one or more recorded '
+                         'sequences')
     seqs = [s if isinstance(s, ImpactTimes)
-            else ImpactTimes(np.asarray(s), None, f'sequence {i + 1}')
+            else ImpactTimes(s, None, f'sequence {i + 1}')
             for i, s in enumerate(sequences)]
     require_sizes(seqs)
     for s in seqs:

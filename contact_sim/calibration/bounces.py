@@ -31,9 +31,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact_sim.calibration.contact_tables import contact_values, law_tables, scalar_rows
-from contact_sim.flight import fall_time, flight_to_plate
-from contact_sim.impact import damping_group_of, impact_scales
-from contact_sim.validation import require_int, require_positive, require_real
+from contact_sim.flight import AirDrag, fall_time, flight_to_plate
+from contact_sim.impact import checked_scales, damping_group_of, impact_scales
+from contact_sim.model import require_contact
+from contact_sim.validation import (GRAVITY_MAX, HEIGHT_MAX, InputError, require_instance,
+                                    require_int, require_mass, require_positive, require_range,
+                                    require_real)
 
 VALID_GRAVITY_GROUP = 2e-3    # above this G the first-order gravity correction is not trusted
 MAX_BOUNCES = 1_000_000       # impacts one predict_bounces call computes at most
@@ -210,7 +213,9 @@ def predict_bounces(contact, mass, height=None, first_flight=None, count=10, gra
     The sphere (``mass`` kg, ``Contact``) is released from rest at ``height`` (m) above the
     plate, or, with ``first_flight`` (s), its first bounce flight lasts that long (touch to
     touch): ``count`` impacts, the first at ``start_time`` (s; for a release, the release is at
-    ``start_time`` and the first touch after the fall).
+    ``start_time`` and the first touch after the fall). The sequence ends early, with a
+    rebound speed 0, at the impact after which the sphere stays in contact (fewer than
+    ``count`` impacts).
 
     Parameters
     ----------
@@ -261,24 +266,42 @@ def predict_bounces(contact, mass, height=None, first_flight=None, count=10, gra
     >>> print(*(f"{e:.4f}" for e in bounces.restitutions))
     0.7235 0.7374 0.7499 0.7613
     """
-    mass = require_positive('mass', mass)
-    gravity = require_positive('gravity', gravity)
+    contact = require_contact(contact)
+    mass = require_mass(mass)
+    gravity = require_range('gravity', gravity, 0.0, GRAVITY_MAX, low_open=True, unit='m/s^2')
     count = require_int('count', count, 1, MAX_BOUNCES)
     start = require_real('start_time', start_time)
+    drag = require_instance('drag', drag, (AirDrag, type(None)),
+                            'None or an AirDrag(air_density, drag_coefficient, radius)')
     kappa, beta = drag.rates(mass, gravity) if drag is not None else (0.0, 0.0)
     law, k, lam = contact.law, contact.stiffness, contact.damping
     if (height is None) == (first_flight is None):
-        raise ValueError('release is missing: give exactly one of height (m) and first_flight (s)')
+        raise InputError('height', height, 'release is %s: give exactly one of {n[height]} (m) '
+                         'and {n[first_flight]} (s)'
+                         % ('missing' if height is None else 'given twice'))
     if height is not None:
-        h = require_positive('height', height)
+        h = require_range('height', height, 0.0, HEIGHT_MAX, low_open=True, unit='m')
         v1 = float(release_speed(h, gravity, kappa, beta))
+        try:
+            checked_scales(contact, mass, v1)
+        except InputError as error:
+            if error.field != 'speeds':
+                raise
+            raise InputError('height', h, '{n[height]} = {value} m is out of range: its impact '
+                             'speed %g m/s has impact scales that are not finite doubles; '
+                             'allowed a larger {n[height]}' % v1) from None
         start += float(fall_time(h, 0.0, gravity, kappa, beta)[0])
     else:
         v1 = first_speed_for_flight(law, k, lam, mass, gravity,
                                     require_positive('first_flight', first_flight), kappa, beta)
     times, speeds, rebounds, groups = impact_sequence(law, k, lam, mass, gravity, v1, count,
                                                       kappa, beta)
-    return BounceSequence(times[0] + start, speeds[0], rebounds[0], groups[0])
+    n = int(np.argmin(np.isfinite(times[0]))) if not np.all(np.isfinite(times[0])) else count
+    v = speeds[0, :n]
+    rebound = np.where(np.isfinite(rebounds[0, :n]), rebounds[0, :n], 0.0)
+    group = np.where(np.isfinite(groups[0, :n]), groups[0, :n],
+                     gravity * impact_scales(law, k, mass, v)[1] / v)
+    return BounceSequence(times[0, :n] + start, v, rebound, group)
 
 
 def first_speed_for_flight(law, stiffness, damping, mass, gravity, flight, kappa=0.0, beta=0.0):

@@ -30,12 +30,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from contact_sim.validation import InputError, require_positive
+from contact_sim.validation import InputError, require_positive, require_real_array
 
 MAX_CLICKS = 5000          # impact times per sequence and in all (a fit of 2000 takes ~14 s)
 MAX_SEQUENCES = 200        # sequences in one fit (each adds its own start and release)
 MAX_ROWS = 100_000         # lines of a CSV file read for impact times
 MAX_BYTES = 64 * 2**20     # size of a file read for impact times
+MAX_TIMES = MAX_CLICKS     # (the name the library layer refuses a sequence by)
 
 
 @dataclass(frozen=True)
@@ -47,21 +48,23 @@ class ImpactTimes:
     name: str = ''
 
     def __post_init__(self):
-        t = np.asarray(self.times, dtype=float).ravel()
-        if t.size > MAX_CLICKS:
-            raise InputError('times', t.size, '%s: {n[times]} holds {value} impact times: '
-                             'allowed at most %d per sequence' % (self.name or 'sequence',
-                                                                  MAX_CLICKS), value=t.size)
+        where = (self.name or 'sequence').replace('{', '{{').replace('}', '}}')
+        try:
+            t = require_real_array('times', self.times, MAX_CLICKS)
+        except InputError as error:
+            raise InputError('times', error.value, where + ': ' + error.template,
+                             **error.params) from None
+        if t.ndim != 1:
+            raise InputError('times', t.shape, where + ': {n[times]} has the shape {value}: '
+                             'allowed one sequence of times, a 1-D array', value=str(t.shape))
         if t.size < 3:
-            raise ValueError(f'{self.name or "sequence"}: {t.size} impact time(s): allowed at '
-                             'least 3 (two bounce flights)')
-        if not np.all(np.isfinite(t)):
-            raise ValueError(f'{self.name or "sequence"}: impact times must be finite numbers')
+            raise InputError('times', t.size, where + ': {value} impact time(s): allowed at '
+                             'least 3 (two bounce flights)', value=str(t.size))
         if np.any(np.diff(t) <= 0.0):
             i = int(np.flatnonzero(np.diff(t) <= 0.0)[0])
-            raise ValueError(f'{self.name or "sequence"}: times[{i + 1}] = {float(t[i + 1])!r} is '
-                             f'out of range: allowed times[{i + 1}] > times[{i}] = '
-                             f'{float(t[i])!r} (increasing)')
+            raise InputError('times', float(t[i + 1]), where + ': {n[times]}[%d] = {value} is '
+                             'out of range: allowed {n[times]}[%d] > {n[times]}[%d] = %r '
+                             '(increasing)' % (i + 1, i + 1, i, float(t[i])))
         object.__setattr__(self, 'times', t)
         if self.height is not None:
             object.__setattr__(self, 'height', require_positive('height', self.height))
@@ -226,6 +229,9 @@ def parse_impact_times(text, source='data', columns=None, group_by=None):
     ValueError
         If no impact times are found, a column asked for is not there, or a sequence is bad.
     """
+    if not isinstance(text, str):
+        raise InputError('text', text, '{n[text]} = {value} is not text: allowed the text of a '
+                         'CSV file (str)')
     lines = [ln.split('#', 1)[0] for ln in text.splitlines()]
     if len(lines) > MAX_ROWS:
         raise InputError('data', source, '{n[data]} = {value} has %d lines: allowed at most %d'

@@ -3,33 +3,48 @@
 Subcommands: materials, restitution, drop, fit, bounces.  Run `contact-sim <subcommand> --help`.
 """
 import argparse
+import importlib
 import sys
 
-from contact_sim.cli import (audit, bounces, drop, errors, export, fit, materials, plotting,
-                             restitution)
+from contact_sim.cli import errors, outputs, plotting
 from contact_sim.cli.options import EXIT_HELP
 
-SUBCOMMANDS = (materials, restitution, drop, fit, bounces, export, audit)   # in the order of --help
+# the subcommand modules, in the order of --help
+SUBCOMMANDS = ('materials', 'restitution', 'drop', 'fit', 'bounces', 'export', 'audit')
 
 
-def build_parser():
-    """The `contact-sim` parser: each subcommand module registers itself (``add_parser``)."""
+def build_parser(only=None):
+    """The `contact-sim` parser: each subcommand module registers itself (``add_parser``).
+
+    With ``only`` (a subcommand name), only that module is imported and registered in full;
+    the others are names only, so that parsing its arguments (and refusing them) does not
+    import what the other subcommands need (the drop engine, calibration, the exporters)."""
     parser = argparse.ArgumentParser(prog='contact-sim', description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter,
                                      epilog=EXIT_HELP)
     sub = parser.add_subparsers(dest='command', required=True)
-    for command in SUBCOMMANDS:
-        command.add_parser(sub)
+    for name in SUBCOMMANDS:
+        if only is None or name == only:
+            importlib.import_module(f'contact_sim.cli.{name}').add_parser(sub)
+        else:
+            sub.add_parser(name)
     return parser
+
+
+def requested(argv):
+    """The subcommand ``argv`` asks for (its first word), or None (e.g. only --help)."""
+    word = next((a for a in argv if not a.startswith('-')), None)
+    return word if word in SUBCOMMANDS else None
 
 
 def main(argv=None):
     """Run `contact-sim` on ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
-    args = build_parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = build_parser(requested(argv)).parse_args(argv)
     try:
-        if getattr(args, 'plot', None):
+        outputs.check_outputs(args)   # every output file, before any work
+        if getattr(args, 'plot', None) is not None:
             plotting.load_pyplot()
-            plotting.check_output(args.plot)
         return args.run(args)
     except errors.REPORTED as error:
         return errors.report(error, args)

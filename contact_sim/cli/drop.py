@@ -5,7 +5,6 @@ from contact_sim.cli import plotting
 from contact_sim.cli.contact import build_setup, contact_lines, damping_unit, describe_contact, \
     stiffness_unit
 from contact_sim.cli.options import LAW_NAMES, contact_command, plot_option
-from contact_sim.drop import simulate_drop
 from contact_sim.model import AZAD_FEATHERSTONE, get_law
 
 
@@ -38,6 +37,7 @@ def add_parser(sub):
 
 def run(args):
     """Simulate the drop, print its impacts and summary (and draw it with --plot); returns 0."""
+    from contact_sim.drop import simulate_drop   # the engine: after the arguments are parsed
     setup = build_setup(args, [get_law(args.law)])
     contact = next(iter(setup.contacts.values()))
     rate = args.sample_rate if args.plot else None

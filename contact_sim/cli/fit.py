@@ -1,5 +1,6 @@
 """`contact-sim fit`: the damping lambda fitted to measured (speed, restitution) points, per law,
 with k fixed from the materials or --stiffness (the paper's Fig. 5)."""
+import contextlib
 import csv
 import io
 import math
@@ -10,8 +11,7 @@ import numpy as np
 from contact_sim.cli import plotting
 from contact_sim.cli.contact import build_setup, contact_lines, damping_unit, describe_contact
 from contact_sim.cli.options import LAW_NAMES, contact_command, law_list, plot_option
-from contact_sim.impact import MAX_POINTS, compare_laws, fit_damping, restitution
-from contact_sim.validation import require_range
+from contact_sim.validation import InputError, require_range
 
 
 def add_parser(sub):
@@ -53,21 +53,20 @@ def read_restitution_csv(path, with_uncertainties=False):
 
     A third column is the uncertainty of e (> 0; returned as a third array, NaN where empty,
     with ``with_uncertainties``); further columns are ignored.  e >= 1 is accepted (noise)."""
+    from contact_sim.impact import MAX_POINTS   # the engine: after the arguments are parsed
     name = 'stdin' if path == '-' else path
     rows = []
     try:
-        f = sys.stdin if path == '-' else open(path, encoding='utf-8')
-        try:      # line by line, no further than the core's limit on points (+ a header)
-            for number, line in enumerate(f, 1):
+        opened = contextlib.nullcontext(sys.stdin) if path == '-' else open(path, encoding='utf-8')
+        with opened as source:
+            for number, line in enumerate(source, 1):   # line by line: bounded memory
                 content = line.split('#', 1)[0].strip()
                 if content:
                     rows.append((number, next(csv.reader(io.StringIO(content)))))
-                if len(rows) > MAX_POINTS + 1:
-                    raise ValueError(f'data = {name!r} has more than {MAX_POINTS} rows: allowed '
-                                     f'at most {MAX_POINTS} (speed, restitution) points')
-        finally:
-            if f is not sys.stdin:
-                f.close()
+                if len(rows) > MAX_POINTS + 1:   # + a header
+                    raise InputError('data', name, 'data = {value} has more than %d rows: '
+                                     'allowed at most %d (speed, restitution) points'
+                                     % (MAX_POINTS, MAX_POINTS), value=repr(name))
     except (OSError, UnicodeDecodeError) as error:
         reason = getattr(error, 'strerror', None) or str(error)
         raise ValueError(f'data = {name!r} cannot be read: {reason}') from None
@@ -97,6 +96,7 @@ def read_restitution_csv(path, with_uncertainties=False):
 def run(args):
     """Fit lambda per law to the data file and print the ranking and the points (and draw
     them with --plot); returns the exit status 0."""
+    from contact_sim.impact import compare_laws, fit_damping
     speeds, measured, sigmas = read_restitution_csv(args.data, with_uncertainties=True)
     if np.all(np.isnan(sigmas)):
         sigmas = None
@@ -152,7 +152,9 @@ def print_fit_summary(fits, radius, confidence):
         low, high = fit.confidence_interval
         print(f'{law.name}: lambda = {fit.damping:.9e} {damping_unit(law)}')
         if math.isnan(low):
-            print(f'  {level} confidence interval: n/a (one point: no residual variance)')
+            why = 'every point has e >= 1: the elastic contact fits best' \
+                if fit.damping == 0.0 else 'one point: no residual variance'
+            print(f'  {level} confidence interval: n/a ({why})')
         else:
             print(f'  {level} confidence interval: [{low:.6e}, {high:.6e}]')
         print(f'  rms residual in e: {fit.rms_residual:.3e}')
@@ -173,6 +175,7 @@ def print_fit_points(fit, speeds, measured):
 
 
 def _plot(args, setup, fits, speeds, measured):
+    from contact_sim.impact import restitution
     dense = plotting.dense_speeds(speeds, log_speed=True)
     curves = {f'{fit.law.name}: \u03bb = {fit.damping:.4g} {damping_unit(fit.law)}, '
               f'rms {fit.rms_residual:.2g}':

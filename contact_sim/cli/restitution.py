@@ -9,19 +9,19 @@ from contact_sim.cli import plotting
 from contact_sim.cli.contact import build_setup, contact_lines, damping_unit, describe_contact, \
     stiffness_unit
 from contact_sim.cli.options import LAW_NAMES, contact_command, law_list, plot_option
-from contact_sim.impact import restitution
-from contact_sim.validation import require_int
+from contact_sim.validation import InputError, require_int
 
 MAX_POINTS = 1_000_000   # --points: the table is printed, one line a speed
 
 
 def _speed_list(text):
+    """The speeds of ``--speeds V1,V2,...``: every item a number (an empty one is refused)."""
     try:
-        return [float(item) for item in text.split(',') if item.strip()]
+        return [float(item) for item in text.split(',')]
     except ValueError:
         raise argparse.ArgumentTypeError(
-            f'invalid value {text!r}: allowed comma-separated speeds in m/s, e.g. 0.1,1,10'
-        ) from None
+            f'invalid value {text!r}: allowed comma-separated speeds in m/s, e.g. 0.1,1,10 '
+            '(no empty items)') from None
 
 
 def add_speed_options(p, speed_range, points):
@@ -57,19 +57,19 @@ def add_parser(sub):
 
 def _speeds(args):
     if args.speeds is not None:
-        if not args.speeds:
-            raise ValueError('speeds is empty: allowed one or more speeds, 0 < speed < inf (m/s)')
-        return np.asarray(args.speeds, dtype=float)
+        from contact_sim.impact import require_speeds   # the engine: after parsing
+        return require_speeds(args.speeds)
     low, high = args.speed_range
     if not 0.0 < low < high < math.inf:
-        raise ValueError(f'speed_range = ({low:g}, {high:g}) is out of range: allowed '
-                         '0 < LOW < HIGH < inf (m/s)')
+        raise InputError('speed_range', (low, high), '{n[speed_range]} %g %g is out of range: '
+                         'allowed 0 < LOW < HIGH < inf (m/s)' % (low, high))
     points = require_int('points', args.points, 2, MAX_POINTS)
     return np.geomspace(low, high, points)
 
 
 def run(args):
     """Print e per law at each speed (and draw it with --plot); returns the exit status 0."""
+    from contact_sim.impact import restitution   # the engine: after the arguments are parsed
     speeds = _speeds(args)
     setup = build_setup(args, law_list(args, LAW_NAMES))
     table = {name: restitution(contact, setup.mass, speeds)
@@ -87,6 +87,7 @@ def run(args):
 
 
 def _plot(args, setup, speeds, table):
+    from contact_sim.impact import restitution
     dense = plotting.dense_speeds(speeds, args.log_speed)
     curves, points = {}, {}
     for name, contact in setup.contacts.items():

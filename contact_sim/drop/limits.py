@@ -4,22 +4,19 @@ import math
 
 from contact_sim.model import require_contact
 from contact_sim.phase import phase_scales
-from contact_sim.validation import InputError, require_range
+from contact_sim.impact import CONTACT_LENGTH_MAX, CONTACT_TIME_MIN, ZETA_MIN, checked_scales
+from contact_sim.validation import (GRAVITY_MAX, HEIGHT_MAX, MASS_RANGE, InputError,
+                                    require_range)
 
 DROP_RTOL = 1e-10
 
 # The ranges of a drop's arguments (SI).  Outside them the doubles of the model overflow or the
 # contact cannot be resolved in time; every bound is stated in the refusal.
-MASS_RANGE = (1e-12, 1e9)            # kg
-GRAVITY_MAX = 1e6                    # m/s²
-HEIGHT_MAX = 1e6                     # m
 VELOCITY_MAX = 1e5                   # m/s, either direction
 DURATION_MAX = 1e9                   # s
 SAMPLE_RATE_MAX = 1e7                # Hz
 MAX_SAMPLES = 200_000                # trajectory samples of one simulate_drop call (~7 s)
 MAX_STEPS = 100_000                  # integrator steps of one simulate_drop call (~10 s)
-CONTACT_TIME_MIN = 1e-12             # s: the contact's time scale T
-CONTACT_LENGTH_MAX = 1e3             # m: the contact's length scale Z (the depth it reaches)
 DAMPING_GROUP_MAX = 1e8              # ζ: beyond it a contact is a creep that never ends in time
 RADIUS_RANGE = (1e-9, 1e3)           # m: the sphere's radius R1 (R^(n+1) stays a normal double)
 TIME_MAX = DURATION_MAX              # s: the latest time a drop is advanced to
@@ -117,15 +114,17 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
         return                      # never lands: nothing to check
     law, k, lam = contact.law, contact.stiffness, contact.damping
     n = law.n
+    if speed > 0.0:   # the first impact, by the impact layer's ranges (T, Z, tiny ζ; k or λ)
+        checked_scales(contact, mass, speed, 'speed', zeta_max=math.inf,   # large ζ: below
+                       zeta_min=ZETA_MIN)
     regimes = []
-    try:
-        if speed > 0.0:
-            regimes.append(phase_scales(contact, mass, 0.0, 0.0, speed))
-        if gravity > 0.0:
-            z0 = contact.static_penetration(mass * gravity)
-            regimes.append(phase_scales(contact, mass, gravity, z0, 0.0))
-    except ArithmeticError:
-        regimes = []
+    if speed > 0.0:
+        regimes.append(_scales_or_none(lambda: phase_scales(contact, mass, 0.0, 0.0, speed)))
+    if gravity > 0.0:
+        regimes.append(_scales_or_none(lambda: phase_scales(
+            contact, mass, gravity, contact.static_penetration(mass * gravity), 0.0)))
+    if None in regimes:   # a regime whose scales overflow: say so by the others, if any
+        regimes = [sc for sc in regimes if sc is not None] if regimes[0] is not None else []
     deepest = max((sc.length for sc in regimes), default=math.inf)
     if not deepest <= CONTACT_LENGTH_MAX:
         # Z ∝ k^(-1/(n+1)) at an impact, (m g / k)^(1/n) at rest
@@ -148,7 +147,7 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
                          % (n, mass, shortest, k_max, n, CONTACT_TIME_MIN))
     largest = max(sc.damping for sc in regimes)
     if largest > DAMPING_GROUP_MAX:
-        lam_max = lam * DAMPING_GROUP_MAX / largest
+        lam_max = lam * (DAMPING_GROUP_MAX / largest)
         raise InputError('damping', lam, '{n[damping]} = {value} is too large for this drop: '
                          'the damping group would be zeta = %.3g and the sphere would creep '
                          'into the plate for ages; allowed {n[damping]} <= %.4g (zeta <= %g)'
@@ -173,6 +172,14 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
                      % (k, n, mass, speed, radius, allowed))
 
 
+
+
+def _scales_or_none(scales):
+    """``scales()``, or None where the doubles of the model overflow or underflow."""
+    try:
+        return scales()
+    except (ArithmeticError, ValueError):
+        return None
 
 
 def require_mass(mass):

@@ -51,6 +51,8 @@ def sweep(function, values, executor=None, max_workers=None):
     [1, 2, 3]
     """
     try:
+        if isinstance(values, (str, bytes)):   # its characters are not the values meant
+            raise TypeError
         values = list(values)
     except TypeError:
         raise InputError('values', values, '{n[values]} = {value} is not a sequence: allowed a '

@@ -40,7 +40,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from contact_sim.validation import require_nonnegative, require_positive, require_range
+from contact_sim.validation import (InputError, require_nonnegative, require_positive,
+                                    require_range, require_real)
 
 AIR_DENSITY = 1.204          # kg/m³: dry air at 20 °C and 101.325 kPa
 SPHERE_DRAG_COEFFICIENT = 0.47   # smooth sphere, subcritical Reynolds number (1e3 - 2e5)
@@ -290,9 +291,12 @@ class FlightPath:
     beta: float = 0.0
 
     def __post_init__(self):
-        require_positive('gravity', self.gravity)
-        require_nonnegative('kappa', self.kappa)
-        require_nonnegative('beta', self.beta)
+        for name, value in (('height', require_real('height', self.height)),
+                            ('velocity', require_real('velocity', self.velocity)),
+                            ('gravity', require_positive('gravity', self.gravity)),
+                            ('kappa', require_nonnegative('kappa', self.kappa)),
+                            ('beta', require_nonnegative('beta', self.beta))):
+            object.__setattr__(self, name, value)
         if _linear_term_too_large(self.kappa, self.beta, self.gravity):
             raise ValueError(f'beta = {self.beta!r} is out of range: allowed beta < '
                              f'2 sqrt(kappa g) = {2.0 * math.sqrt(self.kappa * self.gravity):g}')
@@ -420,7 +424,13 @@ class FlightPath:
         Returns
         -------
         tuple of float
-            (time s, downward speed m/s); (inf, nan) if the flight never gets there.
+            (time s, downward speed m/s).
+
+        Raises
+        ------
+        InputError
+            Keyed ``level``: the flight never comes down through it (its apex is below it), or
+            it is not a finite number.
 
         Examples
         --------
@@ -429,9 +439,12 @@ class FlightPath:
         >>> print(f"{t:.4f} s at {speed:.4f} m/s")
         0.6116 s at 3.0000 m/s
         """
+        level = require_real('level', level)
         t = self.time_to_height(level)
         if not math.isfinite(t):
-            return t, math.nan
+            raise InputError('level', level, '{n[level]} = {value} m is above the flight: its '
+                             'apex is at %g m; allowed {n[level]} <= %g m'
+                             % (self.apex_height, self.apex_height))
         return t, -self.state(t)[1]
 
 

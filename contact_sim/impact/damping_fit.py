@@ -14,7 +14,8 @@ from contact_sim.impact.dimensionless import dimensionless
 from contact_sim.impact.restitution import damping_from_group, restitution
 from contact_sim.impact.scales import ZETA_MAX, checked_scales
 from contact_sim.model import LAWS, Contact, ContactLaw, get_law
-from contact_sim.validation import InputError, require_positive, require_range
+from contact_sim.validation import (InputError, require_mass, require_positive, require_range,
+                                    require_real_array)
 
 
 def group_for_restitution(law, target):
@@ -81,7 +82,7 @@ def damping_for_restitution(law, stiffness, mass, restitution, speed):
 def _damping_for_restitution(law, stiffness, mass, restitution, speed):
     """``damping_for_restitution`` for a ``ContactLaw`` and checked k, m."""
     # Z, T of the undamped contact finite: else an InputError on speed
-    checked_scales(Contact(law, stiffness, 0.0), mass, speed)
+    checked_scales(Contact(law, stiffness, 0.0), mass, speed, 'speed')
     e = require_range('restitution', restitution, 0.0, 1.0, low_open=True)
     if e == 1.0:
         return 0.0
@@ -188,27 +189,33 @@ class DampingFit:
         return Contact(self.law, self.stiffness, self.damping)
 
 
+MAX_POINTS = 2000   # points of one fit: each costs one inversion of e(λ) (1000 points: 14-29 s
+# on a loaded 2-core machine, python -c 'cs.fit_damping(...)' with np.geomspace(0.1, 5, 1000))
+
+
+def _check_points(name, values, count=None, what='', note=''):
+    """``values`` as a 1-D float array of finite reals > 0 (``count`` of them if given)."""
+    x = require_real_array(name, values, MAX_POINTS).ravel()
+    if count is not None and x.size != count:
+        raise InputError(name, x.size, '{n[speeds]} and {n[%s]} have %d and {value} values: '
+                         'allowed equal lengths' % (name, count), value=str(x.size))
+    if not np.all(x > 0.0):
+        i = int(np.flatnonzero(~(x > 0.0))[0])
+        raise InputError(name, float(x[i]), '{n[%s]}[%d] = {value} is out of range: allowed '
+                         '0 < %s < inf%s' % (name, i, what, note))
+    return x
+
+
 def _check_data(speeds, restitutions):
-    v = np.asarray(speeds, dtype=float).ravel()
-    e = np.asarray(restitutions, dtype=float).ravel()
-    if v.size != e.size:
-        raise ValueError(f'speeds and restitutions have {v.size} and {e.size} values: '
-                         'allowed equal lengths')
+    v = _check_points('speeds', speeds, what='speed')
     if v.size < 1:
-        raise ValueError('speeds is empty: allowed at least one (speed, restitution) point')
-    if v.size > MAX_POINTS:
-        raise InputError('speeds', v.size, '{n[speeds]} holds {value} points: allowed at most '
-                         '%d (speed, restitution) points in one fit' % MAX_POINTS)
-    for name, arr, ok, rng in (('speeds', v, np.isfinite(v) & (v > 0), '0 < speed < inf'),
-                               ('restitutions', e, np.isfinite(e) & (e > 0),
-                                '0 < restitution < inf (e >= 1 is kept and flagged)')):
-        if not np.all(ok):
-            i = int(np.flatnonzero(~ok)[0])
-            raise ValueError(f'{name}[{i}] = {float(arr[i])!r} is out of range: allowed {rng}')
+        raise InputError('speeds', 0, '{n[speeds]} is empty: allowed at least one (speed, '
+                         'restitution) point')
+    e = _check_points('restitutions', restitutions, v.size, 'restitution',
+                      ' (e >= 1 is kept and flagged)')
     return v, e
 
 
-MAX_POINTS = 2000   # points of one fit of λ (about 30 ms a point on the project's machine)
 LOSSES = ('linear', 'soft_l1', 'huber', 'cauchy', 'arctan')   # scipy.optimize.least_squares
 LOWER_BOUND_WIDENINGS = 12   # x 3 in ln λ (e^-36): how far points at e >= 1 may pull λ down
 
@@ -242,7 +249,8 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
 
     The confidence interval is linearised in ln λ: λ exp(± t σ / abs(J)), with J = ∂e/∂ln λ at the
     optimum and σ² the residual variance (N - 1 degrees of freedom); one point leaves no
-    residual variance, and the interval is (nan, nan).
+    residual variance, and every point at e >= 1 gives λ = 0 (no ln λ): the interval is then
+    (nan, nan).
     Points with e >= 1 (noise near e = 1) are kept in the fit and listed in ``flagged``.
     ``uncertainties`` (σ_e per point, > 0) weight each residual by 1/σ_e.  ``loss`` (one of
     ``LOSSES``, as in ``scipy.optimize.least_squares``) makes the fit robust: its scale is one
@@ -298,21 +306,20 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     """
     law = get_law(law)
     stiffness = require_positive('stiffness', stiffness)
-    mass = require_positive('mass', mass)
+    mass = require_mass(mass)
     confidence, loss = require_fit_options(confidence, loss)
     v, e = _check_data(speeds, restitutions)
     if uncertainties is None:
-        sigma = np.ones(v.size)
+        sigma, unit = np.ones(v.size), 1.0
     else:
-        sigma = np.asarray(uncertainties, dtype=float).ravel()
-        if sigma.size != v.size:
-            raise ValueError(f'uncertainties has {sigma.size} values for {v.size} points: '
-                             'allowed one per point')
-        bad = ~(np.isfinite(sigma) & (sigma > 0.0))
-        if np.any(bad):
-            i = int(np.flatnonzero(bad)[0])
-            raise ValueError(f'uncertainties[{i}] = {float(sigma[i])!r} is out of range: '
-                             'allowed 0 < uncertainty < inf')
+        sigma = _check_points('uncertainties', uncertainties, v.size, 'uncertainty')
+        # in units of their largest: 1e-300 or 1e300 (equal) weigh the points as 1 does
+        unit = float(sigma.max())
+        sigma = sigma / unit
+        if not np.all(sigma > 0.0):
+            raise InputError('uncertainties', float(sigma.min() * unit), '{n[uncertainties]} '
+                             'spans more than the doubles hold (smallest {value}, largest %g): '
+                             'allowed ratios largest/smallest < 1e300' % unit)
     flagged = tuple(int(i) for i in np.flatnonzero(e >= 1.0))
     pointwise = np.full(v.size, math.nan)      # nan where e > 1: no damping gives it
     for i, (vi, ei) in enumerate(zip(v, e)):
@@ -320,7 +327,9 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
             lam_i = _damping_for_restitution(law, stiffness, mass, min(ei, 1.0), vi)
             pointwise[i] = lam_i if ei <= 1.0 else math.nan
         except InputError as error:    # name the data point it came from
-            which = {'speed': 'speeds', 'restitution': 'restitutions'}[error.field]
+            which = {'speed': 'speeds', 'restitution': 'restitutions'}.get(error.field)
+            if which is None:          # the contact's own (stiffness, mass): as it is
+                raise
             template = error.template.replace('{n[%s]}' % error.field,
                                               '{n[%s]}[%d]' % (which, i))
             raise InputError(which, error.value, template, **error.params) from None
@@ -353,7 +362,7 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
         if loss != 'linear':
             from scipy.optimize import least_squares
             r0 = (model(lam) - e) / sigma
-            scale = 1.0 if uncertainties is not None else max(
+            scale = unit if uncertainties is not None else max(
                 1.4826 * float(np.median(np.abs(r0))), 1e-12)
             robust = least_squares(lambda x: (model(math.exp(x[0])) - e) / sigma,
                                    [math.log(lam)], loss=loss, f_scale=scale,
@@ -367,7 +376,8 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     jac = (model(lam * math.exp(h)) - model(lam * math.exp(-h))) / (2 * h) if lam > 0.0 \
         else np.zeros(v.size)
     dof = v.size - 1
-    if dof == 0:        # one point: no residual variance to estimate a spread from
+    if dof == 0 or lam == 0.0:   # one point: no residual variance to estimate a spread from;
+        # every point at e >= 1: λ = 0 fits best, and no interval in ln λ is defined
         return DampingFit(law, stiffness, lam, rms, residuals, pointwise, (math.nan, math.nan),
                           confidence, flagged, loss, weights)
     if np.any(jac != 0.0):
@@ -427,6 +437,9 @@ def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.
     azad_featherstone: rms 0.0028
     hunt_crossley: rms 0.0681
     """
+    if laws is not None and (isinstance(laws, (str, ContactLaw)) or not hasattr(laws, '__iter__')):
+        raise InputError('laws', laws, '{n[laws]} = {value} is not a list of laws: allowed a list '
+                         'of ContactLaw objects or names of %s' % ', '.join(LAWS))
     chosen = [get_law(name) for name in (laws if laws is not None else LAWS)]
     if isinstance(stiffness, dict):
         missing = [law.name for law in chosen if law.name not in stiffness]

@@ -31,11 +31,11 @@ import math
 import numpy as np
 
 from contact_sim.impact.dimensionless import dimensionless
-from contact_sim.impact.scales import (ZETA_MAX, checked_scales, damping_group_of, impact_scales,
-                                      require_speeds)
+from contact_sim.impact.scales import (CONTACT_LENGTH_MAX, CONTACT_TIME_MIN, ZETA_MAX, checked_scales,
+                                      damping_group_of, impact_scales, require_speeds)
 from contact_sim.impact.tails import restitution_tails
-from contact_sim.model import require_contact
-from contact_sim.validation import require_positive
+from contact_sim.model import get_law, require_contact
+from contact_sim.validation import MASS_RANGE, require_mass
 
 
 def damping_group(law, stiffness, mass, speed, damping):
@@ -45,8 +45,8 @@ def damping_group(law, stiffness, mass, speed, damping):
 
     Parameters
     ----------
-    law : ContactLaw
-        The law (its exponents n, p, q).
+    law : ContactLaw or str
+        The law (its exponents n, p, q), or its name.
     stiffness : float
         Stiffness k, N/m^n, > 0.
     mass : float
@@ -64,7 +64,7 @@ def damping_group(law, stiffness, mass, speed, damping):
     Raises
     ------
     InputError
-        Keyed ``speed``: a speed that is not a finite number > 0.
+        Keyed ``law``: an unknown law; keyed ``speed``: a speed that is not a finite real > 0.
 
     Examples
     --------
@@ -73,7 +73,8 @@ def damping_group(law, stiffness, mass, speed, damping):
     >>> print(f"{float(zeta):.4f}")
     0.2785
     """
-    v = require_speeds(speed)
+    law = get_law(law)
+    v = require_speeds(speed, 'speed')
     length, _ = impact_scales(law, stiffness, mass, v)
     return damping_group_of(law, length, v, damping, mass)
 
@@ -87,7 +88,7 @@ def damping_from_group(law, stiffness, mass, speed, zeta):
 def _dimensional(quantity, contact, mass, speeds):
     contact = require_contact(contact)
     law = contact.law
-    mass = require_positive('mass', mass)
+    mass = require_mass(mass)
     scalar = np.ndim(speeds) == 0
     k = contact.stiffness
     length, time, zeta = checked_scales(contact, mass, speeds)
@@ -104,7 +105,8 @@ def _scalar_restitution(contact, mass, speed):
     law = contact.law
     length = (mass * speed * speed / contact.stiffness) ** (1.0 / (law.n + 1.0))
     zeta = damping_group_of(law, length, speed, contact.damping, mass)
-    if not (zeta <= ZETA_MAX and 0.0 < length < math.inf):
+    if not (zeta <= ZETA_MAX and 0.0 < length <= CONTACT_LENGTH_MAX
+            and length >= CONTACT_TIME_MIN * speed):
         return _dimensional('restitution', contact, mass, speed)   # raises, naming the speed
     closed = law.closed_form
     if zeta > 0.0 and closed is not None and closed.scalar is not None:
@@ -169,7 +171,7 @@ def restitution(contact, mass, speeds):
     """
     if isinstance(speeds, (int, float)) and not isinstance(speeds, bool) \
             and math.isfinite(speeds) and speeds > 0.0 \
-            and isinstance(mass, (int, float)) and 0.0 < mass < math.inf:
+            and isinstance(mass, (int, float)) and MASS_RANGE[0] <= mass <= MASS_RANGE[1]:
         return _scalar_restitution(contact, float(mass), float(speeds))
     return _dimensional('restitution', contact, mass, speeds)
 

@@ -6,9 +6,17 @@ and T = Z / v, an impact without gravity reduces to one problem in the group
 """
 import numpy as np
 
-from contact_sim.validation import InputError
+from contact_sim.validation import InputError, require_real_array
 
 ZETA_MAX = 1e8   # beyond this damping group (e < 1e-10) the exact integration is not attempted
+# below this damping group a damped contact is elastic to every digit (1 - e ~ ζ), and a
+# drop's lift-off quantities (∝ k z / λ) overflow the doubles: a drop wants λ = 0 instead
+ZETA_MIN = 1e-100
+# the shortest contact time scale T = Z / v of any path (impacts, drops): a shorter contact is
+# stiffer than any material (steel on steel at 10 m/s: T ~ 2e-5 s)
+CONTACT_TIME_MIN = 1e-12   # s
+# the deepest contact length scale Z: a sphere sinking deeper than 1 km is no contact of these laws
+CONTACT_LENGTH_MAX = 1e3   # m
 
 
 def impact_scales(law, stiffness, mass, speed):
@@ -17,9 +25,10 @@ def impact_scales(law, stiffness, mass, speed):
     return length, length / speed
 
 
-def require_speeds(speed, name='speed'):
-    """``speed`` as a float array of finite speeds > 0 (m/s), else ``InputError``."""
-    v = np.asarray(speed, dtype=float)
+def require_speeds(speed, name='speeds'):
+    """``speed`` as a float array of finite real speeds > 0 (m/s), else ``InputError`` on
+    ``name`` (strings, complex numbers, dates, masked arrays refused: ``require_real_array``)."""
+    v = require_real_array(name, speed, finite=False)
     if v.size and not (np.all(np.isfinite(v)) and np.all(v > 0.0)):
         bad = float(v[~(np.isfinite(v) & (v > 0.0))].flat[0])
         raise InputError(name, bad, '{n[%s]} = {value} is out of range: allowed 0 < {n[%s]} < inf '
@@ -33,7 +42,7 @@ def damping_group_of(law, length, speed, damping, mass):
     return damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
 
 
-def checked_scales(contact, mass, speed, name='speed'):
+def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX, zeta_min=0.0):
     """The scales of impacts of one contact at the given speeds.
 
     Parameters
@@ -46,6 +55,13 @@ def checked_scales(contact, mass, speed, name='speed'):
         Impact speeds in m/s.
     name : str, optional
         The field an ``InputError`` names.
+    zeta_max : float, optional
+        The largest damping group accepted (``ZETA_MAX``; ``check_drop`` passes inf and
+        applies its own bound, at the impact and at rest).
+    zeta_min : float, optional
+        The smallest non-zero damping group accepted: 0 (every λ; ``restitution`` answers
+        e = 1 - 2ζ/3... down to ζ = 1e-300), ``ZETA_MIN`` for a drop (whose lift-off quantities
+        overflow below it).
 
     Returns
     -------
@@ -56,18 +72,53 @@ def checked_scales(contact, mass, speed, name='speed'):
     ------
     InputError
         On ``name``: a speed not finite and positive, or whose Z or T is not a finite positive
-        number, or whose ζ exceeds ``ZETA_MAX``.
+        number; on ``stiffness``: T below ``CONTACT_TIME_MIN`` or Z above
+        ``CONTACT_LENGTH_MAX``; on ``damping``: ζ above ``zeta_max``, or 0 < ζ < ``zeta_min``.
     """
     law = contact.law
     v = require_speeds(speed, name)
     with np.errstate(all='ignore'):
         length, time = impact_scales(law, contact.stiffness, mass, v)
         zeta = damping_group_of(law, length, v, contact.damping, mass)
-    ok = (length > 0.0) & np.isfinite(length) & (time > 0.0) & np.isfinite(time) \
-        & (zeta <= ZETA_MAX)
+    finite = (length > 0.0) & np.isfinite(length) & (time > 0.0) & np.isfinite(time)
+    ok = finite & (time >= CONTACT_TIME_MIN) & (length <= CONTACT_LENGTH_MAX) & (zeta <= zeta_max) \
+        & ((zeta == 0.0) | (zeta >= zeta_min))
     if not np.all(ok):
-        bad = float(np.broadcast_to(v, ok.shape)[~ok].flat[0])
-        raise InputError(name, bad, '{n[%s]} = {value} is out of range for mass = %r kg and this '
-                         'contact: allowed speeds whose impact scales Z, T are finite and whose '
-                         'damping group is at most zeta = %g' % (name, float(mass), ZETA_MAX))
+        i = np.flatnonzero(~np.broadcast_to(ok, np.shape(v)).ravel())[0]
+        bad = float(np.ravel(v)[i])
+        if not np.ravel(finite)[i]:
+            raise InputError(name, bad, '{n[%s]} = {value} is out of range for {n[mass]} = %g kg '
+                             'and {n[stiffness]} = %g: its impact depth Z and time T are not '
+                             'finite positive doubles; allowed speeds whose Z and T are'
+                             % (name, float(mass), contact.stiffness))
+        k, n = contact.stiffness, law.n
+        t = float(np.ravel(time)[i])
+        if t < CONTACT_TIME_MIN:   # T ∝ k^(-1/(n+1)) at one speed
+            k_max = k * (t / CONTACT_TIME_MIN) ** (n + 1.0)
+            raise InputError('stiffness', k, '{n[stiffness]} = {value} N/m^%g is too large for '
+                             'a %g kg sphere at %g m/s: its contact would last ~%.3g s; allowed '
+                             '{n[stiffness]} <= %.4g N/m^%g (contact time scale >= %g s)'
+                             % (n, float(mass), bad, t, k_max, n, CONTACT_TIME_MIN),
+                             value='%g' % k)
+        depth = float(np.ravel(length)[i])
+        if depth > CONTACT_LENGTH_MAX:   # Z ∝ k^(-1/(n+1))
+            k_min = k * (depth / CONTACT_LENGTH_MAX) ** (n + 1.0)
+            raise InputError('stiffness', k, '{n[stiffness]} = {value} N/m^%g is too small for '
+                             'a %g kg sphere at %g m/s: it would sink ~%.3g m into the plate; '
+                             'allowed {n[stiffness]} >= %.4g N/m^%g (contact length scale <= %g '
+                             'm)' % (n, float(mass), bad, depth, k_min, n, CONTACT_LENGTH_MAX),
+                             value='%g' % k)
+        z = float(np.ravel(zeta)[i])
+        if z < zeta_min:
+            raise InputError('damping', contact.damping, '{n[damping]} = {value} is too small to '
+                             'damp a %g kg sphere at %g m/s: the damping group would be zeta = '
+                             '%.3g, elastic to every digit; allowed {n[damping]} = 0 (elastic) or '
+                             '{n[damping]} >= %.4g (zeta >= %g)'
+                             % (float(mass), bad, z, contact.damping * (zeta_min / z), zeta_min),
+                             value='%g' % contact.damping)
+        lam_max = contact.damping * (zeta_max / z)
+        raise InputError('damping', contact.damping, '{n[damping]} = {value} is too large for a '
+                         '%g kg sphere at %g m/s: the damping group would be zeta = %.3g; '
+                         'allowed {n[damping]} <= %.4g (zeta <= %g)'
+                         % (float(mass), bad, z, lam_max, zeta_max), value='%g' % contact.damping)
     return length, time, zeta

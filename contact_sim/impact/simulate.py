@@ -9,7 +9,9 @@ from dataclasses import dataclass
 
 from contact_sim.model import require_contact
 from contact_sim.phase import DEFAULT_RTOL, contact_phase, lift_off_energy
-from contact_sim.validation import require_int, require_nonnegative, require_positive, require_rtol
+from contact_sim.impact.scales import checked_scales
+from contact_sim.validation import (require_int, require_mass, require_nonnegative,
+                                    require_positive, require_rtol)
 
 
 @dataclass(frozen=True)
@@ -113,8 +115,9 @@ def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_st
     True
     """
     contact = require_contact(contact)
-    mass = require_positive('mass', mass)
+    mass = require_mass(mass)
     speed = require_positive('speed', speed)
+    checked_scales(contact, mass, speed, 'speed')   # Z, T finite doubles, ζ in range
     gravity = require_nonnegative('gravity', gravity)
     rtol = require_rtol('rtol', rtol)
     max_steps = require_int('max_steps', max_steps, 1, 10 ** 9)

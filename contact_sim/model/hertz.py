@@ -76,7 +76,8 @@ def equivalent_radius(r1, r2=math.inf):
     r1 = require_positive('radius', r1, allow_inf=True)
     r2 = require_positive('plate_radius', r2, allow_inf=True)
     if math.isinf(r1) and math.isinf(r2):
-        raise ValueError('radius = inf and plate_radius = inf: at least one radius must be finite')
+        raise InputError('radius', r1, '{n[radius]} = inf and {n[plate_radius]} = inf: at least '
+                         'one radius must be finite')
     return 1.0 / (1.0 / r1 + 1.0 / r2)
 
 

@@ -207,7 +207,7 @@ def test_fit_compares_all_laws_and_plots(capsys, tmp_path):
     (['restitution', '--stiffness', '1e10', '--mass', '1', '--damping', '1',
       '--speeds', '1,-2'], '--speeds = -2.0 is out of range: allowed 0 < --speeds'),
     (['restitution', '--stiffness', '1e10', '--mass', '1', '--damping', '1',
-      '--speed-range', '1', '0.1'], 'speed_range'),
+      '--speed-range', '1', '0.1'], '--speed-range 1 0.1'),
     (['restitution', '--stiffness', '1e10', '--mass', '1', '--damping', '1',
       '--points', '1'], '--points = 1 is out of range: allowed 2 <= --points <= 1e+06'),
     (['restitution', '--stiffness', '1e10', '--mass', '1'], '--damping is missing'),
@@ -349,7 +349,7 @@ def test_fit_to_an_unscalable_speed_names_the_data_point(capsys, tmp_path, rows,
     code, out, err = strict_run(capsys, ['fit', str(data), '--stiffness', '1e10', '--mass',
                                          '0.066'])
     assert code == 2 and out == '' and err.count('\n') == 1
-    assert f'{data} {field}' in err
+    assert f'error: {data}: {field}' in err   # the file named before the field
 
 
 def test_a_one_point_fit_prints_no_zero_width_interval(capsys, tmp_path):

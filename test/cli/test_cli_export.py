@@ -54,7 +54,7 @@ def test_text_table_and_snippet(capsys):
 
 @pytest.mark.parametrize('argv, option', [
     (['--timestep', '0'], '--timestep'), (['--timestep', '1'], '--timestep'),
-    (['--speed-range', '2', '1'], 'speed_range'), (['--points', '1'], '--points'),
+    (['--speed-range', '2', '1'], '--speed-range'), (['--points', '1'], '--points'),
     (['--mass', '-1'], '--mass')])
 def test_bad_input_names_the_option(capsys, argv, option):
     code, _, err = run(capsys, ['export', 'gazebo', *STEEL_ON_CAST_IRON, *argv])

@@ -70,7 +70,7 @@ def test_compare_laws_ranks_the_generating_law_first():
     ([1.0, 2.0], [0.5], r'speeds and restitutions have 2 and 1 values'),
     ([1.0, -2.0], [0.5, 0.4], r'speeds\[1\] = -2\.0 is out of range: allowed 0 < speed < inf'),
     ([1.0, 2.0], [0.5, 0.0], r'restitutions\[1\] = 0\.0 is out of range: allowed 0 < restitution'),
-    ([1.0, float('nan')], [0.5, 0.4], r'speeds\[1\] = nan is out of range'),
+    ([1.0, float('nan')], [0.5, 0.4], r'speeds\[1\] = nan is not finite'),
     ([], [], r'speeds is empty'),
 ])
 def test_fit_rejects_bad_data_naming_the_point(speeds, restitutions, pattern):

@@ -2,8 +2,9 @@
 package scope ends with its last test): one environment and one client for the package, and one
 ``contact_sim_node`` process on its built-in defaults that serves every test asking for ``sim``.
 
-Isolation: a ROS_DOMAIN_ID derived from this process's pid, localhost-only discovery and a
-temporary ROS_LOG_DIR. Every wait is on a condition with a deadline, never a fixed sleep. Tests
+Isolation: the caller's ROS_DOMAIN_ID when it is set (a CI runner or a developer who keeps
+parallel runs apart), else one derived from this process's pid; localhost-only discovery and a
+temporary ROS_LOG_DIR.  Tests that need a domain of their own derive it from this one. Every wait is on a condition with a deadline, never a fixed sleep. Tests
 that change the node put it back.
 """
 import os
@@ -11,6 +12,12 @@ import tempfile
 from pathlib import Path
 
 import pytest
+
+
+def caller_domain():
+    """The caller's ROS_DOMAIN_ID (a whole number, as ROS reads it), or None when unset."""
+    value = os.environ.get('ROS_DOMAIN_ID', '').strip()
+    return value if value.isdigit() else None
 
 
 @pytest.fixture(scope='package')
@@ -24,7 +31,7 @@ def ros_env(workdir):
     """Environment for every ROS process of this package, the test process included."""
     saved = dict(os.environ)
     os.environ.update({
-        'ROS_DOMAIN_ID': str(1 + os.getpid() % 101),
+        'ROS_DOMAIN_ID': caller_domain() or str(1 + os.getpid() % 101),
         'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST',
         'ROS_LOG_DIR': str(workdir / 'ros_log'),
         'RCUTILS_LOGGING_BUFFERED_STREAM': '0',

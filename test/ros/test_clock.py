@@ -2,7 +2,6 @@
 /clock, and with three in namespaces it went backwards 262 times in 5 s): an instance that finds
 another publisher of /clock says so and does not publish it, so /clock never goes backwards.
 """
-import os
 
 import pytest
 
@@ -21,7 +20,7 @@ TIMEOUT = 60.0
 def test_namespaced_instances_leave_clock_to_one_and_it_never_goes_backwards(ros_env, workdir):
     # in a domain of its own (the module's node, which other tests read /clock from, never sees
     # these instances): /contact_sim and three instances whose names sort after it
-    env = {**ros_env, 'ROS_DOMAIN_ID': str(221 + os.getpid() % 11)}
+    env = {**ros_env, 'ROS_DOMAIN_ID': str(221 + int(ros_env['ROS_DOMAIN_ID']) % 11)}
     context, watch, executor = domain_node(int(env['ROS_DOMAIN_ID']), 'contact_sim_clock_watch')
     clock = []
     watch.create_subscription(Clock, '/clock', lambda m: clock.append(stamp_ns(m.clock)),

@@ -27,7 +27,7 @@ from .harness import (  # noqa: E402
 @pytest.fixture(scope='module')
 def own_domain(ros_env):
     """Environment and a client context in another ROS domain (no module node there)."""
-    env = {**ros_env, 'ROS_DOMAIN_ID': str(120 + os.getpid() % 101)}
+    env = {**ros_env, 'ROS_DOMAIN_ID': str(120 + int(ros_env['ROS_DOMAIN_ID']) % 101)}
     context, node, executor = domain_node(int(env['ROS_DOMAIN_ID']), 'contact_sim_test_watch')
     clock = []
     node.create_subscription(Clock, '/clock', lambda m: clock.append(stamp_ns(m.clock)),
