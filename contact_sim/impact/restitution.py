@@ -167,7 +167,7 @@ def restitution(contact, mass, speeds):
     >>> cs.restitution(contact, mass, -1.0)
     Traceback (most recent call last):
         ...
-    contact_sim.validation.InputError: speed = -1.0 is out of range: allowed 0 < speed < inf (m/s)
+    contact_sim.validation.InputError: speeds = -1.0 is out of range: allowed 0 < speeds < inf (m/s)
     """
     if isinstance(speeds, (int, float)) and not isinstance(speeds, bool) \
             and math.isfinite(speeds) and speeds > 0.0 \
