@@ -7,8 +7,10 @@ law that happens while z > 0).  See ``phase`` for the formulation.  Units: SI.
 import math
 from dataclasses import dataclass
 
+from contact_sim.impact.force_tail import deepest_point, force_tail, needs_force_tail, way_in_atol
 from contact_sim.model import require_contact
-from contact_sim.phase import DEFAULT_RTOL, contact_phase, lift_off_energy
+from contact_sim.phase import (DEFAULT_ATOL, DEFAULT_RTOL, contact_phase, lift_off_energy,
+                               phase_scales)
 from contact_sim.impact.scales import checked_scales
 from contact_sim.validation import (require_int, require_mass, require_nonnegative,
                                     require_positive, require_rtol)
@@ -121,8 +123,11 @@ def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_st
     gravity = require_nonnegative('gravity', gravity)
     rtol = require_rtol('rtol', rtol)
     max_steps = require_int('max_steps', max_steps, 1, 10 ** 9)
+    # heavy damping with n > p: the way out is integrated in the force (``force_tail``)
+    zeta = phase_scales(contact, mass, gravity, 0.0, speed).damping
+    tail = needs_force_tail(contact.law, zeta)
     phase = contact_phase(contact, mass, gravity, 0.0, 0.0, speed, rtol=rtol, engine=engine,
-                          keep_points=False)
+                          atol=way_in_atol(zeta) if tail else DEFAULT_ATOL, keep_points=tail)
     floor = lift_off_energy(contact, mass, gravity) if gravity > 0.0 else -math.inf
     while not phase.lifted_off:
         if phase.steps >= max_steps:
@@ -133,6 +138,15 @@ def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_st
             return ImpactResult(0.0, 0.0, math.inf, phase.peak_force, phase.max_penetration,
                                 phase.steps, 1, 'came to rest in permanent contact (no bounce)')
     t_end, _, zdot_end = phase.end
+    steps = phase.steps
+    if tail:
+        end = force_tail(contact.law, phase.scales, 0.0, deepest_point(phase.points), rtol,
+                         t_end)
+        if end is None:
+            return ImpactResult(0.0, 0.0, math.inf, phase.peak_force, phase.max_penetration,
+                                steps, 1, 'came to rest in permanent contact (no bounce)')
+        t_end, _, zdot_end, tail_steps = end
+        steps += tail_steps
     rebound = min(max(-zdot_end, 0.0), speed)   # the contact only dissipates: e <= 1
     return ImpactResult(rebound / speed, rebound, t_end, phase.peak_force, phase.max_penetration,
-                        phase.steps, 0, 'lifted off')
+                        steps, 0, 'lifted off')

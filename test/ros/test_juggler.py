@@ -46,7 +46,7 @@ def test_the_example_juggler_keeps_the_ball_bouncing_for_60_simulated_seconds(cl
                           and n.count_publishers('/juggled/plate_command') >= 1
                           and n.count_subscribers('/juggled/plate_command') >= 1
                           or node.popen.poll() is not None or juggler.poll() is not None,
-                          'the juggler and the node to discover each other', 60.0)
+                          'the juggler and the node to discover each other', TIMEOUT)
         assert node.popen.poll() is None and juggler.poll() is None, log.read_text()
         response = client.call(Trigger, '/juggled/reset', Trigger.Request())
         assert response.success, response.message

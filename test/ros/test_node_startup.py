@@ -14,7 +14,7 @@ import pytest
 
 rclpy = pytest.importorskip('rclpy')
 
-from .harness import NODE, TIMEOUT, Process, assert_clean_exit  # noqa: E402
+from .harness import NODE, PROGRESS_TIMEOUT, TIMEOUT, Process, assert_clean_exit  # noqa: E402
 
 INF = float('inf')
 
@@ -105,7 +105,7 @@ def test_a_signal_stops_a_flat_out_node_cleanly(client, ros_env, workdir, signum
 
     try:
         client.spin_until(lambda: all(working(p) for p in processes),
-                          'every node to work flat out for a CPU second', timeout=60.0)
+                          'every node to work flat out for a CPU second', PROGRESS_TIMEOUT)
         for process in processes:
             assert process.popen.poll() is None, process.output()
             process.popen.send_signal(signum)
