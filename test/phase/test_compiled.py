@@ -80,7 +80,12 @@ def test_simulate_impact_compiled_equals_the_reference_at_random_points(law, gra
             # with the same method, by up to a (long) Radau step with the other
             tol = 1e-6 if same_method else 1e-3
             assert fast.peak_force == pytest.approx(ref.peak_force, rel=tol)
-            assert fast.max_penetration == pytest.approx(ref.max_penetration, rel=tol)
+            # the penetration where the test stopped a sphere still creeping in: defined to the
+            # step the test fires on (lee_wang, zeta = 15, seed 23: 3e-4 apart between rtol
+            # 1e-10 and 1e-12 on either engine; the engines 1.3e-6 apart at 1e-12, 797 steps
+            # each, at the way in's atol / zeta^2 of a heavily damped n > p law)
+            assert fast.max_penetration == pytest.approx(ref.max_penetration,
+                                                         rel=10 * tol if same_method else tol)
         if same_method:
             assert abs(fast.steps - ref.steps) <= 2 + 0.01 * ref.steps
 
