@@ -56,3 +56,18 @@ def test_examples_run_as_scripts(tmp_path):
                          capture_output=True, text=True, check=True)
     assert 'worst deviation' in out.stdout
     assert (tmp_path / 'a.png').read_bytes()[:4] == b'\x89PNG'
+
+
+def test_the_bounces_help_example_reads_the_file_the_example_script_writes(tmp_path):
+    """``contact-sim bounces --help`` names a recording a new user can make: the one that
+    examples/bounce_recording.py writes (it used to name golf_80cm.csv, which nothing wrote)."""
+    import re
+
+    from contact_sim.cli import bounces
+    named = re.findall(r'contact-sim bounces (\S+\.csv)', bounces.NOTES)
+    assert named, 'the help shows no example'
+    subprocess.run([sys.executable, str(ROOT / 'examples' / 'bounce_recording.py'), str(tmp_path)],
+                   capture_output=True, text=True, check=True, timeout=600)
+    for name in named:
+        assert (tmp_path / name).is_file(), name
+

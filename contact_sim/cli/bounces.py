@@ -64,8 +64,8 @@ restitution that rises with speed); the speed-dependence verdict is then undecid
 exit status 3: the report is printed, but the best fit failed or no law describes the
 recording (a warning on stderr says why).
 
-example:
-  contact-sim bounces golf_80cm.csv --sphere steel --plate steel --radius 0.0214 \\
+example (python examples/bounce_recording.py writes golf_80cm_50cm.csv):
+  contact-sim bounces golf_80cm_50cm.csv --sphere steel --plate steel --radius 0.0214 \\
       --mass 0.0459 --stiffness 2e8 --fit-drag --save-params golf.yaml
 """
 
