@@ -120,6 +120,7 @@ class ContactSimNode(TickLoop, Node):
                 self.declare_parameter(spec.name, spec.default, descriptor(spec))
             self._model = build_model(self._values())
         except (ParameterException, ValueError) as error:
+            self.destroy_node()   # the node rcl made: nothing of it is left for the exit
             raise StartupError(str(error)) from None
         self._warn_unknown_overrides()
         self._sim = make_simulation(self._model)

@@ -133,13 +133,28 @@ def assert_clean_exit(process):
 # the client side
 # ------------------------------------------------------------------------------------------
 
+SLICE = 0.02     # s: the least time spent taking messages between two checks of a condition
+
+
 def spin_until(executor, condition, what, timeout=TIMEOUT):
-    """Spin ``executor`` until ``condition()`` holds; fail the test after ``timeout`` s."""
+    """Spin ``executor`` until ``condition()`` holds; fail the test after ``timeout`` s.
+
+    Between two checks the executor takes what has arrived for at least ``SLICE`` s and ten
+    times what the last check cost: a check over many messages costs more than taking one, and a
+    client that checked after every message would fall ever further behind a busy node."""
     deadline = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > deadline:
+    while True:
+        checked = time.monotonic()
+        if condition():
+            return
+        now = time.monotonic()
+        if now > deadline:
             pytest.fail(f'timed out after {timeout} s waiting for {what}')
-        executor.spin_once(timeout_sec=0.05)
+        until = min(now + max(SLICE, 10.0 * (now - checked)), deadline)
+        while True:
+            executor.spin_once(timeout_sec=0.01)
+            if time.monotonic() >= until:
+                break
 
 
 def domain_node(domain_id, name):
@@ -258,6 +273,16 @@ def stamp_ns(stamp):
 
 def stamp_s(stamp):
     return stamp_ns(stamp) * 1e-9
+
+
+def last_stamps(client):
+    """One line per topic: how many messages the client has received and the simulated time
+    (s) of the last (for a failure report)."""
+    lines = []
+    for topic, messages in client.messages.items():
+        last = f'{cs_msgs.message_time_ns(messages[-1]) * 1e-9:.3f} s' if messages else '-'
+        lines.append(f'{topic}: {len(messages)} messages, last at {last}')
+    return '\n'.join(lines)
 
 
 def impacts_after(client, ns):

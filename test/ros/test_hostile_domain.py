@@ -7,15 +7,33 @@ from pathlib import Path
 
 import pytest
 
+from .conftest import package_domain, worker_index
+
 CALLER = os.environ.get('ROS_DOMAIN_ID')   # read at collection, before any fixture sets it
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def test_the_package_domain_is_the_callers_when_set(ros_env):
-    if CALLER is not None and CALLER.strip().isdigit():
-        assert ros_env['ROS_DOMAIN_ID'] == CALLER.strip()
-    else:
+def test_the_package_domain_is_the_callers_when_set(ros_env, pytestconfig):
+    if CALLER is None or not CALLER.strip().isdigit():
         assert ros_env['ROS_DOMAIN_ID'] == str(1 + os.getpid() % 101)
+    elif worker_index(pytestconfig) == 0:
+        assert ros_env['ROS_DOMAIN_ID'] == CALLER.strip()
+    else:   # another xdist worker: its own domain, derived from the caller's
+        assert ros_env['ROS_DOMAIN_ID'] != CALLER.strip()
+        assert ros_env['ROS_DOMAIN_ID'] == package_domain(pytestconfig)
+
+
+def test_xdist_workers_under_a_callers_domain_get_one_domain_each(monkeypatch):
+    # reproduced: with ROS_DOMAIN_ID set, both workers of `-n 2` ran a /contact_sim node in it
+    class Worker:
+        def __init__(self, name):
+            self.workerinput = {'workerid': name}
+    monkeypatch.setenv('ROS_DOMAIN_ID', '77')
+    domains = [package_domain(Worker(f'gw{i}')) for i in range(4)]
+    assert domains[0] == package_domain(object()) == '77'    # the first worker: the caller's
+    assert len(set(domains)) == 4 and all(1 <= int(d) <= 101 for d in domains[1:])
+    monkeypatch.setenv('ROS_DOMAIN_ID', '232')
+    assert all(0 <= int(package_domain(Worker(f'gw{i}'))) <= 232 for i in range(4))
 
 
 @pytest.mark.skipif(os.environ.get('CONTACT_SIM_DOMAIN_PROBE') == '1', reason='the probe itself')
