@@ -23,6 +23,7 @@ accelerates up for 0.1 s and brakes at 3 g, faster than gravity, which releases 
     sphere_radius and gravity the juggler asks for through its parameter service)
 """
 import math
+import time
 
 import rclpy
 from builtin_interfaces.msg import Duration, Time
@@ -41,6 +42,7 @@ RETURN_TIME = 0.2        # s: back to rest at p = 0 after a stroke
 LAUNCH_TIME = 0.1        # s: the throw's upward acceleration phase from rest
 REST_GAP = 1e-3          # m: the ball is on the plate within this gap
 REST_SPEED = 0.05        # m/s: ... and moving with it within this speed
+ASK_AGAIN = 2.0          # s of wall time: a parameter request unanswered this long is sent again
 
 
 def _ns(stamp):
@@ -70,7 +72,7 @@ class Juggler(Node):
         # the simulator's sphere radius R1 (m) and gravity (m/s^2), asked of it (not copied)
         self.radius = self.g = None
         self._ask = self.create_client(GetParameters, f'{node}/get_parameters')
-        self._asking = None
+        self._asking, self._asked = None, 0.0   # the request waiting (future) and when (s)
         self._ask_timer = self.create_timer(0.2, self._ask_simulator)
         state_qos = QoSProfile(depth=10, reliability=ReliabilityPolicy.BEST_EFFORT)
         self.create_subscription(PoseStamped, f'{node}/pose', self._on_pose, state_qos)
@@ -89,9 +91,16 @@ class Juggler(Node):
     def _ask_simulator(self):
         """Ask the simulator for sphere_radius and gravity: every 0.2 s until it answers, then
         every 2 s (a change of them takes effect at its next ~/reset)."""
+        if self._asking is not None and not self._asking.done() \
+                and time.monotonic() - self._asked > ASK_AGAIN:
+            # unanswered: a server just discovered may drop the reply (its reply writer has
+            # not matched this client yet); ask again
+            self._ask.remove_pending_request(self._asking)
+            self._asking = None
         if self._asking is None and self._ask.service_is_ready():
             self._asking = self._ask.call_async(
                 GetParameters.Request(names=['sphere_radius', 'gravity']))
+            self._asked = time.monotonic()
         elif self._asking is not None and self._asking.done():
             values = [v.double_value for v in self._asking.result().values]
             self._asking = None

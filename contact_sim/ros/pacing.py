@@ -63,11 +63,14 @@ class RecorderPace:
         self._subscription = node.create_subscription(PROGRESS.msg_type, PROGRESS.name,
                                                       self._on_ack, PROGRESS.qos)
         self._sent, self._on_room = sent, on_room
+        self._logger = node.get_logger()
         self._marks = deque()     # (stamp ns, messages sent up to it), not yet acknowledged
         self._acked = 0           # messages sent that the recorder has acknowledged
         self.recorded_ns = None   # the recorder's last acknowledgement (ns); None: none yet
-        self._grace_until = time.monotonic() + START_GRACE
+        self._started = time.monotonic()
+        self._grace_until = self._started + START_GRACE
         self._present = False     # a recorder was there at the last look (``watch``)
+        self._unpaced_said = False
 
     def recorders(self):
         """The number of recorders pacing this node (publishers of ``~/recorded``)."""
@@ -87,7 +90,13 @@ class RecorderPace:
             if self.recorded_ns is not None:   # the recorder went away: a next one starts afresh
                 self.recorded_ns = None
                 self._marks.clear()
-            return 0 if time.monotonic() < self._grace_until else math.inf
+            if time.monotonic() < self._grace_until:
+                return 0
+            if not self._unpaced_said:
+                self._unpaced_said = True
+                self._logger.info(f'no recorder found within {START_GRACE:g} s: publishing '
+                                  'unpaced (a recorder started now records from where it joins)')
+            return math.inf
         if self.recorded_ns is None:
             return 0
         return LEAD_MESSAGES - (self._sent() - self._acked)
@@ -106,6 +115,9 @@ class RecorderPace:
     def _on_ack(self, msg):
         ns = PROGRESS.stamp_ns(msg)
         self._present = True
+        if self.recorded_ns is None:
+            self._logger.info(f'paced by a recorder (its first acknowledgement '
+                              f'{time.monotonic() - self._started:.2f} s after the start)')
         if ns == READY_NS:
             self._marks.clear()
             self._acked = self._sent()
