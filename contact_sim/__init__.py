@@ -7,45 +7,27 @@ form), ``impact`` (one impact, restitution, fits of λ), ``drop`` (the drop engi
 ``calibration`` (recordings and the bounce-sequence fit); the front ends ``cli`` and ``ros``.
 SI units throughout; z > 0 is penetration and ż > 0 is approach.
 """
-import importlib
-
+from contact_sim._lazy import lazy_exports
 from contact_sim.validation import InputError
 
-# The public names, each from its layer, imported on first use (PEP 562): `import contact_sim`
-# and the command line's argument parsing do not pay for numpy, scipy and the compiled engine.
+# The public names, each from its layer, imported on first use (PEP 562, ``contact_sim._lazy``):
+# `import contact_sim` and the command line's argument parsing do not pay for numpy, scipy and
+# the compiled engine.  A layer (``contact_sim.impact``) is reached the same way.
 _EXPORTS = {
-    **dict.fromkeys(['fit_bounces', 'predict_bounces'], 'contact_sim.calibration'),
-    **dict.fromkeys(['Advance', 'DropResult', 'DropSimulation', 'DropState', 'ImpactRecord',
-                     'Samples', 'TickBatch', 'check_drop', 'simulate_drop'], 'contact_sim.drop'),
-    **dict.fromkeys(['AirDrag', 'FlightPath'], 'contact_sim.flight'),
-    **dict.fromkeys(['DampingFit', 'ImpactResult', 'compare_laws', 'contact_duration',
-                     'damping_for_restitution', 'damping_group', 'fit_damping', 'max_penetration',
-                     'peak_force', 'restitution', 'simulate_impact'], 'contact_sim.impact'),
-    **dict.fromkeys(['AZAD_FEATHERSTONE', 'Contact', 'ContactLaw', 'HUNT_CROSSLEY', 'LAWS',
-                     'LEE_WANG', 'LINEAR', 'MATERIALS', 'Material', 'build_contact', 'build_mass',
-                     'effective_modulus', 'equivalent_radius', 'get_law', 'get_material',
-                     'hertz_stiffness', 'reduced_mass', 'require_contact', 'sphere_mass'],
-                    'contact_sim.model'),
+    'contact_sim.calibration': ('fit_bounces', 'predict_bounces'),
+    'contact_sim.drop': ('Advance', 'DropResult', 'DropSimulation', 'DropState', 'ImpactRecord',
+                         'Samples', 'TickBatch', 'check_drop', 'simulate_drop'),
+    'contact_sim.flight': ('AirDrag', 'FlightPath'),
+    'contact_sim.impact': ('DampingFit', 'ImpactResult', 'compare_laws', 'contact_duration',
+                           'damping_for_restitution', 'damping_group', 'fit_damping',
+                           'max_penetration', 'peak_force', 'restitution', 'simulate_impact'),
+    'contact_sim.model': ('AZAD_FEATHERSTONE', 'Contact', 'ContactLaw', 'HUNT_CROSSLEY', 'LAWS',
+                          'LEE_WANG', 'LINEAR', 'MATERIALS', 'Material', 'build_contact',
+                          'build_mass', 'effective_modulus', 'equivalent_radius', 'get_law',
+                          'get_material', 'hertz_stiffness', 'reduced_mass', 'require_contact',
+                          'sphere_mass'),
 }
-_LAYERS = ('model', 'phase', 'flight', 'impact', 'drop', 'calibration', 'export', 'cli', 'ros')
-
-
-def __getattr__(name):
-    """A public name (``_EXPORTS``) or a layer, imported when first asked for."""
-    module = _EXPORTS.get(name)
-    if module is not None:
-        value = getattr(importlib.import_module(module), name)
-    elif name in _LAYERS:
-        value = importlib.import_module(f'contact_sim.{name}')
-    else:
-        raise AttributeError(f'module {__name__!r} has no attribute {name!r}')
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
-
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __version__ = '0.1.0'
 

@@ -12,7 +12,7 @@ import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / 'contact_sim'
 # bottom up; a module may import its own layer and the layers below
-LAYERS = {'validation': 0, 'model': 1, 'phase': 2, 'flight': 2, 'impact': 3, 'drop': 4,
+LAYERS = {'validation': 0, '_lazy': 0, 'model': 1, 'phase': 2, 'flight': 2, 'impact': 3, 'drop': 4,
           'calibration': 5, 'export': 5, 'cli': 6, 'ros': 6}
 FRONT_ENDS = {'cli', 'ros'}
 MAX_LINES = 500
@@ -45,9 +45,14 @@ def _exported(package):
 
 def _imports(name, path):
     """(imported module or package, line) for every contact_sim import of ``name``, however deep
-    in the code (function-level imports count)."""
+    in the code (function-level imports count); a package's lazy public names (``_EXPORTS`` of
+    its ``__init__``, ``contact_sim._lazy``) count as imports of their modules."""
     found = []
     for node in ast.walk(ast.parse(path.read_text())):
+        if path.name == '__init__.py' and isinstance(node, ast.Assign) \
+                and any(getattr(t, 'id', None) == '_EXPORTS' for t in node.targets):
+            found += [(m if m.startswith('contact_sim') else f'{name}.{m}', node.lineno)
+                      for m in ast.literal_eval(node.value)]
         if isinstance(node, ast.Import):
             found += [(alias.name, node.lineno) for alias in node.names
                       if alias.name.startswith('contact_sim')]

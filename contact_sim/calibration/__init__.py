@@ -1,15 +1,20 @@
 """Calibration from recordings: impact times from files and audio, the bounce-sequence model
 (``predict_bounces``) and its fit to recorded sequences (``fit_bounces``)."""
-from contact_sim.calibration.audio import AudioOnsets, bounce_times_from_audio, detect_onsets
-from contact_sim.calibration.bounce_fit import fit_bounces
-from contact_sim.calibration.bounces import BounceSequence, predict_bounces
-from contact_sim.calibration.glitches import (MICRO_BOUNCE_RATIO, Glitch, MicroBounceCut,
-                                              PreparedSequence, prepare_sequence)
-from contact_sim.calibration.recordings import (ImpactTimes, height_from_label, heights_from_label,
-                                                parse_impact_times, read_impact_times)
-from contact_sim.calibration.restitution_table import (corrected_restitution_table,
-                                                       restitution_curve)
-from contact_sim.calibration.results import BounceFit, LawFit
+from contact_sim._lazy import lazy_exports
+
+# where each public name lives, imported on first use (``contact_sim._lazy``)
+_EXPORTS = {
+    'audio': ('AudioOnsets', 'bounce_times_from_audio', 'detect_onsets'),
+    'bounce_fit': ('fit_bounces',),
+    'bounces': ('BounceSequence', 'predict_bounces'),
+    'defaults': ('MICRO_BOUNCE_RATIO',),
+    'glitches': ('Glitch', 'MicroBounceCut', 'PreparedSequence', 'prepare_sequence'),
+    'recordings': ('ImpactTimes', 'height_from_label', 'heights_from_label', 'parse_impact_times',
+                   'read_impact_times'),
+    'restitution_table': ('corrected_restitution_table', 'restitution_curve'),
+    'results': ('BounceFit', 'LawFit'),
+}
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = ['MICRO_BOUNCE_RATIO', 'AudioOnsets', 'BounceFit', 'BounceSequence', 'Glitch',
            'ImpactTimes', 'LawFit', 'MicroBounceCut', 'PreparedSequence',

@@ -30,11 +30,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from contact_sim.calibration.bounces import release_speed
+from contact_sim.calibration.defaults import MICRO_BOUNCE_RATIO
 from contact_sim.flight import flight_to_plate
 from contact_sim.impact import elastic_limits, impact_scales
 from contact_sim.validation import require_nonnegative, require_positive
 
-MICRO_BOUNCE_RATIO = 0.016   # contact time / flight time beyond which clicks are left out
 MISSED_FLIGHT_SHARE = 0.01   # a flight shorter than this share of an interval: not counted
 SPLIT_RATIO = 0.7        # an interval below this share of the expected flight: a split one
 DOUBLED_SHARE = 0.1      # a split this close after the click before: a doubled click

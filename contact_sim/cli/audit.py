@@ -7,12 +7,21 @@ import numpy as np
 from contact_sim.cli.export import export_of, print_snippet
 from contact_sim.cli.restitution import add_speed_options
 from contact_sim.cli.options import LAW_NAMES, contact_command
-from contact_sim.export import audit, audit_link, geom_contact, link_contact
 
-# engine -> (read the model's contact, measure its e(v), the option naming the sphere)
-AUDITS = {'mujoco': (lambda args: geom_contact(args.model, args.geom), audit, '--geom'),
-          'pybullet': (lambda args: link_contact(args.model, args.link, args.timestep),
-                       audit_link, '--link')}
+
+def _mujoco():
+    from contact_sim.export import audit, geom_contact   # the engine: after parsing
+    return lambda args: geom_contact(args.model, args.geom), audit
+
+
+def _pybullet():
+    from contact_sim.export import audit_link, link_contact   # the engine: after parsing
+    return lambda args: link_contact(args.model, args.link, args.timestep), audit_link
+
+
+# engine -> (read the model's contact and measure its e(v), imported when run; the option
+# naming the sphere)
+AUDITS = {'mujoco': (_mujoco, '--geom'), 'pybullet': (_pybullet, '--link')}
 
 
 def add_parser(sub):
@@ -46,11 +55,12 @@ def add_parser(sub):
 
 def run(args):
     """Print the model's e(v) beside the target's, then the export's suggestion; exit 0."""
-    read, measure, option = AUDITS[args.engine]
+    functions, option = AUDITS[args.engine]
     if getattr(args, option[2:]) is None:
         raise ValueError(f'{option} is missing: audit {args.engine} needs {option} NAME, the '
                          'sphere to audit')
     names = {'model': 'MODEL', 'geom': '--geom', 'link': '--link', 'timestep': '--timestep'}
+    read, measure = functions()
     try:
         contact = read(args)
     except ValueError as error:   # InputError: spelled as this command's arguments

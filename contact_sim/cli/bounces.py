@@ -6,13 +6,13 @@ import sys
 
 import numpy as np
 
-from contact_sim.calibration import (MICRO_BOUNCE_RATIO, ImpactTimes, bounce_times_from_audio,
-                                     corrected_restitution_table, fit_bounces, height_from_label,
-                                     read_impact_times, restitution_curve)
+# the parser's defaults and choices, from modules without the engine (contact_sim._lazy): the
+# fit, the audio detector and the drag are imported in the functions that run them
+from contact_sim.calibration import MICRO_BOUNCE_RATIO
 from contact_sim.cli import plotting
 from contact_sim.cli.contact import lacks_hertz_stiffness, mass_of, material
 from contact_sim.cli.options import LAW_NAMES, contact_command, law_list
-from contact_sim.flight import AIR_DENSITY, SPHERE_DRAG_COEFFICIENT, AirDrag
+from contact_sim.flight import AIR_DENSITY, SPHERE_DRAG_COEFFICIENT
 from contact_sim.impact import LOSSES
 from contact_sim.model import build_contact
 from contact_sim.validation import require_positive
@@ -133,6 +133,8 @@ def add_parser(sub):
 
 
 def _sequences(args):
+    from contact_sim.calibration import (ImpactTimes, bounce_times_from_audio,   # the engine:
+                                         height_from_label, read_impact_times)   # after parsing
     sequences = []
     for path in args.data:
         if str(path).lower().endswith('.wav'):
@@ -168,6 +170,7 @@ def _stiffness(args, laws):
 
 
 def _drag(args):
+    from contact_sim.flight import AirDrag   # the engine: after the arguments are parsed
     if args.radius is None:
         if args.fit_drag or (args.drag_coefficient or 0.0) > 0.0:
             raise ValueError('radius is missing: drag needs the sphere radius --radius R1 (m)')
@@ -184,6 +187,7 @@ def run(args):
     node parameters with --save-params); returns the exit status: 0, or ``UNTRUSTED_FIT`` when
     the best fit failed or no law describes the recording (the report is printed all the
     same)."""
+    from contact_sim.calibration import corrected_restitution_table, fit_bounces   # the engine
     laws = law_list(args, LAW_NAMES)
     mass = mass_of(args)
     drag = _drag(args)
@@ -212,6 +216,7 @@ def run(args):
 def print_report(fit, sequences, args, k_source, table):
     """The fit's report: the data and drag, the glitches, the laws ranked, the corrected
     restitution ``table`` and the predicted against the measured click times."""
+    from contact_sim.calibration import restitution_curve
     level = f'{100 * fit.confidence:g}%'
     clicks = sum(s.times.size for s in sequences)
     print(f'# bounce fit: {len(sequences)} sequence(s), {clicks} clicks; m = {fit.mass:.6g} kg, '
@@ -330,6 +335,7 @@ def write_params(path, fit, args):
 def _plot(args, fit, table):
     """The figure of ``plotting.bounce_figure``: the corrected e(v) with every law's curve,
     and the best law's timing residuals per run."""
+    from contact_sim.calibration import restitution_curve
     columns = [np.array(c) for c in zip(*table)] if table else [np.zeros(0)] * 4
     curves = {}
     if table:

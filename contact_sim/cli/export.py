@@ -10,9 +10,9 @@ from contact_sim.cli.contact import build_setup, describe_contact
 from contact_sim.cli.options import LAW_NAMES, contact_command, plot_option
 from contact_sim.cli.params_file import apply_params_file
 from contact_sim.cli.restitution import _speeds, add_speed_options
-from contact_sim.export import (ENGINES, TIMESTEPS, export_contact, make_target,
-                                require_tolerance, timestep_for_tolerance)
-from contact_sim.impact import contact_duration, peak_force
+# the parser's choices, from a module without the engines (contact_sim._lazy): the export and
+# the impact engine are imported in the functions that run them
+from contact_sim.export import ENGINE_NAMES, TIMESTEPS
 from contact_sim.model import get_law
 from contact_sim.validation import InputError
 
@@ -29,7 +29,7 @@ def add_parser(sub):
                     'installed (measured), else predicted from its own law, as gazebo is.',
         notes='\n\nexample:\n  contact-sim export mujoco --law azad_featherstone --sphere steel '
               '--plate cast_iron\n      --radius 0.0127 --damping-factor 8.87e5 --timestep 1e-3\n')
-    p.add_argument('engine', choices=list(ENGINES), help='the simulator')
+    p.add_argument('engine', choices=list(ENGINE_NAMES), help='the simulator')
     p.add_argument('--law', choices=LAW_NAMES,
                    help='the target force law (default azad_featherstone)')
     p.add_argument('--params-file', metavar='FILE.yaml',
@@ -52,6 +52,7 @@ def add_parser(sub):
 
 def export_of(args):
     """The ``Export`` the options describe."""
+    from contact_sim.export import export_contact, make_target   # the engines: after parsing
     speeds = _speeds(args)
     names = {'timestep': '--timestep'}   # core field -> how this call spells it
     if args.params_file is not None:
@@ -73,6 +74,7 @@ def export_of(args):
 
 def run(args):
     """Print the export (a table and the snippet, or one JSON record); exit status 0."""
+    from contact_sim.export import ENGINES, require_tolerance, timestep_for_tolerance
     if args.tolerance is not None:
         if args.format == 'json':
             raise ValueError('--tolerance is reported in the text output: allowed with '
@@ -123,6 +125,7 @@ def print_search(search):
 def print_table(result):
     """speed, target e, engine e, error; then the contact duration (s) and peak force (N) of
     the target and of the engine, where the engine's are known."""
+    from contact_sim.impact import contact_duration, peak_force
     target = result.target
     columns = [target.restitution, result.engine_restitution,
                result.engine_restitution - target.restitution]
@@ -146,6 +149,7 @@ def print_snippet(result):
 
 
 def _plot(args, setup, result):
+    from contact_sim.export import make_target
     speeds = result.target.speeds
     dense = plotting.dense_speeds(speeds, True)
     target = f'target {result.target.contact.law.name}'

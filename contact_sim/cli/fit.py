@@ -11,6 +11,7 @@ import numpy as np
 from contact_sim.cli import plotting
 from contact_sim.cli.contact import build_setup, contact_lines, damping_unit, describe_contact
 from contact_sim.cli.options import LAW_NAMES, contact_command, law_list, plot_option
+from contact_sim.impact import LOSSES   # (a module without the engine: contact_sim._lazy)
 from contact_sim.validation import InputError, require_range
 
 
@@ -32,9 +33,8 @@ def add_parser(sub):
                    help='force law, repeatable (default: all four, ranked by rms residual)')
     p.add_argument('--confidence', type=float, default=0.95,
                    help='confidence level of the interval on lambda, 0 < C < 1 (default 0.95)')
-    p.add_argument('--loss', choices=['linear', 'soft_l1', 'huber', 'cauchy', 'arctan'],
-                   default='linear', help='least-squares loss (default linear; soft_l1 etc. '
-                                          'down-weight outliers)')
+    p.add_argument('--loss', choices=LOSSES, default='linear',
+                   help='least-squares loss (default linear; soft_l1 etc. down-weight outliers)')
     plot_option(p, 'the data and the fitted curves on a log speed axis')
     p.set_defaults(run=run)
 

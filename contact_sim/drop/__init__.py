@@ -37,18 +37,23 @@ changes from outside (``set_contact``, ``set_plate``) do to it.
 engine serves a batch run (``simulate_drop``) and a real-time loop.  Units: SI; z > 0 is
 penetration, ż > 0 is downward motion (approach), height above the plate is -z.
 """
-from contact_sim.drop.engine import DropSimulation, simulate_drop
-from contact_sim.drop.limits import GRAVITY_MAX, HEIGHT_MAX, VELOCITY_MAX, check_drop
-from contact_sim.drop.plate import (FIXED, TABLE_ACCELERATION_MAX, TABLE_AMPLITUDE_MAX,
-                                    TABLE_FREQUENCY_MAX, TABLE_PHASE_MAX, CommandedPlate,
-                                    FixedPlate, PlateMotion, SinusoidalPlate, SwitchedPlate,
-                                    command_motion, sphere_motion, table_transition,
-                                    vibrating_table)
-from contact_sim.drop.records import (Advance, DropResult, DropState, ImpactRecord, Recorder,
-                                      Samples, TickBatch)
-from contact_sim.drop.sweep import bifurcation_diagram, sweep
-from contact_sim.drop.table import (VibratingTable, period_doubling_threshold, period_one_phase,
-                                    period_one_threshold)
+from contact_sim._lazy import lazy_exports
+
+# where each public name lives, imported on first use (``contact_sim._lazy``)
+_EXPORTS = {
+    'engine': ('DropSimulation', 'simulate_drop'),
+    'limits': ('GRAVITY_MAX', 'HEIGHT_MAX', 'VELOCITY_MAX', 'check_drop'),
+    'plate': ('FIXED', 'TABLE_ACCELERATION_MAX', 'TABLE_AMPLITUDE_MAX', 'TABLE_FREQUENCY_MAX',
+              'TABLE_PHASE_MAX', 'CommandedPlate', 'FixedPlate', 'PlateMotion', 'SinusoidalPlate',
+              'SwitchedPlate', 'command_motion', 'sphere_motion', 'table_transition',
+              'vibrating_table'),
+    'records': ('Advance', 'DropResult', 'DropState', 'ImpactRecord', 'Recorder', 'Samples',
+                'TickBatch'),
+    'sweep': ('bifurcation_diagram', 'sweep'),
+    'table': ('VibratingTable', 'period_doubling_threshold', 'period_one_phase',
+              'period_one_threshold'),
+}
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = ['FIXED', 'GRAVITY_MAX', 'HEIGHT_MAX', 'TABLE_ACCELERATION_MAX', 'TABLE_AMPLITUDE_MAX',
            'TABLE_FREQUENCY_MAX', 'TABLE_PHASE_MAX', 'VELOCITY_MAX', 'Advance', 'CommandedPlate',

@@ -10,12 +10,19 @@ about 420 MB).  ``geom_contact`` and ``audit``
 measure the e(v) a sphere geom of a user's MuJoCo model gives, ``link_contact`` and
 ``audit_link`` a sphere link of a URDF in PyBullet.
 """
-from contact_sim.export.common import Export, Target, make_target
-from contact_sim.export.engines import ENGINES, Engine, export_contact
-from contact_sim.export.mujoco_engine import GeomContact, audit, geom_contact
-from contact_sim.export.pybullet_audit import LinkContact, audit_link, link_contact
-from contact_sim.export.tolerance import (TIMESTEPS, TimestepSearch, require_tolerance,
-                                          timestep_for_tolerance)
+from contact_sim._lazy import lazy_exports
+
+# where each public name lives, imported on first use (``contact_sim._lazy``): ``choices`` (the
+# engines' names, the time steps) without the engines
+_EXPORTS = {
+    'choices': ('ENGINE_NAMES', 'TIMESTEPS'),
+    'common': ('Export', 'Target', 'make_target'),
+    'engines': ('ENGINES', 'Engine', 'export_contact'),
+    'mujoco_engine': ('GeomContact', 'audit', 'geom_contact'),
+    'pybullet_audit': ('LinkContact', 'audit_link', 'link_contact'),
+    'tolerance': ('TimestepSearch', 'require_tolerance', 'timestep_for_tolerance'),
+}
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = ['ENGINES', 'Engine', 'Export', 'GeomContact', 'LinkContact', 'TIMESTEPS', 'Target',
            'TimestepSearch', 'audit', 'audit_link', 'export_contact', 'geom_contact',

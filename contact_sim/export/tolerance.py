@@ -7,10 +7,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contact_sim.export.choices import TIMESTEPS
 from contact_sim.export.engines import export_contact, require_engine
 from contact_sim.validation import require_positive
-
-TIMESTEPS = (1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5)   # s, largest first
 
 
 @dataclass(frozen=True)

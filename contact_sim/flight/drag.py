@@ -40,11 +40,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from contact_sim.flight.air import AIR_DENSITY, SPHERE_DRAG_COEFFICIENT
 from contact_sim.validation import (InputError, require_nonnegative, require_positive,
                                     require_range, require_real)
-
-AIR_DENSITY = 1.204          # kg/m³: dry air at 20 °C and 101.325 kPa
-SPHERE_DRAG_COEFFICIENT = 0.47   # smooth sphere, subcritical Reynolds number (1e3 - 2e5)
 
 
 @dataclass(frozen=True)

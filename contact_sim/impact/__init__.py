@@ -4,20 +4,25 @@
 ``simulate`` (the exact reference path), ``scales`` (Z, T and the damping group ζ),
 ``tails`` (asymptotics beyond a master curve), ``dimensionless`` (e, τc, F̂, x̂ of ζ from the
 best source the law has), ``restitution`` (the dimensional results), ``damping_fit`` (λ from
-restitution, fits to data).
+restitution, fits to data) and ``fit_options`` (a fit's point limit, losses and confidence,
+which the command line reads without importing the engine).
 """
-from contact_sim.impact.damping_fit import (DampingFit, compare_laws, damping_for_restitution,
-                                            fit_damping)
-from contact_sim.impact.restitution import (contact_duration, damping_from_group, damping_group,
-                                            max_penetration, peak_force, restitution)
-from contact_sim.impact.simulate import ImpactResult, simulate_impact
-from contact_sim.impact.damping_fit import (LOSSES, MAX_POINTS, group_for_restitution,
-                                            require_fit_options, robust_weights)
-from contact_sim.impact.dimensionless import dimensionless, master_curve
-from contact_sim.impact.scales import (CONTACT_LENGTH_MAX, CONTACT_TIME_MIN, ZETA_MAX, ZETA_MIN,
-                                      checked_scales, damping_group_of, impact_scales,
-                                      require_speeds)
-from contact_sim.impact.tails import elastic_limits
+from contact_sim._lazy import lazy_exports
+
+# where each public name lives, imported on first use (``contact_sim._lazy``)
+_EXPORTS = {
+    'damping_fit': ('DampingFit', 'compare_laws', 'damping_for_restitution', 'fit_damping',
+                    'group_for_restitution', 'robust_weights'),
+    'dimensionless': ('dimensionless', 'master_curve'),
+    'fit_options': ('LOSSES', 'MAX_POINTS', 'require_fit_options'),
+    'restitution': ('contact_duration', 'damping_from_group', 'damping_group', 'max_penetration',
+                    'peak_force', 'restitution'),
+    'scales': ('CONTACT_LENGTH_MAX', 'CONTACT_TIME_MIN', 'ZETA_MAX', 'ZETA_MIN', 'checked_scales',
+               'damping_group_of', 'impact_scales', 'require_speeds'),
+    'simulate': ('ImpactResult', 'simulate_impact'),
+    'tails': ('elastic_limits',),
+}
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = ['CONTACT_LENGTH_MAX', 'CONTACT_TIME_MIN', 'DampingFit', 'ImpactResult', 'LOSSES',
            'MAX_POINTS', 'ZETA_MAX', 'ZETA_MIN', 'checked_scales', 'compare_laws',

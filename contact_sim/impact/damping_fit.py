@@ -11,6 +11,7 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from contact_sim.impact.dimensionless import dimensionless
+from contact_sim.impact.fit_options import MAX_POINTS, require_fit_options
 from contact_sim.impact.restitution import damping_from_group, restitution
 from contact_sim.impact.scales import ZETA_MAX, checked_scales
 from contact_sim.model import LAWS, Contact, ContactLaw, get_law
@@ -189,10 +190,6 @@ class DampingFit:
         return Contact(self.law, self.stiffness, self.damping)
 
 
-MAX_POINTS = 2000   # points of one fit: each costs one inversion of e(λ) (1000 points: 14-29 s
-# on a loaded 2-core machine, python -c 'cs.fit_damping(...)' with np.geomspace(0.1, 5, 1000))
-
-
 def _check_points(name, values, count=None, what='', note=''):
     """``values`` as a 1-D float array of finite reals > 0 (``count`` of them if given)."""
     x = require_real_array(name, values, MAX_POINTS).ravel()
@@ -216,18 +213,7 @@ def _check_data(speeds, restitutions):
     return v, e
 
 
-LOSSES = ('linear', 'soft_l1', 'huber', 'cauchy', 'arctan')   # scipy.optimize.least_squares
 LOWER_BOUND_WIDENINGS = 12   # x 3 in ln λ (e^-36): how far points at e >= 1 may pull λ down
-
-
-def require_fit_options(confidence, loss):
-    """The checked (confidence, loss) of a fit: 0 < confidence < 1, a loss of ``LOSSES``."""
-    confidence = require_range('confidence', confidence, 0.0, 1.0, low_open=True,
-                               high_open=True)
-    if loss not in LOSSES:
-        raise InputError('loss', loss, '{n[loss]} = {value} is unknown: allowed one of %s'
-                         % ', '.join(LOSSES), value=repr(loss))
-    return confidence, loss
 
 
 def robust_weights(loss, z2):

@@ -19,7 +19,6 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import quad
 
 from contact_sim.model.hunt_crossley_scalar import hunt_crossley_restitution_scalar
 
@@ -100,6 +99,8 @@ def hunt_crossley_duration(zeta):
             w_out = u - 1.0
         return 2.0 * top * s * zeta * (1.0 / w_in - 1.0 / w_out)
 
+    from scipy.integrate import quad   # here: importing the model (and the command line's
+    # argument parsing) does not import scipy's integrators and solvers
     with warnings.catch_warnings():
         warnings.simplefilter('ignore')       # quad's round-off notice at the 1e-12 request
         value, _ = quad(integrand, 0.0, 1.0, epsabs=0.0, epsrel=1e-12, limit=200)

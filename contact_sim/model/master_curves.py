@@ -12,7 +12,6 @@ from functools import lru_cache
 from importlib import resources
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 QUANTITIES = ('restitution', 'duration', 'peak_force', 'max_penetration')
 TABLE_FILE = 'master_curves.npz'
@@ -65,6 +64,7 @@ class MasterCurve:
 
 @lru_cache(maxsize=1)
 def _load_tables():
+    from scipy.interpolate import CubicSpline   # here: importing the model does not import scipy
     path = resources.files('contact_sim') / 'data' / TABLE_FILE
     curves = {}
     with resources.as_file(path) as real_path, np.load(real_path) as data:

@@ -27,13 +27,20 @@ Python, the reference path), ``compiled_phase`` (``CompiledPhase``, the default 
 ``_dop853_coefficients`` (the generated tableau), ``engines`` (the engine switch and
 ``contact_phase``, which picks one).
 """
-from contact_sim.phase.compiled_phase import CompiledPhase
-from contact_sim.phase.energy import energy_above_rest, lift_off_energy, potential_at
-from contact_sim.phase.engines import (COMPILED_STIFF_DAMPING, ENGINES, contact_phase, get_engine,
-                                       set_engine, use_engine)
-from contact_sim.phase.forcing import Forcing
-from contact_sim.phase.reference import STIFF_DAMPING, PhaseIntegrator
-from contact_sim.phase.scales import DEFAULT_ATOL, DEFAULT_RTOL, PhaseScales, phase_scales
+from contact_sim._lazy import lazy_exports
+
+# where each public name lives, imported on first use (``contact_sim._lazy``): the scales and
+# the forcing without numba and scipy's integrators
+_EXPORTS = {
+    'compiled_phase': ('CompiledPhase',),
+    'energy': ('energy_above_rest', 'lift_off_energy', 'potential_at'),
+    'engines': ('COMPILED_STIFF_DAMPING', 'ENGINES', 'contact_phase', 'get_engine', 'set_engine',
+                'use_engine'),
+    'forcing': ('Forcing',),
+    'reference': ('STIFF_DAMPING', 'PhaseIntegrator'),
+    'scales': ('DEFAULT_ATOL', 'DEFAULT_RTOL', 'PhaseScales', 'phase_scales'),
+}
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = ['COMPILED_STIFF_DAMPING', 'DEFAULT_ATOL', 'DEFAULT_RTOL', 'ENGINES', 'STIFF_DAMPING',
            'CompiledPhase', 'Forcing', 'PhaseIntegrator', 'PhaseScales', 'contact_phase',
