@@ -14,7 +14,8 @@ The protocol (the recorder's side is ``recorder.Recorder.report``):
    note stamped at or before t; ``READY_NS`` releases everything published so far (what went out
    before the recorder matched is not the recorder's to acknowledge). The node publishes while
    fewer than ``LEAD_MESSAGES`` are unreleased, and pauses otherwise, until the next
-   acknowledgement or until the recorder goes away.
+   acknowledgement or until the recorder goes away. The first acknowledgement after the
+   recorder was missed (not seen by ``watch``) releases everything too, like ``READY_NS``.
 3. Why messages and not ticks: Fast DDS delivers between processes of one machine through a
    shared-memory port whose queue holds 512 messages by default; a burst larger than that is,
    most likely, dropped there and repaired by the reliable protocol only at a later heartbeat,
@@ -118,7 +119,9 @@ class RecorderPace:
         if self.recorded_ns is None:
             self._logger.info(f'paced by a recorder (its first acknowledgement '
                               f'{time.monotonic() - self._started:.2f} s after the start)')
-        if ns == READY_NS:
+        if ns == READY_NS or self.recorded_ns is None:
+            # ready; or a recorder found again after it was missed (what went out meanwhile has
+            # no note to release it: waiting for one would stall the node for good)
             self._marks.clear()
             self._acked = self._sent()
         marks = self._marks

@@ -206,7 +206,8 @@ def test_a_flat_out_node_stopped_first_leaves_nothing_it_published_out_of_the_ba
         finally:
             assert_clean_exit(recorder)
     recorded = read_bag(bag)
-    assert set(recorded) == set(TYPE_NAMES)
+    logs = f'recorder:\n{recorder.output()[-4000:]}\nnode:\n{node.output()[-4000:]}'
+    assert set(recorded) == set(TYPE_NAMES), logs
     ends = {}
     for topic, items in recorded.items():
         stamps = stamps_in_bag(topic, items)
@@ -214,11 +215,12 @@ def test_a_flat_out_node_stopped_first_leaves_nothing_it_published_out_of_the_ba
         if topic.endswith('impact'):
             continue
         ends[topic] = stamps[-1]
-        assert stamps[-1] >= seen, (topic, stamps[-1], seen)   # what this test saw published
+        assert stamps[-1] >= seen, (topic, stamps[-1], seen, logs)  # what this test saw published
         if cs_msgs.TOPIC[topic.rsplit('/', 1)[1]].kind in ('state', 'clock'):
             ticks = np.rint(np.array(stamps) / 1e7).astype(int)   # 100 Hz ticks from 0
             missing = sorted(set(range(1, ticks[-1] + 1)) - set(ticks.tolist()))
-            assert not missing and len(ticks) == ticks[-1], (topic, missing[:5], len(missing))
+            assert not missing and len(ticks) == ticks[-1], (topic, missing[:5], len(missing),
+                                                             logs)
     # and to the last tick the node published, as it says at its stop
     match = re.search(r'the recorder has every tick published, to t = ([0-9.]+) s',
                       node.output())
