@@ -32,6 +32,9 @@ def own_domain(ros_env):
     clock = []
     node.create_subscription(Clock, '/clock', lambda m: clock.append(stamp_ns(m.clock)),
                              QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT))
+    acks = []    # the recorder's acknowledgements: simulated time (ns) it has recorded up to
+    node.create_subscription(Clock, cs_msgs.PROGRESS.resolve(NODE),
+                             lambda m: acks.append(stamp_ns(m.clock)), cs_msgs.PROGRESS.qos)
 
     def spin_until(condition, what, timeout=TIMEOUT):
         harness.spin_until(executor, condition, what, timeout)
@@ -47,7 +50,7 @@ def own_domain(ros_env):
             if future.done():
                 return float(re.search(r'at t = ([0-9.]+) s', future.result().message).group(1))
             reset_client.remove_pending_request(future)
-    yield env, clock, spin_until, reset_drop
+    yield env, clock, spin_until, reset_drop, acks
     node.destroy_node()
     context.try_shutdown()
 
@@ -95,7 +98,7 @@ def test_a_recorded_flat_out_run_holds_every_sample_of_every_topic(own_domain, w
     """Flat out, the recorder's keep-all subscriptions and its ~/recorded acknowledgements make
     the node wait for it: from a ~/reset on, the bag holds every sample the node published (the
     same engine replayed here gives the stamps and values), for more than 60 simulated s."""
-    env, clock, spin_until, reset_drop = own_domain
+    env, clock, spin_until, reset_drop, _ = own_domain
     bag = workdir / 'flat_out'
     recorder = Process('contact_sim_record', ['-o', str(bag)], env, workdir)
     spin_until(lambda: 'recording' in recorder.output(), 'the recorder to start')
@@ -149,18 +152,22 @@ def test_a_recorded_flat_out_run_holds_every_sample_of_every_topic(own_domain, w
 @pytest.mark.slow
 def test_a_recorder_killed_with_sigkill_loses_at_most_a_second_and_recovers(own_domain,
                                                                             workdir):
-    env, clock, spin_until, _ = own_domain
+    env, clock, spin_until, _, acks = own_domain
     bag = workdir / 'killed'
     clock.clear()   # (from an earlier node in this domain)
+    acks.clear()
     node = Process('contact_sim_node', [], env, workdir)
     recorder = Process('contact_sim_record', ['-o', str(bag)], env, workdir)
     try:
         spin_until(lambda: 'receiving /contact_sim/pose' in recorder.output(), 'recording')
         spin_until(lambda: clock and clock[-1] < 30e9, "this node's /clock")  # (not stale)
         start = clock[-1]
-        spin_until(lambda: clock[-1] > start + 3e9, '3 more simulated seconds')
+        spin_until(lambda: clock[-1] > start + 3e9 and acks and acks[-1] > start + 2e9,
+                   '3 more simulated seconds, recorded')
         os.killpg(recorder.popen.pid, signal.SIGKILL)
-        killed_at = clock[-1]   # (this reader lags the node: the node had reached at least this)
+        # what the recorder had recorded by the kill, as it acknowledged it (this reader lags
+        # it: it had recorded at least this); messages still on their way to it are not its loss
+        killed_at = acks[-1]
         recorder.popen.wait(TIMEOUT)
         clean_shm(recorder.started)
     finally:
@@ -189,7 +196,7 @@ def test_a_flat_out_node_stopped_first_leaves_nothing_it_published_out_of_the_ba
     ended 3 simulated s before the last tick the node had published). The bag holds every tick
     from the first (t = 0.01 s) to the last the node published, which the node names at its stop
     and which is at least the last /clock this test saw, on every per-tick topic."""
-    env, clock, spin_until, _ = own_domain
+    env, clock, spin_until, _, _ = own_domain
     bag = workdir / 'node_first'
     clock.clear()
     recorder = Process('contact_sim_record', ['-o', str(bag)], env, workdir)
