@@ -16,7 +16,9 @@ setup(
     ],
     install_requires=['setuptools', 'numpy', 'scipy', 'numba'],
     extras_require={'plot': ['matplotlib'], 'record': ['rosbags'], 'test': ['pytest'],
-                    'dask': ['dask[distributed]'],
+                    # sweeps on a Dask cluster (sweep(..., executor=Client.get_executor());
+                    # bench/bench_cluster.py); tested with 2026.8.0, pinned in constraints.txt
+                    'dask': ['dask[distributed]>=2026.8.0'],
                     'engines': ['mujoco', 'pybullet'], 'drake': ['drake']},
     zip_safe=True,
     maintainer='contact_sim developers',

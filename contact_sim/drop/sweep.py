@@ -27,11 +27,15 @@ def sweep(function, values, executor=None, max_workers=None):
     values : iterable
         The arguments, one call each.
     executor : concurrent.futures.Executor, optional
-        Where to run (e.g. ``distributed.Client(...).get_executor()``); default: a
-        ``ProcessPoolExecutor`` of this machine, shut down after.
+        Where to run: any ``concurrent.futures.Executor`` the caller made and still owns (it is
+        not shut down here), e.g. a ``ProcessPoolExecutor`` kept warm across sweeps or a Dask
+        cluster's ``distributed.Client(...).get_executor()`` (the optional ``dask`` extra;
+        ``bench/bench_cluster.py`` measures both).  Default: a ``ProcessPoolExecutor`` of this
+        machine, started here and shut down after.
     max_workers : int, optional
         The local pool's processes: 1 to ``max_workers_limit()`` (4 per CPU); default
-        ``os.cpu_count()``.  Never more are started than there are values.
+        ``os.cpu_count()``.  Never more are started than there are values.  Only without
+        ``executor``.
 
     Returns
     -------
@@ -41,8 +45,9 @@ def sweep(function, values, executor=None, max_workers=None):
     Raises
     ------
     InputError
-        ``values`` not iterable, ``max_workers`` not an integer in its range, or ``executor``
-        not an ``Executor``.
+        ``values`` not iterable, ``max_workers`` not an integer in its range or given with an
+        ``executor``, or ``executor`` not an ``Executor`` or one that takes no work (shut down
+        or broken).
 
     Examples
     --------
@@ -63,17 +68,30 @@ def sweep(function, values, executor=None, max_workers=None):
                          'or a concurrent.futures.Executor (e.g. '
                          'distributed.Client.get_executor())', value=repr(executor))
     if max_workers is not None:
+        if executor is not None:        # the caller's executor has its own workers
+            raise InputError('max_workers', max_workers, '{n[max_workers]} = {value} with an '
+                             '{n[executor]}: allowed None (the executor\'s own workers run); '
+                             '{n[max_workers]} sizes only the local pool')
         max_workers = require_int('max_workers', max_workers, 1, max_workers_limit())
     own = executor is None
     if own:
         workers = min(max_workers or os.cpu_count() or 1, max(len(values), 1))
         executor = ProcessPoolExecutor(max_workers=workers)
     try:
-        futures = [executor.submit(function, v) for v in values]
+        futures = [_submit(executor, function, v) for v in values]
         return [f.result() for f in futures]
     finally:
         if own:
             executor.shutdown()
+
+
+def _submit(executor, function, value):
+    try:
+        return executor.submit(function, value)
+    except RuntimeError as error:   # shut down, or broken (BrokenExecutor is a RuntimeError)
+        raise InputError('executor', executor, '{n[executor]} = {value} takes no work '
+                         '({error}): allowed an executor not shut down nor broken',
+                         value=repr(executor), error=error) from error
 
 
 def bifurcation_diagram(table, gammas, executor=None, max_workers=None):

@@ -1,6 +1,6 @@
 """The sweep API: order, executors (processes, threads, a local Dask cluster), named errors."""
 import importlib
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 
 import numpy as np
 import pytest
@@ -64,6 +64,37 @@ def test_bifurcation_diagram_period_one_then_two():
     assert len(one) == len(two) == 30
     assert np.ptp(one) < 1e-6                       # one phase: period 1
     assert np.ptp(two[::2]) < 1e-6 and np.ptp(two[1::2]) < 1e-6 and np.ptp(two) > 1e-2
+
+
+def test_a_callers_executor_gives_the_default_paths_diagram_and_is_left_running():
+    # issue 21: the hook bench/bench_cluster.py measures (concurrent.futures here, no Dask)
+    gammas = [0.9, 1.3, 2.0]
+    default = bifurcation_diagram(TABLE, gammas, max_workers=2)
+    assert len(default[1]) == 3 * 30
+    for pool in (ProcessPoolExecutor(2), ThreadPoolExecutor(2)):
+        with pool:
+            given = bifurcation_diagram(TABLE, gammas, executor=pool)
+            for a, b in zip(default, given):    # the same code on the same machine
+                np.testing.assert_array_equal(a, b)
+            assert pool.submit(_square, 4).result() == 16   # still the caller's, not shut down
+
+
+def test_an_executor_that_takes_no_work_or_a_pool_size_beside_it_is_refused_by_name():
+    # issue 21: a shut-down executor raised the pool's own RuntimeError ("cannot schedule new
+    # futures after shutdown"), and max_workers beside an executor was silently ignored
+    pool = ThreadPoolExecutor(1)
+    pool.shutdown()
+    with pytest.raises(cs.InputError, match=r"executor = .*ThreadPoolExecutor.* takes no work "
+                                            r"\(cannot schedule new futures after shutdown\)"):
+        sweep(_square, [1, 2], executor=pool)
+    with ThreadPoolExecutor(1) as pool:
+        with pytest.raises(cs.InputError, match=r'max_workers = 2 with an executor: allowed '
+                                                r'None') as refused:
+            sweep(_square, [1, 2], executor=pool, max_workers=2)
+    assert refused.value.field == 'max_workers'
+    with pytest.raises(cs.InputError, match=r"executor = 'local' is invalid: allowed None or a "
+                                            r"concurrent.futures.Executor"):
+        sweep(_square, [1], executor='local')
 
 
 def test_sweep_on_a_local_dask_cluster():
