@@ -44,6 +44,9 @@ def main(argv=None):
     ap.add_argument('--dask', default=None, help='a Dask scheduler address (optional extra)')
     ap.add_argument('--out', default='bifurcation.png')
     args = ap.parse_args(argv)
+    if args.dask and args.workers is not None:
+        ap.error('--workers sizes the local process pool: with --dask the cluster has its own '
+                 'workers (allowed one of --workers, --dask)')
     gammas = np.linspace(*args.gamma, args.points)
     executor = None
     if args.dask:
