@@ -19,7 +19,12 @@ import types
 
 
 class _LazyPackage(types.ModuleType):
-    """A package whose public names win over its submodules of the same name."""
+    """A package whose public names win over its submodules of the same name.
+
+    So ``contact_sim.impact.restitution`` is the function, as it was when the packages imported
+    their names eagerly, and ``import contact_sim.impact.restitution as m`` gives the function
+    too: reach such a submodule through ``sys.modules['contact_sim.impact.restitution']`` (or
+    ``importlib.import_module``), e.g. for ``unittest.mock.patch.object``."""
 
     def __setattr__(self, name, value):
         if (isinstance(value, types.ModuleType) and value.__name__ == f'{self.__name__}.{name}'

@@ -206,7 +206,7 @@ def main(args=None):
     try:
         node = Juggler()
         spin_until_signal(node)
-    except ExternalShutdownException:
+    except (KeyboardInterrupt, ExternalShutdownException):   # Ctrl-C before the spin began
         pass
     finally:
         if node is not None:

@@ -77,9 +77,15 @@ def sweep(function, values, executor=None, max_workers=None):
     if own:
         workers = min(max_workers or os.cpu_count() or 1, max(len(values), 1))
         executor = ProcessPoolExecutor(max_workers=workers)
+    futures = []
     try:
-        futures = [_submit(executor, function, v) for v in values]
+        for v in values:
+            futures.append(_submit(executor, function, v))
         return [f.result() for f in futures]
+    except BaseException:
+        for future in futures:   # a refusal midway: what was submitted does not run on
+            future.cancel()
+        raise
     finally:
         if own:
             executor.shutdown()

@@ -40,6 +40,7 @@ from .messages import PROGRESS
 LEAD_MESSAGES = 256   # unacknowledged messages on the paced topics (< the 512 of a shm port)
 START_GRACE = 3.0     # s of wall time a flat-out node waits at its start for a recorder
 READY_NS = 0          # an acknowledgement of nothing: the recorder is ready
+MISSES = 2            # looks in a row without a recorder before it counts as gone
 
 
 class RecorderPace:
@@ -70,7 +71,8 @@ class RecorderPace:
         self.recorded_ns = None   # the recorder's last acknowledgement (ns); None: none yet
         self._started = time.monotonic()
         self._grace_until = self._started + START_GRACE
-        self._present = False     # a recorder was there at the last look (``watch``)
+        self._present = False     # a recorder was there at the last looks (``watch``)
+        self._missed = 0          # looks in a row without a recorder
         self._unpaced_said = False
 
     def recorders(self):
@@ -79,8 +81,14 @@ class RecorderPace:
 
     def watch(self):
         """Look whether a recorder is there (a graph query, ~tens of us: done by a timer, every
-        ``loop.WATCH_PERIOD``, and while waiting at the start, not before every engine call)."""
-        self._present = self.recorders() > 0
+        ``loop.WATCH_PERIOD``, and while waiting at the start, not before every engine call).
+        A recorder found counts as gone after ``MISSES`` looks in a row without it, so that a
+        graph query that misses it once does not let the node loose."""
+        if self.recorders() > 0:
+            self._present, self._missed = True, 0
+        else:
+            self._missed += 1
+            self._present = self._present and self._missed < MISSES
 
     def room(self):
         """Messages the node may still publish: ``math.inf`` without a recorder (after the

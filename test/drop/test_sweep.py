@@ -1,6 +1,6 @@
 """The sweep API: order, executors (processes, threads, a local Dask cluster), named errors."""
 import importlib
-from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+from concurrent.futures import Executor, Future, ProcessPoolExecutor, ThreadPoolExecutor
 
 import numpy as np
 import pytest
@@ -95,6 +95,23 @@ def test_an_executor_that_takes_no_work_or_a_pool_size_beside_it_is_refused_by_n
     with pytest.raises(cs.InputError, match=r"executor = 'local' is invalid: allowed None or a "
                                             r"concurrent.futures.Executor"):
         sweep(_square, [1], executor='local')
+
+
+def test_an_executor_refusing_work_midway_leaves_nothing_submitted_to_run():
+    # review of issue 21's change: the futures submitted before the refusal went on running
+    class FailsThird(Executor):
+        def __init__(self):
+            self.futures = []
+
+        def submit(self, function, *args):
+            if len(self.futures) == 2:
+                raise RuntimeError('broken')
+            self.futures.append(Future())     # accepted, not started
+            return self.futures[-1]
+    executor = FailsThird()
+    with pytest.raises(cs.InputError, match=r'takes no work \(broken\)'):
+        sweep(_square, [1, 2, 3], executor=executor)
+    assert [f.cancelled() for f in executor.futures] == [True, True]
 
 
 def test_sweep_on_a_local_dask_cluster():

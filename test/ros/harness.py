@@ -27,7 +27,7 @@ TIMEOUT = 60.0
 PROGRESS_TIMEOUT = 4 * TIMEOUT
 NODE = '/contact_sim'
 SIM_RATE = 25.0            # Hz: the publish rate of the package's shared node (conftest.sim)
-SIM_TICK_NS = 40_000_000   # ns: its tick in real time, 1 / SIM_RATE
+SIM_TICK_NS = round(1e9 / SIM_RATE)   # ns of simulated time a tick at real_time_factor 1
 
 rclpy = pytest.importorskip('rclpy')
 

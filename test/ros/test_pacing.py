@@ -94,6 +94,9 @@ def test_a_recorder_found_again_after_it_was_missed_does_not_stall_the_node(cloc
     clock[0] += pacing.START_GRACE + 0.01
     node.subscription.publishers = 0
     pace.watch()
+    assert pace.room() == pacing.LEAD_MESSAGES   # one look without it: still paced by it
+    for _ in range(pacing.MISSES - 1):
+        pace.watch()
     assert pace.room() == math.inf               # missed: unpaced
     sent[0] = 5000                               # published meanwhile, without notes
     node.subscription.publishers = 1
