@@ -13,7 +13,7 @@ from contact_sim.ros import markers as cs_markers  # noqa: E402
 from contact_sim.ros import messages as cs_msgs  # noqa: E402
 from visualization_msgs.msg import Marker, MarkerArray  # noqa: E402
 from .harness import (  # noqa: E402
-    DEEP, NODE, PROGRESS_TIMEOUT, default_contact_and_mass, reset, stamp_ns)
+    DEEP, NODE, PROGRESS_TIMEOUT, SIM_TICK_NS, default_contact_and_mass, reset, stamp_ns)
 
 RADIUS = 0.0127   # m: the default sphere
 
@@ -66,5 +66,7 @@ def test_markers_show_the_sphere_plate_and_force_in_the_frame(sim, client):
             assert length == pytest.approx(RADIUS * force / weight, rel=1e-9, abs=1e-12)
             compared += 1
             forces.add(round(force / weight, 3))
-    assert compared >= 100
+    # a quarter of the window's ticks at least (4 s: 100 ticks of the shared node's 25 Hz; the
+    # client lags, and a marker array whose tick end it has not got yet is not compared)
+    assert compared >= 4_000_000_000 // SIM_TICK_NS // 4
     assert 0.0 in forces and 1.0 in forces   # flight (no force) and rest (F = m g) both seen
