@@ -224,14 +224,16 @@ class LibraryWorker:
     """One Python process that runs the library cases in turn (restarted after a hang or a
     crash), so that each case does not pay the import of contact_sim."""
 
+    SCRIPT, READY_TIMEOUT = LIBRARY_WORKER, 120.0   # the worker's code; s for its 'ready'
+
     def __init__(self, timeout):
         self.timeout, self.proc = timeout, None
 
     def _start(self):
-        self.proc = subprocess.Popen([sys.executable, '-c', LIBRARY_WORKER], text=True,
+        self.proc = subprocess.Popen([sys.executable, '-c', self.SCRIPT], text=True,
                                      stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                                      stderr=subprocess.DEVNULL, preexec_fn=_limit_memory)
-        self._read(120.0)               # 'ready': the import done
+        self._read(self.READY_TIMEOUT)   # 'ready': the import done
 
     def _read(self, timeout):
         ready, _, _ = select.select([self.proc.stdout], [], [], timeout)
@@ -242,20 +244,27 @@ class LibraryWorker:
             raise EOFError
         return line
 
-    def run(self, case):
-        call, kwargs, name, bad = case
+    def _ask(self, request):
+        """Send one case (JSON) and read its answer: (answer, None), or (None, (outcome,
+        message)) when the worker hung or died (it is stopped; the next case restarts it)."""
         if self.proc is None or self.proc.poll() is not None:
             self._start()
-        self.proc.stdin.write(json.dumps([call, kwargs, name, _encode(bad)]) + '\n')
+        self.proc.stdin.write(json.dumps(request) + '\n')
         self.proc.stdin.flush()
         try:
-            answer = json.loads(self._read(self.timeout))
+            return json.loads(self._read(self.timeout)), None
         except TimeoutError:
             self.stop()
-            return 'hang', ''
+            return None, ('hang', '')
         except EOFError:                # killed: out of memory in C code, or a crash
             self.stop()
-            return 'memory', 'the worker died'
+            return None, ('memory', 'the worker died')
+
+    def run(self, case):
+        call, kwargs, name, bad = case
+        answer, failed = self._ask([call, kwargs, name, _encode(bad)])
+        if failed:
+            return failed
         outcome, message = answer['outcome'], answer.get('message', '')
         if outcome == 'refused' and (not name or name not in message):
             return 'unnamed', message
@@ -294,26 +303,13 @@ class CliWorker(LibraryWorker):
     as the executable, without paying the import for every case (on a loaded machine the
     import alone can exceed the timeout)."""
 
-    def _start(self):
-        self.proc = subprocess.Popen([sys.executable, '-c', CLI_WORKER], text=True,
-                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                     stderr=subprocess.DEVNULL, preexec_fn=_limit_memory)
-        self._read(300.0)
+    SCRIPT, READY_TIMEOUT = CLI_WORKER, 300.0
 
     def run(self, case):
         argv, option = case
-        if self.proc is None or self.proc.poll() is not None:
-            self._start()
-        self.proc.stdin.write(json.dumps(argv) + '\n')
-        self.proc.stdin.flush()
-        try:
-            answer = json.loads(self._read(self.timeout))
-        except TimeoutError:
-            self.stop()
-            return 'hang', ''
-        except EOFError:
-            self.stop()
-            return 'memory', 'the worker died'
+        answer, failed = self._ask(argv)
+        if failed:
+            return failed
         return verdict(answer['code'], answer['out'], answer['err'], option)
 
 
