@@ -4,20 +4,13 @@ import os
 
 import pytest
 
-from contact_sim.cli.app import main
+from test_cli import run
 
 MATERIALS = ['--sphere', 'steel', '--plate', 'cast_iron', '--radius', '0.0127']
 RESTITUTION = ['restitution', *MATERIALS, '--damping-factor', '8.87e5', '--speeds', '1']
 DROP = ['drop', '--stiffness', '1e10', '--damping', '1e5', '--mass', '0.066', '--duration', '1']
 
 
-def run(capsys, argv):
-    try:
-        code = main(argv)
-    except SystemExit as stop:
-        code = stop.code
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 @pytest.mark.parametrize('argv, option', [
