@@ -26,8 +26,10 @@ the contact points are).
 Pacing by a recorder (``pacing.RecorderPace``, the protocol is described there). Running as fast
 as possible while ``contact_sim_record`` is there, the node publishes no more than
 ``pacing.LEAD_MESSAGES`` messages beyond what the recorder has acknowledged: before each engine
-call it asks for room, and sizes the call to it (at rest 8 messages a tick); without room it
-pauses its timer, and resumes at the next acknowledgement (or when the recorder has gone: checked
+call it asks for room, and sizes the call to it and to ``pacing.CALL_MESSAGES`` (at rest 8
+messages a tick), one call a turn, so that the recorder's acknowledgements are taken between
+calls and it records one call while the node computes the next; without room the node pauses its
+timer, and resumes at the next acknowledgement (or when the recorder has gone: checked
 every ``WATCH_PERIOD``). At a stop (``drain``) it finishes its tick, publishes what waits and
 waits until the recorder has acknowledged all of it.
 """
@@ -37,7 +39,7 @@ import time
 import numpy as np
 import rclpy
 
-from .pacing import RecorderPace
+from .pacing import CALL_MESSAGES, RecorderPace
 
 TURN_STEP_BUDGET = 20    # integrator steps per engine call (~10 ms); then the wall budget is checked
 BATCH_TICKS = 256        # ticks per batched engine call (advance_ticks), then the budgets are checked
@@ -121,7 +123,11 @@ class TickLoop:
         deadline = start + (FAST_TURN if fast else min(
             REAL_TURN * self._period, TURN_BASE + TURN_PER_TICK * max(due - self._tick, 0)))
         if fast:
-            if self._pace.room() <= 0 and not self._mid_tick():
+            room = self._pace.room()
+            if room != math.inf:
+                deadline = start   # paced: one engine call a turn (pacing: acknowledgements
+                # are taken between turns, and the recorder works on the last call meanwhile)
+            if room <= 0 and not self._mid_tick():
                 # a recorder is behind: wait for it (RecorderPace; never inside a tick, whose
                 # end is what it acknowledges)
                 self._pause()
@@ -159,7 +165,7 @@ class TickLoop:
         room = self._pace.room()
         if room == math.inf:
             return upto
-        return min(upto, self._tick + max(1, int(room) // TICK_MESSAGES))
+        return min(upto, self._tick + max(1, min(int(room), CALL_MESSAGES) // TICK_MESSAGES))
 
     def drain(self):
         """At a stop: tick no more, finish the tick begun, and return a predicate that holds

@@ -14,7 +14,11 @@ The protocol (the recorder's side is ``recorder.Recorder.report``):
    note stamped at or before t; ``READY_NS`` releases everything published so far (what went out
    before the recorder matched is not the recorder's to acknowledge). The node publishes while
    fewer than ``LEAD_MESSAGES`` are unreleased, and pauses otherwise, until the next
-   acknowledgement or until the recorder goes away. The first acknowledgement after the
+   acknowledgement or until the recorder goes away. It publishes in engine calls of at most
+   ``CALL_MESSAGES`` (half the lead), one a turn of its executor, so that the acknowledgement
+   of one call comes back while the next is computed and published: the two processes work at
+   once (measured at rest, ``bench/bench_recording.py``: one call of the whole lead a turn of
+   20 ms let both wait about two thirds of the time). The first acknowledgement after the
    recorder was missed (not seen by ``watch``) releases everything too, like ``READY_NS``.
 3. Why messages and not ticks: Fast DDS delivers between processes of one machine through a
    shared-memory port whose queue holds 512 messages by default; a burst larger than that is,
@@ -38,6 +42,7 @@ from collections import deque
 from .messages import PROGRESS
 
 LEAD_MESSAGES = 256   # unacknowledged messages on the paced topics (< the 512 of a shm port)
+CALL_MESSAGES = LEAD_MESSAGES // 2   # messages of one engine call at most while paced
 START_GRACE = 3.0     # s of wall time a flat-out node waits at its start for a recorder
 READY_NS = 0          # an acknowledgement of nothing: the recorder is ready
 MISSES = 2            # looks in a row without a recorder before it counts as gone
