@@ -14,6 +14,8 @@ simulated s per wall s (from /clock), the CPU of the node and of the recorder (%
 ~/pose, ~/twist, /clock), and the machine's load average (the machine is shared: the rates are
 what it gave, not what the code can do on idle cores). Simulated s per CPU s of each process
 says what the work costs: with a core each, the recorded rate could be at most the smaller.
+The messages a simulated s in the bag times the rate is what went through the middleware a wall
+s; ``bench/bench_dds_floor.py`` measures how many it can carry with nothing else to do.
 """
 import argparse
 import os
@@ -97,7 +99,7 @@ def run(params, recorded, window, workdir, domain):
         out['node_log'] = process.output()
         if recorder is not None:
             recorder.stop()
-            out['bag'] = check_bag(bag, last)
+            out['bag'], out['messages'] = check_bag(bag, last)
     finally:
         for p in (process, recorder):
             if p is not None and p.popen.poll() is None:
@@ -123,7 +125,9 @@ def check_bag(bag, last_seen):
         report.append(f'{topic.rsplit("/", 1)[1]} {len(ns)} ticks to {ns[-1] * 1e-9:.2f} s '
                       + ('complete' if whole else 'INCOMPLETE'))
     impacts = len(stamps.get('/contact_sim/impact', []))
-    return '; '.join(report) + f'; {impacts} impacts (last /clock seen {last_seen:.2f} s)'
+    messages = sum(len(ns) for ns in stamps.values()) / max(last_seen, 1e-9)
+    return ('; '.join(report) + f'; {impacts} impacts (last /clock seen {last_seen:.2f} s); '
+            f'{messages:.0f} messages a simulated s'), messages
 
 
 def main():
@@ -146,7 +150,9 @@ def main():
                       + (f' (a core each: at most {min(per_cpu):.0f} x real time)'
                          if len(per_cpu) == 2 else ''))
                 if recorded:
-                    print(f'         bag: {out["bag"]}')
+                    print(f'         bag: {out["bag"]}: {out["rate"] * out["messages"]:.0f} '
+                          'messages recorded a wall s (the middleware alone: '
+                          'bench/bench_dds_floor.py)')
 
 
 if __name__ == '__main__':

@@ -1,0 +1,130 @@
+"""The middleware's floor under recording: how many messages a second one rclpy process can hand
+to another through the ROS 2 middleware here (Fast DDS, rclpy, shared memory), with the node's
+and the recorder's QoS and the recorder's pacing, and nothing else (no engine, no bag).
+
+    python bench/bench_dds_floor.py [--messages 40000]
+
+A publisher sends serialized ``geometry_msgs/PoseStamped`` (the node's state QoS, raw bytes as
+the node's outbox does) at most ``pacing.LEAD_MESSAGES`` beyond what a subscriber (a second
+process: keep-all reliable, raw, the events executor, as ``contact_sim_record``) has acknowledged
+on a ``~/recorded``-like topic every ``recorder.ACK_EVERY`` messages. Printed: messages per wall
+second, CPU µs per message of each process (user + system, its middleware threads included),
+and what that rate allows a recorded node: at ``bench_recording``'s messages per simulated
+second (8 a tick at rest at 100 Hz), the real-time factor no recorded node can pass here.
+"""
+import argparse
+import os
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import rclpy
+from geometry_msgs.msg import PoseStamped
+from rclpy.experimental.events_executor import EventsExecutor
+from rclpy.serialization import serialize_message
+from rosgraph_msgs.msg import Clock
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from contact_sim.ros.messages import PROGRESS, RECORD_QOS, STATE_QOS  # noqa: E402
+from contact_sim.ros.pacing import LEAD_MESSAGES  # noqa: E402
+from contact_sim.ros.recorder import ACK_EVERY  # noqa: E402
+
+TOPIC, ACK = '/bench_dds_floor/data', '/bench_dds_floor/recorded'
+REST_MESSAGES = 800   # messages a simulated second at rest: 8 a tick at 100 Hz (loop.TICK_MESSAGES)
+
+
+def cpu_seconds():
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    return usage.ru_utime + usage.ru_stime
+
+
+def subscriber(count):
+    """Take ``count`` messages raw; acknowledge every ACK_EVERY; print CPU µs a message."""
+    node = rclpy.create_node('bench_dds_floor_sub')
+    executor = EventsExecutor()
+    executor.add_node(node)
+    ack = node.create_publisher(Clock, ACK, PROGRESS.qos)
+    got, start = [0], []
+
+    def on_message(data):
+        if not start:
+            start.append(cpu_seconds())
+        got[0] += 1
+        if got[0] % ACK_EVERY == 0 or got[0] == count:
+            msg = Clock()
+            msg.clock.sec = got[0]
+            ack.publish(msg)
+    node.create_subscription(PoseStamped, TOPIC, on_message, RECORD_QOS, raw=True)
+    print('ready', flush=True)
+    while got[0] < count:
+        executor.spin_once(timeout_sec=0.1)
+    print(f'{(cpu_seconds() - start[0]) / count * 1e6:.1f}', flush=True)
+    time.sleep(0.5)   # the last acknowledgement out
+
+
+def publisher(count):
+    """Start the subscriber, send ``count`` messages paced by it; (wall s, CPU µs a message of
+    each side)."""
+    sub = subprocess.Popen([sys.executable, __file__, '--role', 'sub', '--messages', str(count)],
+                           stdout=subprocess.PIPE, text=True, env=os.environ.copy())
+    try:
+        if sub.stdout.readline().strip() != 'ready':
+            raise RuntimeError('the subscriber did not start')
+        node = rclpy.create_node('bench_dds_floor_pub')
+        executor = EventsExecutor()
+        executor.add_node(node)
+        publisher = node.create_publisher(PoseStamped, TOPIC, STATE_QOS)
+        acked = [0]
+        node.create_subscription(Clock, ACK, lambda m: acked.__setitem__(0, m.clock.sec),
+                                 PROGRESS.qos)
+        deadline = time.monotonic() + 30
+        while publisher.get_subscription_count() == 0 or acked[0] < 0:
+            if time.monotonic() > deadline:
+                raise RuntimeError('the subscriber was not discovered within 30 s')
+            executor.spin_once(timeout_sec=0.05)
+        data = serialize_message(PoseStamped())
+        wall, cpu = time.monotonic(), cpu_seconds()
+        for sent in range(1, count + 1):
+            while sent - acked[0] > LEAD_MESSAGES:
+                executor.spin_once(timeout_sec=1.0)
+            publisher.publish(data)
+            if sent % 8 == 0:
+                executor.spin_once(timeout_sec=0)
+        while acked[0] < count:
+            executor.spin_once(timeout_sec=1.0)
+        wall, cpu = time.monotonic() - wall, (cpu_seconds() - cpu) / count * 1e6
+        return wall, cpu, float(sub.stdout.readline())
+    finally:
+        sub.wait(30)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    parser.add_argument('--messages', type=int, default=40000)
+    parser.add_argument('--role', choices=('pub', 'sub'), default='pub', help=argparse.SUPPRESS)
+    options = parser.parse_args()
+    if 'ROS_DOMAIN_ID' not in os.environ:
+        os.environ['ROS_DOMAIN_ID'] = str(150 + os.getpid() % 80)
+    rclpy.init()
+    try:
+        if options.role == 'sub':
+            subscriber(options.messages)
+            return
+        load = os.getloadavg()[0]
+        wall, pub_us, sub_us = publisher(options.messages)
+    finally:
+        rclpy.try_shutdown()
+    rate = options.messages / wall
+    print(f'{options.messages} messages paced (lead {LEAD_MESSAGES}, acknowledged every '
+          f'{ACK_EVERY}): {rate:.0f} messages/s; CPU {pub_us:.1f} us a message publishing, '
+          f'{sub_us:.1f} us taking; load average {load:.1f} before, {os.getloadavg()[0]:.1f} '
+          'after')
+    print(f'a recorded node at rest ({REST_MESSAGES} messages a simulated s) cannot pass '
+          f'{rate / REST_MESSAGES:.0f}x real time here; N messages a simulated s: '
+          f'{rate:.0f} / N')
+
+
+if __name__ == '__main__':
+    main()
