@@ -232,6 +232,10 @@ def require_range(name, value, low=-math.inf, high=math.inf, *, low_open=False, 
     The message states the field, the value and the allowed range, e.g.
     ``poisson_ratio = 0.6 is out of range: allowed -1 < poisson_ratio < 0.5``.
     """
+    if type(value) is float and math.isfinite(value) \
+            and (low < value if low_open else low <= value) \
+            and (value < high if high_open else value <= high):
+        return value    # a plain finite float in range: what the checks below return for it
     if allow_inf and isinstance(value, (int, float)) and not isinstance(value, bool) \
             and value == math.inf:
         x = math.inf

@@ -31,8 +31,8 @@ import math
 import numpy as np
 
 from contact_sim.impact.dimensionless import dimensionless
-from contact_sim.impact.scales import (CONTACT_LENGTH_MAX, CONTACT_TIME_MIN, ZETA_MAX, checked_scales,
-                                      damping_group_of, impact_scales, require_speeds)
+from contact_sim.impact.scales import (checked_scales, checked_scales_at, damping_group_of,
+                                      impact_scales, require_speeds)
 from contact_sim.impact.tails import restitution_tails
 from contact_sim.model import get_law, require_contact
 from contact_sim.validation import MASS_RANGE, require_mass
@@ -103,11 +103,7 @@ def _scalar_restitution(contact, mass, speed):
     """One speed, fully in Python floats: the ≤ 20 µs path used by services."""
     contact = require_contact(contact)
     law = contact.law
-    length = (mass * speed * speed / contact.stiffness) ** (1.0 / (law.n + 1.0))
-    zeta = damping_group_of(law, length, speed, contact.damping, mass)
-    if not (zeta <= ZETA_MAX and 0.0 < length <= CONTACT_LENGTH_MAX
-            and length >= CONTACT_TIME_MIN * speed):
-        return _dimensional('restitution', contact, mass, speed)   # raises, naming the speed
+    zeta = checked_scales_at(contact, mass, speed, 'speeds')[2]   # raises, naming the speed
     closed = law.closed_form
     if zeta > 0.0 and closed is not None and closed.scalar is not None:
         return closed.scalar(zeta)

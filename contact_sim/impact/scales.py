@@ -4,6 +4,8 @@ With Z = (m v² / k)^(1/(n+1)) (the depth at which the spring would hold all the
 and T = Z / v, an impact without gravity reduces to one problem in the group
 ζ = λ Z^(p+1) v^(q-2) / m (see ``restitution``).  These functions work on numpy arrays.
 """
+import math
+
 import numpy as np
 
 from contact_sim.validation import InputError, require_real_array
@@ -40,6 +42,30 @@ def damping_group_of(law, length, speed, damping, mass):
     """ζ = λ Z^(p+1) v^(q-2) / m at the impact length scale Z (m) and speed v (m/s): arrays or
     floats."""
     return damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
+
+
+def checked_scales_at(contact, mass, speed, name='speed', zeta_max=ZETA_MAX, zeta_min=0.0):
+    """``checked_scales`` at one speed, as floats: (Z in m, T in s, ζ).
+
+    The same tests in plain float arithmetic (about 1 µs, against 20 µs for numpy on a 0-d
+    array), for the callers of one impact (``simulate_impact``, the scalar ``restitution``).
+    Anything the float path cannot decide (not a finite float > 0, an overflow, a test that
+    fails) goes to ``checked_scales``, which raises the same ``InputError`` as for an array.
+    """
+    if type(speed) is float and 0.0 < speed < math.inf and type(mass) is float:
+        law = contact.law
+        try:
+            length = (mass * speed * speed / contact.stiffness) ** (1.0 / (law.n + 1.0))
+            time = length / speed
+            zeta = damping_group_of(law, length, speed, contact.damping, mass)
+        except (OverflowError, ZeroDivisionError):
+            pass
+        else:
+            if (0.0 < length <= CONTACT_LENGTH_MAX and CONTACT_TIME_MIN <= time < math.inf
+                    and zeta <= zeta_max and (zeta == 0.0 or zeta >= zeta_min)):
+                return length, time, zeta
+    length, time, zeta = checked_scales(contact, mass, speed, name, zeta_max, zeta_min)
+    return float(length), float(time), float(zeta)
 
 
 def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX, zeta_min=0.0):

@@ -11,7 +11,7 @@ from contact_sim.impact.force_tail import deepest_point, force_tail, needs_force
 from contact_sim.model import require_contact
 from contact_sim.phase import (DEFAULT_ATOL, DEFAULT_RTOL, contact_phase, lift_off_energy,
                                phase_scales)
-from contact_sim.impact.scales import checked_scales
+from contact_sim.impact.scales import checked_scales_at
 from contact_sim.validation import (require_int, require_mass, require_nonnegative,
                                     require_positive, require_rtol)
 
@@ -119,15 +119,17 @@ def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_st
     contact = require_contact(contact)
     mass = require_mass(mass)
     speed = require_positive('speed', speed)
-    checked_scales(contact, mass, speed, 'speed')   # Z, T finite doubles, ζ in range
+    checked_scales_at(contact, mass, speed, 'speed')   # Z, T finite doubles, ζ in range
     gravity = require_nonnegative('gravity', gravity)
     rtol = require_rtol('rtol', rtol)
     max_steps = require_int('max_steps', max_steps, 1, 10 ** 9)
     # heavy damping with n > p: the way out is integrated in the force (``force_tail``)
-    zeta = phase_scales(contact, mass, gravity, 0.0, speed).damping
+    scales = phase_scales(contact, mass, gravity, 0.0, speed)
+    zeta = scales.damping
     tail = needs_force_tail(contact.law, zeta)
     phase = contact_phase(contact, mass, gravity, 0.0, 0.0, speed, rtol=rtol, engine=engine,
-                          atol=way_in_atol(zeta) if tail else DEFAULT_ATOL, keep_points=tail)
+                          atol=way_in_atol(zeta) if tail else DEFAULT_ATOL, keep_points=tail,
+                          scales=scales)
     floor = lift_off_energy(contact, mass, gravity) if gravity > 0.0 else -math.inf
     while not phase.lifted_off:
         if phase.steps >= max_steps:

@@ -55,9 +55,10 @@ def use_engine(name):
 
 def contact_phase(contact, mass, gravity, start_time, penetration, penetration_rate,
                   rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, engine=None, keep_points=True,
-                  forcing=None):
+                  forcing=None, scales=None):
     """The integrator of one contact phase (see ``PhaseIntegrator`` for the arguments;
-    ``keep_points=False`` lets the compiled phase skip its point list).
+    ``keep_points=False`` lets the compiled phase skip its point list; ``scales``, the phase's
+    ``phase_scales`` of these arguments if the caller has them already).
 
     ``forcing`` (a ``Forcing`` beyond gravity) needs the compiled engine, which then integrates
     the phase with DOP853 even when it is stiff.
@@ -72,9 +73,11 @@ def contact_phase(contact, mass, gravity, start_time, penetration, penetration_r
             raise ValueError(f'forcing = {forcing!r} needs the compiled engine: allowed '
                              f"engine = 'compiled' (not {engine!r}) or no forcing")
         return CompiledPhase(contact, mass, gravity, start_time, penetration, penetration_rate,
-                             rtol=rtol, atol=atol, keep_points=keep_points, forcing=forcing)
+                             rtol=rtol, atol=atol, scales=scales, keep_points=keep_points,
+                             forcing=forcing)
     if engine == 'compiled':
-        scales = phase_scales(contact, mass, gravity, penetration, penetration_rate)
+        if scales is None:
+            scales = phase_scales(contact, mass, gravity, penetration, penetration_rate)
         if not is_stiff(contact.law, gravity, scales.damping, COMPILED_STIFF_DAMPING):
             return CompiledPhase(contact, mass, gravity, start_time, penetration,
                                  penetration_rate, rtol=rtol, atol=atol, scales=scales,

@@ -198,6 +198,54 @@ def test_scalar_closed_forms_equal_the_vectorised_ones():
             float(linear_restitution_and_duration(zeta)[0]), rel=1e-13, abs=1e-300)
 
 
+def _hunt_crossley_e_decimal(zeta):
+    """e(ζ) of Hunt-Crossley to 40 digits: Newton in Decimal on -s - ln(1 - s) = ζ - ln(1 + ζ)
+    in s = ζ e (c < 1 at every ζ it is called with here)."""
+    from decimal import Decimal, localcontext
+    with localcontext() as ctx:
+        ctx.prec = 40
+        z = Decimal(zeta)
+        c = z - (1 + z).ln()
+        s = z * Decimal(float(cs.restitution(cs.Contact(cs.HUNT_CROSSLEY, 1.0, zeta), 1.0, 1.0)))
+        for _ in range(100):
+            step = (-s - (1 - s).ln() - c) * (1 - s) / s
+            s -= step
+            if abs(step) < Decimal(10) ** -36 * s:
+                break
+        return float(s / z)
+
+
+def test_hunt_crossley_table_is_a_guess_one_newton_step_finishes():
+    # the vectorised path starts from the table and takes one step: its guess must be within
+    # ONE_STEP_GUESS_RTOL (the docstring says 1e-10) over the table
+    from contact_sim.model.closed_form_kernels import hunt_crossley_restitution_many, table_value
+    from contact_sim.model.closed_forms import HC_TABLE_ZETA, hunt_crossley_table
+    from contact_sim.model.hunt_crossley_scalar import ONE_STEP_GUESS_RTOL
+    zeta = np.exp(np.random.default_rng(3).uniform(*np.log(HC_TABLE_ZETA), 20_000))
+    exact = np.empty(zeta.size)
+    hunt_crossley_restitution_many(zeta, exact)
+    table = hunt_crossley_table()
+    guess = np.array([table_value(z, *table) for z in zeta])
+    assert np.max(np.abs(guess - exact) / exact) <= min(1e-10, ONE_STEP_GUESS_RTOL)
+
+
+def test_vectorised_hunt_crossley_restitution_is_exact_to_round_off():
+    # against 40 digits: the tabled path (one step) and the full iteration, both to round-off
+    # (before g(x) = x - ln(1 + x) was summed in atanh's series, 3e-13 near ζ = 1e-3)
+    from contact_sim.model.closed_form_kernels import hunt_crossley_restitution_many
+    zeta = np.concatenate([np.geomspace(1e-6, 2.0, 150), [2e-3, 5e-3, 1e-2, 0.1, 1.0, 1.9]])
+    truth = np.array([_hunt_crossley_e_decimal(z) for z in zeta])
+    full = np.empty(zeta.size)
+    hunt_crossley_restitution_many(zeta, full)
+    fast = hunt_crossley_restitution(zeta)
+    assert np.max(np.abs(fast - truth) / truth) <= 1e-15
+    assert np.max(np.abs(full - truth) / truth) <= 1e-15
+    big = np.geomspace(2.0, 1e8, 60)             # the u branch, and past the table's end
+    full = np.empty(big.size)
+    hunt_crossley_restitution_many(big, full)
+    assert np.max(np.abs(hunt_crossley_restitution(big) - full) / full) <= 1e-14
+
+
 # -- issue 7: unchecked knobs ---------------------------------------------------------------
 @pytest.mark.parametrize('rtol', [1.0, math.inf, 1e300, 1e-20])
 def test_simulate_impact_refuses_a_tolerance_it_cannot_honour(rtol):
