@@ -2,6 +2,7 @@
 """Console transcripts for the docs, made by running the real commands.
 
     python scripts/transcripts.py [OUT_DIR [FIGURES_DIR]]   # default docs/_generated/transcripts
+    python scripts/transcripts.py OUT_DIR --names NAME...   # only these, no figures
 
 Each transcript is one ``NAME.txt``: the commands as a user types them (``$ ...``), each followed
 by what it printed (stdout and stderr, in order of the steps). The `contact-sim` commands run in
@@ -273,32 +274,65 @@ def run(name, figures=None):
     return ''.join(parts)
 
 
+# each of these starts the installed node (about 2 s apiece, in a process of its own): they run
+# in a second process of this script while this one runs the rest, on the machine's other core
+BESIDE = ('node_help', 'node_start', 'node_refusals')
+
+
+def write(out_dir, name, figures=None):
+    """Write transcript ``name``'s files into ``out_dir`` (``files``); their paths."""
+    texts = {}
+    if name in NEEDS:
+        installed = importable(NEEDS[name][0])
+        texts[f'{name}.md'] = fragment(name, installed)
+        (out_dir / f'{name}.txt').unlink(missing_ok=True)   # from a build that had it
+    if name not in NEEDS or installed:
+        texts[f'{name}.txt'] = run(name, figures)
+    for file, text in texts.items():
+        path = out_dir / file
+        if not path.exists() or path.read_text() != text:
+            path.write_text(text)
+    return [out_dir / file for file in texts]
+
+
 def write_all(out_dir=DEFAULT_OUT, names=None, figures=None):
-    """Write ``NAME.txt`` for each transcript (all by default) into ``out_dir``; their paths.
-    The plots the commands draw (``--plot``) go to ``figures`` when it is given."""
+    """Write the files of each transcript (all by default) into ``out_dir``; their paths. The
+    plots the commands draw (``--plot``) go to ``figures`` when it is given.
+
+    Raises
+    ------
+    RuntimeError
+        When the second process, which runs the ``BESIDE`` transcripts, fails."""
     import matplotlib
     matplotlib.use('Agg')
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    names = list(names or TRANSCRIPTS)
+    beside = [name for name in names if name in BESIDE]
+    child = subprocess.Popen([sys.executable, __file__, str(out_dir), '--names', *beside],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                             text=True) if beside else None
     paths = []
-    for name in names or TRANSCRIPTS:
-        texts = {}
-        if name in NEEDS:
-            installed = importable(NEEDS[name][0])
-            texts[f'{name}.md'] = fragment(name, installed)
-            (out_dir / f'{name}.txt').unlink(missing_ok=True)   # from a build that had it
-        if name not in NEEDS or installed:
-            texts[f'{name}.txt'] = run(name, figures)
-        for file, text in texts.items():
-            path = out_dir / file
-            if not path.exists() or path.read_text() != text:
-                path.write_text(text)
-            paths.append(path)
-    return paths
+    try:
+        for name in names:
+            if name not in beside:
+                paths += write(out_dir, name, figures)
+    finally:
+        output = child.communicate()[0] if child else ''
+    if child and child.returncode != 0:
+        raise RuntimeError(f'scripts/transcripts.py --names {" ".join(beside)} failed:\n{output}')
+    return paths + [out_dir / file for name in beside for file in files(name)]
 
 
 if __name__ == '__main__':
     started = time.perf_counter()
-    written = write_all(sys.argv[1] if len(sys.argv) > 1 else DEFAULT_OUT,
-                        figures=sys.argv[2] if len(sys.argv) > 2 else None)
+    args = sys.argv[1:]
+    only = args[args.index('--names') + 1:] if '--names' in args else None
+    places = args[:args.index('--names')] if only is not None else args
+    out = Path(places[0]) if places else DEFAULT_OUT
+    if only is not None:      # the BESIDE part of write_all, or any names asked for, here
+        out.mkdir(parents=True, exist_ok=True)
+        written = [path for name in only for path in write(out, name)]
+    else:
+        written = write_all(out, figures=places[1] if len(places) > 1 else None)
     print(f'{len(written)} transcripts in {time.perf_counter() - started:.1f} s')
