@@ -2,6 +2,7 @@
 """Console transcripts for the docs, made by running the real commands.
 
     python scripts/transcripts.py [OUT_DIR [FIGURES_DIR]]   # default docs/_generated/transcripts
+    python scripts/transcripts.py OUT_DIR --names NAME...   # only these, no figures
 
 Each transcript is one ``NAME.txt``: the commands as a user types them (``$ ...``), each followed
 by what it printed (stdout and stderr, in order of the steps). The `contact-sim` commands run in
@@ -9,12 +10,18 @@ this process through ``contact_sim.cli.main`` (the console script's own entry po
 code, without paying Python's and numba's start-up for each), in a temporary working directory,
 so the files they write (plots, CSV, YAML) are named as a user would see them. A shell pipeline
 is run as its parts: the `contact-sim` part here, the filter (``awk``, ``head``, ``cat``) in the
-shell. The docs build (docs/_ext/contact_sim_docs.py) runs this script; it writes only files
-whose text changed.
+shell. ``contact_sim_node`` runs installed, in its own process, through the shell. A command
+run on a file of the repository (``examples/ball.xml``) finds a copy at the same relative path.
+A transcript of ``NEEDS`` (Drake's) needs a package the docs may be built without: its page
+includes ``NAME.md``, which holds the transcript and its pictures when the package imports and
+a note that it is not installed otherwise. The docs build (docs/_ext/contact_sim_docs.py) runs
+this script; it writes only files whose text changed.
 """
 import contextlib
+import importlib
 import io
 import os
+import re
 import runpy
 import shutil
 import subprocess
@@ -149,9 +156,103 @@ TRANSCRIPTS['bounces_stiffness'] = [
      'grep -E "^azad|C_d ="; done', stiffness_loop)]
 
 
+STEEL = ('--law azad_featherstone --sphere steel --plate cast_iron --radius 0.0127 '
+         '--damping-factor 8.87e5')
+
+
+def export_command(engine, timestep, name):
+    """The export of the issue's steel-on-cast-iron contact that ``docs/export.md`` shows."""
+    return (f'contact-sim export {engine} --timestep {timestep} {STEEL} --speed-range 0.1 10 '
+            f'--points 5 --plot {name}.png')
+
+
+def with_repo_file(path, step):
+    """``step``, with the repository's file ``path`` at the same relative path in the working
+    directory (the command is shown as typed at the repository's root)."""
+    def run_step():
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(ROOT / path, path)
+        return step()
+    return run_step
+
+
+def node(command):
+    """A shell command line that runs the installed ``contact_sim_node`` (this venv's first on
+    the ``PATH``), in its own process: it refuses before ROS starts a graph. Its output, stdout
+    and stderr as one stream in order."""
+    env = dict(os.environ, PATH=f'{Path(sys.executable).parent}{os.pathsep}{os.environ["PATH"]}')
+    done = subprocess.run(command, shell=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          text=True, env=env)
+    return done.stdout
+
+
+for engine, timestep, name in (('mujoco', '1e-3', 'export_mujoco_1ms'),
+                               ('mujoco', '1e-4', 'export_mujoco_01ms'),
+                               ('pybullet', '1e-3', 'export_pybullet_1ms'),
+                               ('drake', '0', 'export_drake_continuous'),
+                               ('drake', '1e-3', 'export_drake_1ms'),
+                               ('gazebo', '1e-3', 'export_gazebo_1ms')):
+    command = export_command(engine, timestep, name)
+    TRANSCRIPTS[name] = [(command, lambda c=command: contact_sim(c))]
+for engine, model, option in (('mujoco', 'examples/ball.xml', '--geom ball'),
+                              ('pybullet', 'examples/ball.urdf', '--link ball --timestep 1e-3')):
+    command = f'contact-sim audit {engine} {model} {option} {STEEL} --points 4'
+    TRANSCRIPTS[f'audit_{engine}'] = [
+        (command, with_repo_file(model, lambda c=command: contact_sim(c)))]
+TRANSCRIPTS['node_start'] = [(c, lambda c=c: node(c)) for c in (
+    'contact_sim_node --help > /dev/null; echo "exit code $?"',
+    'contact_sim_node --frobnicate; echo "exit code $?"')]
+TRANSCRIPTS['node_refusals'] = [
+    (c, lambda c=c: shell(c)) for c in (
+        "printf 'a: [\\n' > bad.yaml", "printf '\\377\\376' > binary.yaml",
+        "printf 'foo: 1\\n' > no_parameters.yaml")] + [
+    (c, lambda c=c: node(c)) for c in (
+        *(f'contact_sim_node --ros-args --params-file {f}; echo "exit code $?"'
+          for f in ('/nonexistent.yaml', 'bad.yaml', 'binary.yaml', 'no_parameters.yaml')),
+        'contact_sim_node --ros-args -p contact_law:=; echo "exit code $?"')]
+
+# transcripts that need a package these docs may be built without: name -> (module, install)
+NEEDS = {'export_drake_continuous': ('pydrake', 'pip install drake'),
+         'export_drake_1ms': ('pydrake', 'pip install drake')}
+
+
+def importable(module):
+    """True when ``module`` imports here."""
+    try:
+        importlib.import_module(module)
+    except ImportError:
+        return False
+    return True
+
+
+def fragment(name, installed):
+    """``NAME.md``, the Markdown a page includes for a transcript of ``NEEDS``: the transcript
+    and the pictures it draws when its package imports (``installed``), else a note."""
+    module, install = NEEDS[name]
+    if not installed:
+        package = install.split()[-1]
+        return (f'**Not shown: {package} not installed when these docs were built** (`{module}` '
+                f'did not import): `{install}` and build the docs again for this example\'s '
+                'output and picture.\n')
+    lines = [f'```{{literalinclude}} _generated/transcripts/{name}.txt', ':language: text',
+             '```', '']
+    for shown, _ in TRANSCRIPTS[name]:
+        for png in re.findall(r'--plot (\S+\.png)', shown):
+            lines += [f'![The plot of the command above: --plot {png}](_generated/figures/{png})',
+                      '']
+    return '\n'.join(lines)
+
+
+def files(name):
+    """The files ``write_all`` writes for transcript ``name`` (here, as installed now)."""
+    if name not in NEEDS:
+        return [f'{name}.txt']
+    return [f'{name}.md', f'{name}.txt'] if importable(NEEDS[name][0]) else [f'{name}.md']
+
+
 def missing(out_dir):
     """True when a transcript file is absent from ``out_dir``."""
-    return any(not (Path(out_dir) / f'{name}.txt').exists() for name in TRANSCRIPTS)
+    return any(not (Path(out_dir) / file).exists() for name in TRANSCRIPTS for file in files(name))
 
 
 def run(name, figures=None):
@@ -173,25 +274,65 @@ def run(name, figures=None):
     return ''.join(parts)
 
 
+# each of these starts the installed node (about 2 s apiece, in a process of its own): they run
+# in a second process of this script while this one runs the rest, on the machine's other core
+BESIDE = ('node_help', 'node_start', 'node_refusals')
+
+
+def write(out_dir, name, figures=None):
+    """Write transcript ``name``'s files into ``out_dir`` (``files``); their paths."""
+    texts = {}
+    if name in NEEDS:
+        installed = importable(NEEDS[name][0])
+        texts[f'{name}.md'] = fragment(name, installed)
+        (out_dir / f'{name}.txt').unlink(missing_ok=True)   # from a build that had it
+    if name not in NEEDS or installed:
+        texts[f'{name}.txt'] = run(name, figures)
+    for file, text in texts.items():
+        path = out_dir / file
+        if not path.exists() or path.read_text() != text:
+            path.write_text(text)
+    return [out_dir / file for file in texts]
+
+
 def write_all(out_dir=DEFAULT_OUT, names=None, figures=None):
-    """Write ``NAME.txt`` for each transcript (all by default) into ``out_dir``; their paths.
-    The plots the commands draw (``--plot``) go to ``figures`` when it is given."""
+    """Write the files of each transcript (all by default) into ``out_dir``; their paths. The
+    plots the commands draw (``--plot``) go to ``figures`` when it is given.
+
+    Raises
+    ------
+    RuntimeError
+        When the second process, which runs the ``BESIDE`` transcripts, fails."""
     import matplotlib
     matplotlib.use('Agg')
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    names = list(names or TRANSCRIPTS)
+    beside = [name for name in names if name in BESIDE]
+    child = subprocess.Popen([sys.executable, __file__, str(out_dir), '--names', *beside],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                             text=True) if beside else None
     paths = []
-    for name in names or TRANSCRIPTS:
-        path = out_dir / f'{name}.txt'
-        text = run(name, figures)
-        if not path.exists() or path.read_text() != text:
-            path.write_text(text)
-        paths.append(path)
-    return paths
+    try:
+        for name in names:
+            if name not in beside:
+                paths += write(out_dir, name, figures)
+    finally:
+        output = child.communicate()[0] if child else ''
+    if child and child.returncode != 0:
+        raise RuntimeError(f'scripts/transcripts.py --names {" ".join(beside)} failed:\n{output}')
+    return paths + [out_dir / file for name in beside for file in files(name)]
 
 
 if __name__ == '__main__':
     started = time.perf_counter()
-    written = write_all(sys.argv[1] if len(sys.argv) > 1 else DEFAULT_OUT,
-                        figures=sys.argv[2] if len(sys.argv) > 2 else None)
+    args = sys.argv[1:]
+    only = args[args.index('--names') + 1:] if '--names' in args else None
+    places = args[:args.index('--names')] if only is not None else args
+    out = Path(places[0]) if places else DEFAULT_OUT
+    if only is not None:      # the BESIDE part of write_all, or any names asked for, here
+        out.mkdir(parents=True, exist_ok=True)
+        written = [path for name in only for path in write(out, name)]
+    else:
+        written = write_all(out, figures=places[1] if len(places) > 1 else None)
     print(f'{len(written)} transcripts in {time.perf_counter() - started:.1f} s')

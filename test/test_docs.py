@@ -2,6 +2,7 @@
 prints (transcripts, tables and the API list are made from the code; .ci/run builds the site and
 runs its examples)."""
 import importlib.util
+import os
 import re
 import subprocess
 import sys
@@ -87,6 +88,11 @@ def test_transcripts_and_figures_the_pages_include_are_made_by_the_scripts():
     transcripts = load(ROOT / 'scripts' / 'transcripts.py', 'transcripts')
     figures = load(ROOT / 'scripts' / 'docs_figures.py', 'docs_figures')
     text = '\n'.join(pages().values())
+    fragments = set(re.findall(r'_generated/transcripts/(\w+)\.md', text))
+    assert fragments <= set(transcripts.NEEDS)
+    direct = set(re.findall(r'_generated/transcripts/(\w+)\.txt', text))
+    assert not direct & set(transcripts.NEEDS), 'include these through their NAME.md'
+    text += '\n'.join(transcripts.fragment(name, True) for name in fragments)
     included = set(re.findall(r'_generated/transcripts/(\w+)\.txt', text))
     assert included and included <= set(transcripts.TRANSCRIPTS)
     plotted = {m for steps in transcripts.TRANSCRIPTS.values() for shown, _ in steps
@@ -108,6 +114,47 @@ def test_a_transcript_is_what_the_installed_command_prints():
         assert real.returncode == 2
         assert f'$ {command}\n{real.stdout}{real.stderr}' in text
     assert "restitution = 'high' is not a number" in text
+
+
+def test_every_picture_of_the_pages_is_drawn_by_the_docs_build():
+    text = '\n'.join(pages().values())
+    images = re.findall(r'!\[[^\]]*\]\(([^)]+)\)', text)
+    assert images
+    assert [i for i in images if not i.startswith('_generated/figures/')] == []
+    assert list(DOCS.glob('*.png')) == []
+
+
+def test_a_transcript_that_needs_a_missing_package_is_a_note_without_picture():
+    transcripts = load(ROOT / 'scripts' / 'transcripts.py', 'transcripts')
+    assert 'export_drake_1ms' in transcripts.NEEDS
+    note = transcripts.fragment('export_drake_1ms', False)
+    assert 'drake not installed when these docs were built' in note
+    assert 'pip install drake' in note and '_generated/' not in note
+    shown = transcripts.fragment('export_drake_1ms', True)
+    assert '_generated/transcripts/export_drake_1ms.txt' in shown
+    assert '](_generated/figures/export_drake_1ms.png)' in shown
+    drake = transcripts.importable('pydrake')
+    assert transcripts.files('export_drake_1ms') == (
+        ['export_drake_1ms.md', 'export_drake_1ms.txt'] if drake else ['export_drake_1ms.md'])
+
+
+# PyBullet's export and audit are left out: PyBullet's C code prints a banner on the process's
+# own stdout at import, which the installed command shows and an in-process run does not
+@pytest.mark.parametrize('name', ['export_gazebo_1ms', 'export_mujoco_1ms', 'audit_mujoco'])
+def test_an_export_transcript_is_what_the_installed_command_prints(name, tmp_path):
+    transcripts = load(ROOT / 'scripts' / 'transcripts.py', 'transcripts')
+    text = transcripts.run(name)
+    (shown, _), = transcripts.TRANSCRIPTS[name]
+    for model in re.findall(r'examples/\S+', shown):
+        (tmp_path / 'examples').mkdir()
+        (tmp_path / model).write_text((ROOT / model).read_text())
+    argv = shown.split()
+    real = subprocess.run([str(Path(sys.executable).parent / 'contact-sim'), *argv[1:]],
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                          cwd=tmp_path, env={**os.environ, 'PYTHONUNBUFFERED': '1'})
+    assert real.returncode == 0, real.stdout
+    assert text == f'$ {shown}\n{real.stdout}'
+    assert 'measured' in text or 'predicted' in text
 
 
 def test_bench_markdown_option_writes_the_output_with_its_command(tmp_path, monkeypatch, capsys):
