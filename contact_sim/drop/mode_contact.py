@@ -2,13 +2,17 @@
 acceleration as forcing, until one of its events: ``lift_off`` (the force vanished), ``knot``
 (the plate's forcing changes: the same contact goes on from there), ``settled`` (the fixed
 plate's rest took over) or ``carried`` (a moving plate carries the sphere)."""
+import bisect
 import math
+from operator import itemgetter
 
 from contact_sim.drop.mode import Event, Mode, Move
 from contact_sim.drop.mode_carried import CarryWatch
 from contact_sim.drop.mode_rest import RestWatch
 from contact_sim.drop.records import ImpactRecord
 from contact_sim.phase import contact_phase, potential_at
+
+_TIME = itemgetter(0)   # a point's time (points are (t, z, ż, F))
 
 
 def energy_bounded_rate(sim, start, z, zdot):
@@ -84,12 +88,9 @@ class Contact(Mode):
 
     def take_points(self, t_end):
         """The integrator's points up to ``t_end`` (s) not handed out yet."""
-        out = []
-        pts = self.integrator.points
-        while self.emitted < len(pts) and pts[self.emitted][0] <= t_end:
-            out.append(pts[self.emitted])
-            self.emitted += 1
-        return out
+        pts, start = self.integrator.points, self.emitted
+        self.emitted = bisect.bisect_right(pts, t_end, lo=start, key=_TIME)  # times increase
+        return pts[start:self.emitted]
 
     def finish_time(self):
         """When the phase ends within its forcing piece (lift-off, or the switch to rest), or
