@@ -156,4 +156,5 @@ def main():
 
 
 if __name__ == '__main__':
-    main()
+    from _table import run   # --markdown OUT: the table for the docs (bench/_table.py)
+    run(main)
