@@ -104,6 +104,11 @@ class CommandedPlate(PlateMotion):
         return 0.0
 
     def acceleration_bound(self):
+        return self._peak_acceleration
+
+    @functools.cached_property
+    def _peak_acceleration(self):
+        """max abs(p̈) over the pieces (m/s²), found once: every flight's bracket asks for it."""
         return max(abs(a) for a in self._pieces[3])
 
     def position_range(self):
