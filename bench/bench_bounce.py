@@ -18,7 +18,8 @@ is the figure to compare; the load average is printed beside it):
   Python reference path they replace (``flights.gap_flight``);
 * the same 40 s on a commanded plate following the table as set-points (its (p, ṗ) sampled 20
   times a period, ``CommandedPlate``'s C¹ piecewise quadratic between them; the plate built
-  before the clock starts), compiled flights beside the reference flights.
+  before the clock starts), compiled flights beside the reference flights; and one flight's plan
+  over it alone (``mode_flight.Flight``, 400 flights from random states above the plate).
 
     python bench/bench_bounce.py [--repeat 5]
 """
@@ -34,6 +35,7 @@ import numpy as np
 import contact_sim as cs
 from contact_sim import phase
 from contact_sim.drop.engine import DropSimulation
+from contact_sim.drop.mode_flight import Flight
 from contact_sim.drop.plate import CommandedPlate, PlateMotion, SinusoidalPlate
 from contact_sim.drop.table import VibratingTable, period_one_threshold
 from contact_sim.phase import compiled
@@ -161,6 +163,17 @@ def main():
     commanded, commanded_ref = CommandedPlate(*points), ReferenceCommandedPlate(*points)
     wall_cmd, n_cmd = best_of(lambda: table_drop(commanded), args.repeat)
     wall_cmd_ref, n_cmd_ref = best_of(lambda: table_drop(commanded_ref), args.repeat)
+    rng = np.random.default_rng(0)
+    starts = list(zip(rng.uniform(0.0, 40.0, 400), -rng.uniform(1e-4, 1e-2, 400),
+                      rng.uniform(-1.0, 0.5, 400)))
+
+    def plans(plate):
+        return [Flight(plate, g, t0, z, zdot, contact, None, True).contact_time
+                for t0, z, zdot in starts]
+
+    wall_plan, touch = best_of(lambda: plans(commanded), args.repeat)
+    wall_plan_ref, touch_ref = best_of(lambda: plans(commanded_ref), args.repeat)
+    worst = max(abs(a - b) / abs(b) for a, b in zip(touch, touch_ref))
 
     print(f'{"case":<34} {"speed (m/s)":>11} {"steps":>6} {"kernel (us)":>12} '
           f'{"impact (us)":>12} {"impact/kernel":>14} {"bounce (us)":>12} {"bounce/impact":>14}')
@@ -182,6 +195,9 @@ def main():
           f'{wall_cmd / n_cmd * 1e6:.1f} us a bounce ({n_cmd} bounces) with the compiled '
           f'flights, {wall_cmd_ref / n_cmd_ref * 1e6:.1f} us ({n_cmd_ref}) with the Python '
           f'reference flights (flights.gap_flight)')
+    print(f'one flight planned over it: {wall_plan / len(starts) * 1e6:.1f} us compiled, '
+          f'{wall_plan_ref / len(starts) * 1e6:.1f} us Python ({len(starts)} flights, touch '
+          f'times within {worst:.1e} relative)')
     kernel, steps = kernel_time(contact, MASS, 1.0, 0.0, args.repeat)
     print(f'per kernel step (1 m/s, no gravity): {kernel / steps * 1e6:.3f} us '
           f'({steps} steps a phase)')

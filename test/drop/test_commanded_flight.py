@@ -123,7 +123,7 @@ def test_a_flight_from_the_surface_itself_and_tangent_grazes_are_passed_as_the_r
 
 def test_the_compiled_search_is_the_reference_function_for_a_plate_given_by_its_pieces():
     """``commanded_touch_time`` on the pieces equals ``gap_touch_time`` of the plate, and the
-    compiled gap is the plate's ``state`` (the same floats)."""
+    compiled gap is the plate's ``state`` (the same floats), at the knots too (bisect_right)."""
     from numba import njit
     from contact_sim.drop.plate.compiled_flight import commanded_touch_time
 
@@ -138,7 +138,7 @@ def test_the_compiled_search_is_the_reference_function_for_a_plate_given_by_its_
         plate = CommandedPlate(*random_plate(rng))
         t0 = flight_start(rng, np.array(plate.times))
         flight = Flight(plate, G, t0, -1e-3, -0.5, contact, None)
-        for t in t0 + rng.uniform(0.0, 0.5, 5):
+        for t in np.concatenate((t0 + rng.uniform(0.0, 0.5, 5), plate.piece_arrays[0])):
             y, v = flight.absolute(t)
             p, pv, _ = plate.state(t)
             assert gap_at(t, (t0, flight.y0, flight.v0, G), *plate.piece_arrays) \
@@ -218,3 +218,17 @@ def test_a_commanded_plate_after_a_switch_plans_its_flights_as_the_reference():
     for a, b in zip(fast.impacts, slow.impacts):
         assert a.time == pytest.approx(b.time, rel=0, abs=1e-9)
         assert a.impact_speed == pytest.approx(b.impact_speed, rel=1e-7)
+
+
+def test_with_drag_a_commanded_plate_plans_by_the_reference_path():
+    contact = contact_of('azad_featherstone')
+    rng = np.random.default_rng(15)
+    for _ in range(20):
+        args = random_plate(rng)
+        t0 = flight_start(rng, args[0])
+        z, zdot = -10.0 ** rng.uniform(-5.0, -2.0), rng.uniform(-2.0, 0.5)
+        fast = Flight(CommandedPlate(*args), G, t0, z, zdot, contact, (0.02, 0.001), True)
+        slow = Flight(ReferenceCommandedPlate(*args), G, t0, z, zdot, contact, (0.02, 0.001),
+                      True)
+        assert fast.path is not None
+        assert fast.contact_time == slow.contact_time and fast.apex == slow.apex
