@@ -15,7 +15,11 @@ is the figure to compare; the load average is printed beside it):
   1 m, 5 s);
 * a bounce on a vibrating table (``VibratingTable.run`` at Γ = 2, 400 impacts), µs per bounce and
   its ratio to ``simulate_impact``; and the same orbit (40 s) with the compiled flights beside the
-  Python reference path they replace (``flights.gap_flight``).
+  Python reference path they replace (``flights.gap_flight``);
+* the same 40 s on a commanded plate following the table as set-points (its (p, ṗ) sampled 20
+  times a period, ``CommandedPlate``'s C¹ piecewise quadratic between them; the plate built
+  before the clock starts), compiled flights beside the reference flights; and one flight's plan
+  over it alone (``mode_flight.Flight``, 400 flights from random states above the plate).
 
     python bench/bench_bounce.py [--repeat 5]
 """
@@ -31,7 +35,8 @@ import numpy as np
 import contact_sim as cs
 from contact_sim import phase
 from contact_sim.drop.engine import DropSimulation
-from contact_sim.drop.plate import PlateMotion, SinusoidalPlate
+from contact_sim.drop.mode_flight import Flight
+from contact_sim.drop.plate import CommandedPlate, PlateMotion, SinusoidalPlate
 from contact_sim.drop.table import VibratingTable, period_one_threshold
 from contact_sim.phase import compiled
 
@@ -49,6 +54,24 @@ class ReferenceTable(SinusoidalPlate):
     def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
         return PlateMotion.plan_flight(self, flight, z, zdot, contact, drag_rates,
                                        after_lift_off)
+
+
+@dataclass(frozen=True)
+class ReferenceCommandedPlate(CommandedPlate):
+    """A commanded plate with its flights planned by the Python path (``flights.gap_flight``)."""
+
+    def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
+        return PlateMotion.plan_flight(self, flight, z, zdot, contact, drag_rates,
+                                       after_lift_off)
+
+
+def sampled_table(amplitude, frequency, phase, duration, per_period=20):
+    """The set-points (times s, positions m, velocities m/s) of the table a sin(2π f t + ϕ)
+    sampled ``per_period`` times a period over [0, duration]."""
+    w = 2.0 * math.pi * frequency
+    t = np.arange(int(duration * frequency * per_period) + 1) / (frequency * per_period)
+    return (tuple(t), tuple(amplitude * np.sin(w * t + phase)),
+            tuple(amplitude * w * np.cos(w * t + phase)))
 
 
 def best_of(func, repeat):
@@ -136,6 +159,21 @@ def main():
 
     wall_fast, n_fast = best_of(lambda: table_drop(SinusoidalPlate(*table_args)), args.repeat)
     wall_ref, n_ref = best_of(lambda: table_drop(ReferenceTable(*table_args)), args.repeat)
+    points = sampled_table(*table_args, duration=41.0)     # the plates built once, untimed
+    commanded, commanded_ref = CommandedPlate(*points), ReferenceCommandedPlate(*points)
+    wall_cmd, n_cmd = best_of(lambda: table_drop(commanded), args.repeat)
+    wall_cmd_ref, n_cmd_ref = best_of(lambda: table_drop(commanded_ref), args.repeat)
+    rng = np.random.default_rng(0)
+    starts = list(zip(rng.uniform(0.0, 40.0, 400), -rng.uniform(1e-4, 1e-2, 400),
+                      rng.uniform(-1.0, 0.5, 400)))
+
+    def plans(plate):
+        return [Flight(plate, g, t0, z, zdot, contact, None, True).contact_time
+                for t0, z, zdot in starts]
+
+    wall_plan, touch = best_of(lambda: plans(commanded), args.repeat)
+    wall_plan_ref, touch_ref = best_of(lambda: plans(commanded_ref), args.repeat)
+    worst = max(abs(a - b) / abs(b) for a, b in zip(touch, touch_ref))
 
     ratios = []
     print(f'{"case":<34} {"speed (m/s)":>11} {"steps":>6} {"kernel (us)":>12} '
@@ -155,6 +193,13 @@ def main():
     print(f'table G = 2, 40 s: {wall_fast / n_fast * 1e6:.1f} us a bounce ({n_fast} bounces) '
           f'with the compiled flights, {wall_ref / n_ref * 1e6:.1f} us ({n_ref}) with the '
           f'Python reference flights (flights.gap_flight)')
+    print(f'commanded plate (the table as {len(points[0])} set-points), 40 s: '
+          f'{wall_cmd / n_cmd * 1e6:.1f} us a bounce ({n_cmd} bounces) with the compiled '
+          f'flights, {wall_cmd_ref / n_cmd_ref * 1e6:.1f} us ({n_cmd_ref}) with the Python '
+          f'reference flights (flights.gap_flight)')
+    print(f'one flight planned over it: {wall_plan / len(starts) * 1e6:.1f} us compiled, '
+          f'{wall_plan_ref / len(starts) * 1e6:.1f} us Python ({len(starts)} flights, touch '
+          f'times within {worst:.1e} relative)')
     kernel, steps = kernel_time(contact, MASS, 1.0, 0.0, args.repeat)
     print(f'per kernel step (1 m/s, no gravity): {kernel / steps * 1e6:.3f} us '
           f'({steps} steps a phase)')

@@ -2,7 +2,7 @@
 vibrating table, a switch; ``commanded``: set-points), the changes of motion at a time
 (``commands``: the table's bridge, trajectory commands, the table's settings), the flights over
 it (``flights``) and the root searches they use (``roots``; ``compiled_flight``: the same
-searches in numba for the vibrating table and the fixed plate)."""
+searches in numba for the vibrating table, a commanded plate and the fixed plate)."""
 from contact_sim.drop.plate.commanded import CommandedPlate
 from contact_sim.drop.plate.commands import (BRIDGE_SPEED_MAX, BRIDGE_TIME, COMMAND_ACCELERATION_MAX,
                                              COMMAND_HORIZON, COMMAND_POSITION_MAX,

@@ -1,11 +1,13 @@
 """A plate commanded by timed set-points: ``CommandedPlate``, the C¹ piecewise-quadratic
 interpolant through them, and the checks of set-point arrays that ``command_motion`` shares."""
 import bisect
+import functools
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from contact_sim.drop.plate.flights import commanded_flight, gap_flight
 from contact_sim.drop.plate.motions import PlateMotion, constant_forcing
 from contact_sim.validation import InputError
 
@@ -71,6 +73,20 @@ class CommandedPlate(PlateMotion):
         object.__setattr__(self, '_pieces', tuple(tuple(float(x) for x in seq)
                                                   for seq in (starts, pos, vel, acc)))
 
+    @functools.cached_property
+    def piece_arrays(self):
+        """The pieces (start times s, positions m, velocities m/s, accelerations m/s²; the last
+        runs to +inf with zero acceleration) as contiguous float64 arrays, built once: the
+        commanded plate as the compiled flight search takes it."""
+        return tuple(np.array(seq, dtype=np.float64) for seq in self._pieces)
+
+    def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
+        """In vacuum the touch time comes from compiled code (``flights.commanded_flight``),
+        with drag from ``flights.gap_flight`` (the reference path of both)."""
+        if drag_rates is None:
+            return commanded_flight(self, flight, z, zdot, contact, after_lift_off)
+        return gap_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off)
+
     def _piece(self, t):
         starts = self._pieces[0]
         return max(bisect.bisect_right(starts, t) - 1, 0)
@@ -88,6 +104,11 @@ class CommandedPlate(PlateMotion):
         return 0.0
 
     def acceleration_bound(self):
+        return self._peak_acceleration
+
+    @functools.cached_property
+    def _peak_acceleration(self):
+        """max abs(p̈) over the pieces (m/s²), found once: every flight's bracket asks for it."""
         return max(abs(a) for a in self._pieces[3])
 
     def position_range(self):

@@ -1,18 +1,25 @@
-"""The next touch over a vibrating table in compiled code: ``flights.gap_touch_time`` for a
-``SinusoidalPlate`` p(t) = a sin(ω t + ϕ) and a flight in vacuum, step for step in numba.
+"""The next touch over a moving plate in compiled code: ``flights.gap_touch_time`` for a flight
+in vacuum over a ``SinusoidalPlate`` p(t) = a sin(ω t + ϕ) or a ``CommandedPlate`` (its C¹
+piecewise-quadratic pieces), step for step in numba.
 
 The same algorithm as the Python path (which stays as the reference, and serves every other plate
 and flights with drag): the rigorously bracketed first root of the gap (``roots.first_gap_root``,
-with the table's exact local bound of p̈), the force's return inside the undeformed surface after
+with the plate's exact local bound of p̈), the force's return inside the undeformed surface after
 a lift-off at z > 0 (64 samples of φ per stretch refined by Brent's method, scipy's brentq.c as
-``phase.compiled`` ports it), and the tangent graze passed by nudging.  A flight's plan costs a
-few µs instead of about 100 µs of Python (``python bench/bench_bounce.py``).
+``phase.compiled`` ports it), and the tangent graze passed by nudging.  The search is written once
+(``_touch_time``); only the plate's gap and its local range of p̈ depend on the plate
+(``plate_gap``, ``plate_acceleration_range``), chosen at compile time by the type of the plate's
+description: the table's (a, ω, ϕ), a tuple of floats; the commanded plate's pieces, a tuple of
+arrays.  A flight's plan costs a few µs instead of about 100 µs of Python
+(``python bench/bench_bounce.py``).
 
 Compiled on first use and cached on disk (numba ``cache=True``).
 """
 import math
 
-from numba import njit
+import numpy as np
+from numba import njit, types
+from numba.extending import overload
 
 from contact_sim.drop.plate.roots import EPS
 
@@ -22,11 +29,19 @@ NO_EXIT = -1.0        # the sphere never left the surface after 10000 stretches 
 
 
 @njit(**_KW)
-def _gap(t, fl, tb):
-    """(G, G', scale) of the gap y - p at t: ``fl`` = (t0, y0, v0, g), ``tb`` = (a, ω, ϕ)."""
+def _flight(t, fl):
+    """The sphere's height y (m) and upward velocity (m/s) at t in vacuum, as
+    ``Flight.absolute``: ``fl`` = (t0, y0, v0, g)."""
     dt = t - fl[0]
-    y = fl[1] + fl[2] * dt - 0.5 * fl[3] * dt * dt
-    v = fl[2] - fl[3] * dt
+    return fl[1] + fl[2] * dt - 0.5 * fl[3] * dt * dt, fl[2] - fl[3] * dt
+
+
+# -- the vibrating table, ``tb`` = (a, ω, ϕ) -----------------------------------------------------
+
+@njit(**_KW)
+def _sinusoid_gap(t, fl, tb):
+    """(G, G', scale) of the gap y - p at t over p = a sin(ω t + ϕ)."""
+    y, v = _flight(t, fl)
     th = tb[1] * t + tb[2]
     p = tb[0] * math.sin(th)
     pv = tb[0] * tb[1] * math.cos(th)
@@ -34,7 +49,7 @@ def _gap(t, fl, tb):
 
 
 @njit(**_KW)
-def _acceleration_range(t0, t1, tb):
+def _sinusoid_acceleration_range(t0, t1, tb):
     """(min, max) of p̈ over [t0, t1], as ``SinusoidalPlate.acceleration_range``."""
     a, w, ph = tb[0], tb[1], tb[2]
     aw2 = a * (w * w)
@@ -49,6 +64,87 @@ def _acceleration_range(t0, t1, tb):
     return lo, hi
 
 
+# -- the commanded plate, ``pc`` = (starts, pos, vel, acc): ``CommandedPlate._pieces`` as arrays -
+
+@njit(**_KW)
+def _piece(starts, t):
+    """``CommandedPlate._piece``: the last piece starting at or before t (the first before)."""
+    return max(np.searchsorted(starts, t, side='right') - 1, 0)
+
+
+@njit(**_KW)
+def _commanded_gap(t, fl, pc):
+    """(G, G', scale) of the gap y - p at t over the commanded plate (``CommandedPlate.state``:
+    constant velocity before the first piece, the last piece running to +inf)."""
+    y, v = _flight(t, fl)
+    starts, pos, vel, acc = pc
+    if t < starts[0]:
+        p = pos[0] + vel[0] * (t - starts[0])
+        pv = vel[0]
+    else:
+        i = _piece(starts, t)
+        dt = t - starts[i]
+        p = pos[i] + vel[i] * dt + 0.5 * acc[i] * dt * dt
+        pv = vel[i] + acc[i] * dt
+    return y - p, v - pv, abs(y) + abs(p)
+
+
+@njit(**_KW)
+def _commanded_acceleration_range(t0, t1, pc):
+    """(min, max) of p̈ over [t0, t1], as ``CommandedPlate.acceleration_range``: over the
+    pieces it overlaps, and 0 before the first."""
+    starts, acc = pc[0], pc[3]
+    lo, hi = math.inf, -math.inf
+    if t0 < starts[0]:
+        lo, hi = 0.0, 0.0
+    if t1 >= starts[0]:
+        for i in range(_piece(starts, max(t0, starts[0])), _piece(starts, t1) + 1):
+            lo, hi = min(lo, acc[i]), max(hi, acc[i])
+    return lo, hi
+
+
+# -- the plate's two functions, chosen at compile time by the type of its description ---------
+
+def _is_table(pl):
+    return isinstance(pl, types.UniTuple) and isinstance(pl.dtype, types.Float)
+
+
+def _is_commanded(pl):
+    return isinstance(pl, types.UniTuple) and isinstance(pl.dtype, types.Array)
+
+
+def plate_gap(t, fl, pl):
+    """(G, G', scale) of the gap y - p at t (m, m/s, m): the sphere's flight ``fl`` over the
+    plate ``pl`` (the table's (a, ω, ϕ) or the commanded plate's pieces); in numba only."""
+    raise NotImplementedError('plate_gap is compiled code: call it from an njit function')
+
+
+def plate_acceleration_range(t0, t1, pl):
+    """(min, max) of the plate's p̈ over [t0, t1] (m/s²); in numba only."""
+    raise NotImplementedError('plate_acceleration_range is compiled code: call it from an '
+                              'njit function')
+
+
+@overload(plate_gap, jit_options=_KW)
+def _plate_gap(t, fl, pl):
+    if _is_table(pl):
+        return lambda t, fl, pl: _sinusoid_gap(t, fl, pl)
+    if _is_commanded(pl):
+        return lambda t, fl, pl: _commanded_gap(t, fl, pl)
+    return None
+
+
+@overload(plate_acceleration_range, jit_options=_KW)
+def _plate_acceleration_range(t0, t1, pl):
+    if _is_table(pl):
+        return lambda t0, t1, pl: _sinusoid_acceleration_range(t0, t1, pl)
+    if _is_commanded(pl):
+        return lambda t0, t1, pl: _commanded_acceleration_range(t0, t1, pl)
+    return None
+
+
+# -- the search, for any plate -----------------------------------------------------------------
+
 @njit(**_KW)
 def _quadratic_positive(g, dg, curvature, h):
     if g + dg * h + 0.5 * curvature * h * h <= 0.0:
@@ -59,7 +155,7 @@ def _quadratic_positive(g, dg, curvature, h):
 
 
 @njit(**_KW)
-def _first_gap_root(sign, t0, bound, t_max, fl, tb):
+def _first_gap_root(sign, t0, bound, t_max, fl, pl):
     """``roots.first_gap_root`` of sign·G (sign -1: the way out of the surface) with the local
     curvature bound of ``flights.gap_touch_time``; returns (found, t, G, G')."""
     t = t0
@@ -67,7 +163,7 @@ def _first_gap_root(sign, t0, bound, t_max, fl, tb):
     trial = 0.0
     g = fl[3]
     for _ in range(100000):
-        G, dG, scale = _gap(t, fl, tb)
+        G, dG, scale = plate_gap(t, fl, pl)
         G, dG = sign * G, sign * dG
         if G <= 16.0 * EPS * max(scale, 1e-9):
             return True, t, G, dG
@@ -75,7 +171,7 @@ def _first_gap_root(sign, t0, bound, t_max, fl, tb):
         h = (dG + disc) / M if dG >= 0.0 else 2.0 * G / (disc - dG)
         if h >= 0.5 * trial:
             trial = 2.0 * max(trial, h)
-            lo, hi = _acceleration_range(t, t + trial, tb)
+            lo, hi = plate_acceleration_range(t, t + trial, pl)
             local = -g - hi if sign > 0.0 else lo + g
             if _quadratic_positive(G, dG, local, trial):
                 h = trial
@@ -104,22 +200,22 @@ def _power(x, e):
 
 
 @njit(**_KW)
-def _phi(dt, start, fl, tb, law):
+def _phi(dt, start, fl, pl, law):
     """φ = k z₊^(n-p) + λ ż|ż|^(q-1) at start + dt; ``law`` = (k, λ, n - p, q)."""
     t = start + dt
-    G, dG, _ = _gap(t, fl, tb)
+    G, dG, _ = plate_gap(t, fl, pl)
     z, zdot = -G, -dG
     rate = 0.0 if zdot == 0.0 else math.copysign(_power(abs(zdot), law[3]), zdot)
     return law[0] * _power(max(z, 0.0), law[2]) + law[1] * rate
 
 
 @njit(**_KW)
-def _brentq(xa, xb, start, fl, tb, law):
+def _brentq(xa, xb, start, fl, pl, law):
     """scipy's brentq.c (xtol 1e-18, rtol 1e-15, 100 iterations) on ``_phi``."""
     xtol, rtol = 1e-18, 1e-15
     xpre, xcur = xa, xb
-    fpre = _phi(xpre, start, fl, tb, law)
-    fcur = _phi(xcur, start, fl, tb, law)
+    fpre = _phi(xpre, start, fl, pl, law)
+    fcur = _phi(xcur, start, fl, pl, law)
     if fpre == 0.0:
         return xpre
     if fcur == 0.0:
@@ -162,24 +258,61 @@ def _brentq(xa, xb, start, fl, tb, law):
             xcur += scur
         else:
             xcur += delta if sbis > 0.0 else -delta
-        fcur = _phi(xcur, start, fl, tb, law)
+        fcur = _phi(xcur, start, fl, pl, law)
     return xcur
 
 
 @njit(**_KW)
-def _first_upward_root(t_max, start, fl, tb, law):
+def _first_upward_root(t_max, start, fl, pl, law):
     """``roots.first_upward_root`` of φ on 64 stretches of (0, t_max]; -1: none seen."""
     samples = 64
     step = t_max / samples
     prev_t = 0.0
-    prev_v = _phi(0.0, start, fl, tb, law)
+    prev_v = _phi(0.0, start, fl, pl, law)
     for i in range(1, samples + 1):
         t = i * step if i < samples else t_max
-        v = _phi(t, start, fl, tb, law)
+        v = _phi(t, start, fl, pl, law)
         if v > 0.0 and prev_v <= 0.0:
-            return _brentq(prev_t, t, start, fl, tb, law)
+            return _brentq(prev_t, t, start, fl, pl, law)
         prev_t, prev_v = t, v
     return -1.0
+
+
+@njit(**_KW)
+def _touch_time(t0, y0, v0, g, z0, zdot0, pl, law, bound):
+    """``flights.gap_touch_time`` in vacuum over the plate ``pl``; ``NO_EXIT`` where it
+    raises."""
+    fl = (t0, y0, v0, g)
+    t = t0
+    if z0 > 0.0:
+        stretch = 2.0 * abs(zdot0) / g + 1e-9
+        left = False
+        for _ in range(10000):
+            found, t_root, _, _ = _first_gap_root(-1.0, t, bound, t + stretch, fl, pl)
+            t_stop = t_root if found else t + stretch
+            root = _first_upward_root(t_stop - t, t, fl, pl, law)
+            if root >= 0.0:
+                return t + root
+            t = t_stop
+            if found:
+                left = True
+                break
+            stretch *= 2.0
+        if not left:
+            return NO_EXIT
+    while True:
+        _, t_root, G, dG = _first_gap_root(1.0, t, bound, math.inf, fl, pl)
+        if dG < 0.0:
+            return t_root
+        nudge = max(1e-12, 4.0 * EPS * abs(t_root))
+        for _ in range(200):
+            G2, dG2, scale = plate_gap(t_root + nudge, fl, pl)
+            if G2 > 16.0 * EPS * max(scale, 1e-9):
+                break
+            if G2 < 0.0 and dG2 < 0.0:
+                return t_root + nudge
+            nudge *= 2.0
+        t = t_root + nudge
 
 
 @njit('float64(float64, float64, float64, float64, float64, float64, float64, float64, '
@@ -191,39 +324,20 @@ def sinusoid_touch_time(t0, y0, v0, g, z0, zdot0, a, w, ph, k, lam, spring_expon
     (m/s) under g (m/s²), at (z0, ż0) (m, m/s) relative to the plate; the law's φ from k, λ,
     n - p and q; ``bound`` the gap's |G''| bound (m/s²).  ``NO_EXIT`` if the sphere never
     leaves the surface (``flights.gap_touch_time`` raises there)."""
-    fl = (t0, y0, v0, g)
-    tb = (a, w, ph)
-    law = (k, lam, spring_exponent, q)
-    t = t0
-    if z0 > 0.0:
-        stretch = 2.0 * abs(zdot0) / g + 1e-9
-        left = False
-        for _ in range(10000):
-            found, t_root, _, _ = _first_gap_root(-1.0, t, bound, t + stretch, fl, tb)
-            t_stop = t_root if found else t + stretch
-            root = _first_upward_root(t_stop - t, t, fl, tb, law)
-            if root >= 0.0:
-                return t + root
-            t = t_stop
-            if found:
-                left = True
-                break
-            stretch *= 2.0
-        if not left:
-            return NO_EXIT
-    while True:
-        _, t_root, G, dG = _first_gap_root(1.0, t, bound, math.inf, fl, tb)
-        if dG < 0.0:
-            return t_root
-        nudge = max(1e-12, 4.0 * EPS * abs(t_root))
-        for _ in range(200):
-            G2, dG2, scale = _gap(t_root + nudge, fl, tb)
-            if G2 > 16.0 * EPS * max(scale, 1e-9):
-                break
-            if G2 < 0.0 and dG2 < 0.0:
-                return t_root + nudge
-            nudge *= 2.0
-        t = t_root + nudge
+    return _touch_time(t0, y0, v0, g, z0, zdot0, (a, w, ph), (k, lam, spring_exponent, q),
+                       bound)
+
+
+@njit('float64(float64, float64, float64, float64, float64, float64, float64[::1], '
+      'float64[::1], float64[::1], float64[::1], float64, float64, float64, float64, float64)',
+      **_KW)
+def commanded_touch_time(t0, y0, v0, g, z0, zdot0, starts, pos, vel, acc, k, lam,
+                         spring_exponent, q, bound):
+    """``sinusoid_touch_time`` over a ``CommandedPlate``: its pieces' start times (s,
+    increasing), positions (m), velocities (m/s) and accelerations (m/s², the last piece's 0)
+    as contiguous float64 arrays (``CommandedPlate.piece_arrays``)."""
+    return _touch_time(t0, y0, v0, g, z0, zdot0, (starts, pos, vel, acc),
+                       (k, lam, spring_exponent, q), bound)
 
 
 @njit('float64(float64, float64, float64, float64, float64, float64, float64, float64)', **_KW)

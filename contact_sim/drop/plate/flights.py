@@ -13,7 +13,7 @@ z > 0 is penetration, ż > 0 approach.
 import math
 
 from contact_sim.drop.plate.compiled_flight import (NO_EXIT, ballistic_force_return,
-                                                   sinusoid_touch_time)
+                                                   commanded_touch_time, sinusoid_touch_time)
 from contact_sim.drop.plate.roots import EPS, first_gap_root, first_upward_root
 from contact_sim.flight import FlightPath
 
@@ -119,6 +119,18 @@ def gap_flight(plate, flight, z, zdot, contact, drag_rates, after_lift_off):
     return None
 
 
+def _compiled_flight(flight, touch, after_lift_off):
+    """Set ``flight``'s ``contact_time`` to ``touch`` (s, from a compiled search of
+    ``compiled_flight``); returns the apex height (m) of a rising flight ``after_lift_off``."""
+    if touch == NO_EXIT:
+        raise RuntimeError(f'no exit from the plate surface found after t = {flight.start!r}')
+    flight.contact_time = touch
+    if after_lift_off and flight.v0 > 0.0:
+        g = flight.gravity
+        return flight.y0 + 0.5 * flight.v0 * flight.v0 / g
+    return None
+
+
 def table_flight(plate, flight, z, zdot, contact, after_lift_off):
     """``gap_flight`` over a ``SinusoidalPlate`` in vacuum, its touch time in compiled code
     (``compiled_flight.sinusoid_touch_time``: the algorithm of ``gap_touch_time``, step for
@@ -128,12 +140,18 @@ def table_flight(plate, flight, z, zdot, contact, after_lift_off):
                             plate.angular_frequency, plate.phase, contact.stiffness,
                             contact.damping, law.n - law.p, law.q,
                             g + plate.acceleration_bound())
-    if t == NO_EXIT:
-        raise RuntimeError(f'no exit from the plate surface found after t = {flight.start!r}')
-    flight.contact_time = t
-    if after_lift_off and flight.v0 > 0.0:
-        return flight.y0 + 0.5 * flight.v0 * flight.v0 / g
-    return None
+    return _compiled_flight(flight, t, after_lift_off)
+
+
+def commanded_flight(plate, flight, z, zdot, contact, after_lift_off):
+    """``gap_flight`` over a ``CommandedPlate`` in vacuum, its touch time in compiled code
+    (``compiled_flight.commanded_touch_time``, the same search as ``table_flight``'s); returns
+    the apex height (m) of a rising flight ``after_lift_off``, or ``None``."""
+    g, law = flight.gravity, contact.law
+    t = commanded_touch_time(flight.start, flight.y0, flight.v0, g, z, zdot,
+                             *plate.piece_arrays, contact.stiffness, contact.damping,
+                             law.n - law.p, law.q, g + plate.acceleration_bound())
+    return _compiled_flight(flight, t, after_lift_off)
 
 
 def gap_touch_time(plate, flight, z0, zdot0, contact, drag_rates):

@@ -380,6 +380,14 @@ class SwitchedPlate(PlateMotion):
         lo1, hi1 = self.after.acceleration_range(ts, t1)
         return min(lo0, lo1), max(hi0, hi1)
 
+    def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
+        """A flight from the switch on is ``after``'s alone: planned as ``after`` plans it (in
+        compiled code where it can); one that starts before the switch, by the first root of
+        the gap over both parts (``flights.gap_flight``)."""
+        if flight.start >= self.switch_time:
+            return self.after.plan_flight(flight, z, zdot, contact, drag_rates, after_lift_off)
+        return gap_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off)
+
     def forcing_piece(self, t):
         if t < self.switch_time:
             forcing, until = self.before.forcing_piece(t)
