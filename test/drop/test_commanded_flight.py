@@ -12,16 +12,7 @@ from contact_sim.drop.mode_flight import Flight
 from contact_sim.drop.plate import CommandedPlate, PlateMotion, SwitchedPlate, command_motion
 from contact_sim.drop.plate.compiled_flight import plate_gap
 from contact_sim.drop.plate.flights import gap_touch_time
-from contact_sim.impact.damping_fit import damping_for_restitution
-from contact_sim.model.contact import Contact
-
-G, MASS = 9.81, 0.066
-LAWS = {'azad_featherstone': 1e10, 'hunt_crossley': 1e10, 'lee_wang': 1e10, 'linear': 1e7}
-
-
-def contact_of(law, restitution=0.7):
-    k = LAWS[law]
-    return Contact(law, k, damping_for_restitution(law, k, MASS, restitution, 1.0))
+from test_table_flight import G, LAWS, MASS, contact_of  # the table's flights: same contacts
 
 
 @dataclass(frozen=True)
