@@ -176,11 +176,15 @@ def with_repo_file(path, step):
     return run_step
 
 
-def node(command):
+def node(command, ros=False):
     """A shell command line that runs the installed ``contact_sim_node`` (this venv's first on
     the ``PATH``), in its own process: it refuses before ROS starts a graph. Its output, stdout
-    and stderr as one stream in order."""
+    and stderr as one stream in order. ``ros``: the command starts a ROS graph, which gets a
+    ROS domain of its own (``ROS_DOMAIN_ID`` from this process's id, so that a build does not
+    publish into the domain of whoever runs it) and its logs in the working directory."""
     env = dict(os.environ, PATH=f'{Path(sys.executable).parent}{os.pathsep}{os.environ["PATH"]}')
+    if ros:
+        env.update(ROS_DOMAIN_ID=str(120 + os.getpid() % 100), ROS_LOG_DIR=os.getcwd())
     done = subprocess.run(command, shell=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           text=True, env=env)
     return done.stdout
@@ -202,6 +206,15 @@ for engine, model, option in (('mujoco', 'examples/ball.xml', '--geom ball'),
 TRANSCRIPTS['node_start'] = [(c, lambda c=c: node(c)) for c in (
     'contact_sim_node --help > /dev/null; echo "exit code $?"',
     'contact_sim_node --frobnicate; echo "exit code $?"')]
+# a recording whose recorder is killed (SIGKILL: no metadata.yaml), then recovered; in a ROS
+# domain of this build's own (``ros_env``), the node at real time for 6 s
+TRANSCRIPTS['recorder_recover'] = [(c, lambda c=c: node(c, ros=True)) for c in (
+    'contact_sim_record -o drop1 > /dev/null 2>&1 & recorder=$!; '
+    'contact_sim_node > /dev/null 2>&1 & node=$!; '
+    'sleep 6; kill -TERM $node; wait $node; kill -KILL $recorder; wait',
+    'ls drop1',
+    'contact_sim_record --recover drop1',
+    'contact_sim_record --recover drop1; echo "exit code $?"')]
 TRANSCRIPTS['node_refusals'] = [
     (c, lambda c=c: shell(c)) for c in (
         "printf 'a: [\\n' > bad.yaml", "printf '\\377\\376' > binary.yaml",
@@ -276,7 +289,7 @@ def run(name, figures=None):
 
 # each of these starts the installed node (about 2 s apiece, in a process of its own): they run
 # in a second process of this script while this one runs the rest, on the machine's other core
-BESIDE = ('node_help', 'node_start', 'node_refusals')
+BESIDE = ('node_help', 'node_start', 'node_refusals', 'recorder_recover')
 
 
 def write(out_dir, name, figures=None):

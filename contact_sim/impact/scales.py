@@ -55,7 +55,7 @@ def checked_scales_at(contact, mass, speed, name='speed', zeta_max=ZETA_MAX, zet
     if type(speed) is float and 0.0 < speed < math.inf and type(mass) is float:
         law = contact.law
         try:
-            length = (mass * speed * speed / contact.stiffness) ** (1.0 / (law.n + 1.0))
+            length = (mass * (speed * speed) / contact.stiffness) ** (1.0 / (law.n + 1.0))  # as v**2
             time = length / speed
             zeta = damping_group_of(law, length, speed, contact.damping, mass)
         except (OverflowError, ZeroDivisionError):
@@ -115,7 +115,8 @@ def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX, zeta_
         if not np.ravel(finite)[i]:
             raise InputError(name, bad, '{n[%s]} = {value} is out of range for {n[mass]} = %g kg '
                              'and {n[stiffness]} = %g: its impact depth Z and time T are not '
-                             'finite positive doubles; allowed speeds whose Z and T are'
+                             'finite positive doubles; allowed speeds whose Z and T are '
+                             'finite positive doubles'
                              % (name, float(mass), contact.stiffness))
         k, n = contact.stiffness, law.n
         t = float(np.ravel(time)[i])

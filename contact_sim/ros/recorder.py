@@ -240,7 +240,7 @@ class Recorder(Node):
             A function of no arguments, True once the cut is reached.
         """
         # stopping: the acknowledgement stops moving but its publisher stays until the recorder
-        # is gone, so the node stays within LEAD_TICKS of it while the lagging topics drain (a
+        # is gone, so the node stays within LEAD_MESSAGES of it while the lagging topics drain (a
         # node let loose here outruns its writers' histories and the drain loses samples)
         self._stopping = True
         own = [ns for topic, ns in self.covered_ns.items()

@@ -23,6 +23,20 @@ def test_simulate_impact_refuses_extremes_naming_the_argument(mass, speed, field
     assert info.value.field == field
 
 
+@pytest.mark.parametrize('law, k, lam, mass, speed', [
+    ('hunt_crossley', 1.0, 1.0, 1e9, 2e-164), ('azad_featherstone', 4.97e-4, 0.0, 7.83e4, 2.2e-164),
+    ('lee_wang', 5.5e-4, 6.7e53, 2.0e4, 3.2e-163)])
+def test_a_speed_whose_square_underflows_is_refused_as_for_an_array(law, k, lam, mass, speed):
+    # reproduced (a reviewer's random search): the one-speed check's m v v / k stayed > 0 where
+    # the array check's m v**2 / k is 0, and the phase refused 'penetration_rate = 0' unnamed
+    contact = cs.Contact(law, k, lam)
+    with pytest.raises(cs.InputError, match=r'^speed = .*allowed') as info:
+        cs.simulate_impact(contact, mass, speed)
+    assert info.value.field == 'speed'
+    with pytest.raises(cs.InputError, match=r'^speeds = .*allowed'):
+        cs.restitution(contact, mass, [speed])
+
+
 @pytest.mark.parametrize('function', [cs.restitution, cs.contact_duration, cs.peak_force,
                                       cs.max_penetration])
 @pytest.mark.parametrize('speeds', [
