@@ -99,6 +99,7 @@ class Recorder(Node):
         self.covered_ns = {}   # topic -> simulated time (ns) its recorded messages reach
         self.publishers_matched = {}  # topic -> number of matched publishers
         self.cut_ns = None     # set at the stop: see cut()
+        self._held = []        # at the stop: (topic, type, stamp, data) past the cut, in order
         self._flushed = time.monotonic()
         self.create_timer(FLUSH_PERIOD, self._on_flush_timer)
         # the acknowledgement that paces a node running as fast as possible (node.py)
@@ -202,11 +203,15 @@ class Recorder(Node):
         if self.cut_ns is not None:  # stopping
             if stamp > self.cut_ns and (impact or spec.continuous):
                 # past the cut: a contact that began after it, or a continuous topic that is
-                # ahead of the others (it has reached the cut: it is not waited for any more)
+                # ahead of the others (it has reached the cut: it is not waited for any more);
+                # the latter is held, in case an impact that began before the cut moves it on
                 self.covered_ns[topic] = max(self.covered_ns.get(topic, 0), covered)
+                if not impact:
+                    self._held.append((topic, msgtype, stamp, data))
                 return
             if impact:
                 self.cut_ns = max(self.cut_ns, covered)  # its whole contact goes in
+                self._write_held()
         if topic not in self.bag.counts:
             self.poll_matches(only_new=True)
             self.get_logger().info(f'receiving {topic}')
@@ -221,6 +226,16 @@ class Recorder(Node):
         if time.monotonic() - self._flushed > FLUSH_PERIOD:
             self.flush()
 
+    def _write_held(self):
+        """Write the held messages (past the cut when they came) that the cut now reaches, in the
+        order they came (each topic's own order)."""
+        held, self._held = self._held, []
+        for item in held:
+            if item[2] <= self.cut_ns:
+                self.bag.write(*item)
+            else:
+                self._held.append(item)
+
     def cut(self):
         """At a stop: a predicate that holds once the bag is a consistent cut of the simulation.
 
@@ -229,7 +244,8 @@ class Recorder(Node):
         The cut is the latest simulated time any of the node's topics has reached, an impact
         counting up to the end of its contact; it holds once every one of them with a matched
         publisher has reached it too, except the sparse ~/impact. An impact that arrives
-        meanwhile and began before the cut moves it on to the end of its contact; one that
+        meanwhile and began before the cut moves it on to the end of its contact (its samples
+        that came first, past the cut then, were held and go in); one that
         began after it is not recorded. So every recorded impact has its whole wrench trace,
         and every continuous topic reaches the same simulated time. /clock, a global topic
         that another node may publish, neither sets the cut nor is waited for.

@@ -226,6 +226,37 @@ def test_recorder_stops_on_a_consistent_cut(tmp_path):
         context.try_shutdown()
 
 
+def test_samples_past_the_cut_go_in_when_an_impact_moves_the_cut_over_them(tmp_path):
+    """At the stop, a contact's samples can come before its impact (each topic in order, not in
+    step): those past the cut are held, and written when the impact moves the cut over them
+    (reproduced in a stress run: an impact recorded with its wrench trace missing)."""
+    context = rclpy.Context()
+    context.init()
+    recorder = cs_recorder.Recorder(tmp_path / 'bag', context=context)
+    try:
+        wrench, impact = f'{NODE}/wrench', f'{NODE}/impact'
+        for topic in recorder.topics:
+            recorder.publishers_matched[topic] = 1
+
+        def deliver(topic, msg):
+            recorder._on_message(topic, cs_msgs.type_name(type(msg)), serialize_message(msg))
+        deliver(wrench, cs_msgs.wrench_msg(1_000_000_000, 0.0, 'plate'))
+        recorder.cut()
+        assert recorder.cut_ns == 1_000_000_000
+        for ns, force in ((1_000_100_000, 7.0), (1_000_200_000, 3.0), (1_500_000_000, 0.0)):
+            deliver(wrench, cs_msgs.wrench_msg(ns, force, 'plate'))
+        assert recorder.bag.counts[wrench] == 1       # held: past the cut
+        deliver(impact, cs_msgs.impact_msg(cs.ImpactRecord(
+            0.99995, 0.5, 0.25, 0.5, 3e-4, 7.0, 1e-7), 0.0))
+        assert recorder.cut_ns == 1_000_250_000
+        assert recorder.bag.counts[wrench] == 3       # the contact's samples, not the later one
+        assert recorder.bag.counts[impact] == 1
+    finally:
+        recorder.close()
+        recorder.destroy_node()
+        context.try_shutdown()
+
+
 def test_the_stop_drain_ends_when_done_on_timeout_or_on_a_signal():
     context = rclpy.Context()
     context.init()
