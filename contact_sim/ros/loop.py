@@ -26,8 +26,9 @@ the contact points are).
 Pacing by a recorder (``pacing.RecorderPace``, the protocol is described there). Running as fast
 as possible while ``contact_sim_record`` is there, the node publishes no more than
 ``pacing.LEAD_MESSAGES`` messages beyond what the recorder has acknowledged: before each engine
-call it asks for room, and sizes the call to it and to ``pacing.CALL_MESSAGES`` (at rest 8
-messages a tick), one call a turn, so that the recorder's acknowledgements are taken between
+call it asks for room, and sizes the call to it and to ``pacing.CALL_MESSAGES``, counted as 8
+messages a tick (a tick's contact points add 3 messages each, at most ``TURN_STEP_BUDGET`` steps'
+worth in a call), one call a turn, so that the recorder's acknowledgements are taken between
 calls and it records one call while the node computes the next; without room the node pauses its
 timer, and resumes at the next acknowledgement (or when the recorder has gone: checked
 every ``WATCH_PERIOD``). At a stop (``drain``) it finishes its tick, publishes what waits and
@@ -122,11 +123,11 @@ class TickLoop:
         due = self._ticks_due(start)
         deadline = start + (FAST_TURN if fast else min(
             REAL_TURN * self._period, TURN_BASE + TURN_PER_TICK * max(due - self._tick, 0)))
+        paced = False   # paced: one engine call a turn (acknowledgements are taken between
+        # turns, and the recorder records the last call meanwhile)
         if fast:
             room = self._pace.room()
-            if room != math.inf:
-                deadline = start   # paced: one engine call a turn (pacing: acknowledgements
-                # are taken between turns, and the recorder works on the last call meanwhile)
+            paced = room != math.inf
             if room <= 0 and not self._mid_tick():
                 # a recorder is behind: wait for it (RecorderPace; never inside a tick, whose
                 # end is what it acknowledges)
@@ -136,9 +137,9 @@ class TickLoop:
             self._skip_ahead(due, start)
         while self._tick < due:
             if not self._run_ticks(self._calls_ticks(min(due, self._tick + BATCH_TICKS)),
-                                   deadline):
+                                   deadline, one_call=paced):
                 return    # out of wall time inside the tick: the next turn goes on with it
-            if self._out.pending or time.monotonic() > deadline:
+            if paced or self._out.pending or time.monotonic() > deadline:
                 return
 
     def _mid_tick(self):
@@ -200,11 +201,12 @@ class TickLoop:
                 f' skipping ahead (the states of skipped ticks are not published; logged once)')
         self._tick = due - 1
 
-    def _run_ticks(self, upto, deadline):
+    def _run_ticks(self, upto, deadline, one_call=False):
         """Advance through ticks up to ``upto`` (since the anchor) in batched engine calls
         (``DropSimulation.advance_ticks``, ``TURN_STEP_BUDGET`` integrator steps each) and
-        publish them; False if the wall budget ran out first (what was integrated so far is
-        published; the rest goes on at the next turn)."""
+        publish them; False if the wall budget ran out first, or after one call if
+        ``one_call`` (what was integrated so far is published; the rest goes on at the next
+        turn)."""
         sim = self._sim
         times = self._anchor_sim + np.arange(self._tick + 1, upto + 1) * self._dt
         done = 0
@@ -223,7 +225,7 @@ class TickLoop:
             self._pace.mark(self._out.tick_ns)
             done += batch.ticks
             self._tick += batch.ticks
-            if done < times.size and (time.monotonic() > deadline or (
+            if done < times.size and (one_call or time.monotonic() > deadline or (
                     self._model.fast and not self._stopping and self._pace.room() <= 0
                     and not self._mid_tick())):
                 return False

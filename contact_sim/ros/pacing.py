@@ -14,8 +14,10 @@ The protocol (the recorder's side is ``recorder.Recorder.report``):
    note stamped at or before t; ``READY_NS`` releases everything published so far (what went out
    before the recorder matched is not the recorder's to acknowledge). The node publishes while
    fewer than ``LEAD_MESSAGES`` are unreleased, and pauses otherwise, until the next
-   acknowledgement or until the recorder goes away. It publishes in engine calls of at most
-   ``CALL_MESSAGES`` (half the lead), one a turn of its executor, so that the acknowledgement
+   acknowledgement or until the recorder goes away. It publishes in engine calls of
+   ``CALL_MESSAGES`` (half the lead) at most, counted as 8 messages a tick (contact points add
+   3 messages each, at most an engine call's 20 integrator steps' worth), one a turn of its
+   executor, so that the acknowledgement
    of one call comes back while the next is computed and published: the two processes work at
    once (measured at rest, ``bench/bench_recording.py``: one call of the whole lead a turn of
    20 ms let both wait about two thirds of the time). The first acknowledgement after the
@@ -42,7 +44,7 @@ from collections import deque
 from .messages import PROGRESS
 
 LEAD_MESSAGES = 256   # unacknowledged messages on the paced topics (< the 512 of a shm port)
-CALL_MESSAGES = LEAD_MESSAGES // 2   # messages of one engine call at most while paced
+CALL_MESSAGES = LEAD_MESSAGES // 2   # messages of one engine call while paced (as ticks)
 START_GRACE = 3.0     # s of wall time a flat-out node waits at its start for a recorder
 READY_NS = 0          # an acknowledgement of nothing: the recorder is ready
 MISSES = 2            # looks in a row without a recorder before it counts as gone
