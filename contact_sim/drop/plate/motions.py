@@ -382,9 +382,11 @@ class SwitchedPlate(PlateMotion):
 
     def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
         """A flight from the switch on is ``after``'s alone: planned as ``after`` plans it (in
-        compiled code where it can); one that starts before the switch, by the first root of
-        the gap over both parts (``flights.gap_flight``)."""
-        if flight.start >= self.switch_time:
+        compiled code where it can) if ``after`` moves; one that starts before the switch, or
+        over a fixed ``after`` (whose closed-form plan would differ from the engine's plan of a
+        moving plate in the apex and the drag path), by the first root of the gap over both
+        parts (``flights.gap_flight``)."""
+        if flight.start >= self.switch_time and self.after.moving:
             return self.after.plan_flight(flight, z, zdot, contact, drag_rates, after_lift_off)
         return gap_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off)
 
