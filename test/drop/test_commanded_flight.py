@@ -9,7 +9,8 @@ import pytest
 
 from contact_sim.drop.engine import DropSimulation
 from contact_sim.drop.mode_flight import Flight
-from contact_sim.drop.plate import CommandedPlate, PlateMotion, SwitchedPlate, command_motion
+from contact_sim.drop.plate import (FIXED, CommandedPlate, PlateMotion, SinusoidalPlate,
+                                    SwitchedPlate, command_motion)
 from contact_sim.drop.plate.compiled_flight import plate_gap
 from contact_sim.drop.plate.flights import gap_touch_time
 from test_table_flight import G, LAWS, MASS, contact_of  # the table's flights: same contacts
@@ -223,3 +224,17 @@ def test_with_drag_a_commanded_plate_plans_by_the_reference_path():
                       True)
         assert fast.path is not None
         assert fast.contact_time == slow.contact_time and fast.apex == slow.apex
+
+
+def test_a_flight_after_a_switch_to_the_fixed_plate_is_planned_over_the_switched_plate():
+    """A hand-built switch to the fixed plate: its flights after the switch are planned as the
+    reference plans the switched plate (the fixed plate's closed-form plan gave an apex where
+    the reference gives none: a reviewer's case, start 1.5 s, z = -1 mm, ż = 0.5 m/s)."""
+    table = SinusoidalPlate(0.002, 10.0)
+    contact = contact_of('azad_featherstone')
+    for start, z, zdot, after in ((1.5, -1e-3, 0.5, True), (1.2, -2e-3, -0.3, False)):
+        fast = Flight(SwitchedPlate(table, FIXED, 1.0), G, start, z, zdot, contact, None, after)
+        slow = Flight(ReferenceSwitchedPlate(table, FIXED, 1.0), G, start, z, zdot, contact,
+                      None, after)
+        assert fast.apex == slow.apex
+        assert fast.contact_time == pytest.approx(slow.contact_time, rel=1e-12)
