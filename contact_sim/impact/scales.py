@@ -44,6 +44,16 @@ def damping_group_of(law, length, speed, damping, mass):
     return damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
 
 
+def _scales_accepted(length, time, zeta, zeta_max, zeta_min):
+    """(finite, ok) of impact scales, arrays or floats: Z and T finite positive doubles; and
+    also T >= ``CONTACT_TIME_MIN``, Z <= ``CONTACT_LENGTH_MAX``, ζ <= ``zeta_max`` and ζ = 0 or
+    ζ >= ``zeta_min`` (the rule ``checked_scales`` and ``checked_scales_at`` both apply)."""
+    finite = (length > 0.0) & (length < math.inf) & (time > 0.0) & (time < math.inf)  # NaN: no
+    ok = finite & (time >= CONTACT_TIME_MIN) & (length <= CONTACT_LENGTH_MAX) & (zeta <= zeta_max) \
+        & ((zeta == 0.0) | (zeta >= zeta_min))
+    return finite, ok
+
+
 def checked_scales_at(contact, mass, speed, name='speed', zeta_max=ZETA_MAX, zeta_min=0.0):
     """``checked_scales`` at one speed, as floats: (Z in m, T in s, ζ).
 
@@ -61,8 +71,7 @@ def checked_scales_at(contact, mass, speed, name='speed', zeta_max=ZETA_MAX, zet
         except (OverflowError, ZeroDivisionError):
             pass
         else:
-            if (0.0 < length <= CONTACT_LENGTH_MAX and CONTACT_TIME_MIN <= time < math.inf
-                    and zeta <= zeta_max and (zeta == 0.0 or zeta >= zeta_min)):
+            if _scales_accepted(length, time, zeta, zeta_max, zeta_min)[1]:
                 return length, time, zeta
     length, time, zeta = checked_scales(contact, mass, speed, name, zeta_max, zeta_min)
     return float(length), float(time), float(zeta)
@@ -106,9 +115,7 @@ def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX, zeta_
     with np.errstate(all='ignore'):
         length, time = impact_scales(law, contact.stiffness, mass, v)
         zeta = damping_group_of(law, length, v, contact.damping, mass)
-    finite = (length > 0.0) & np.isfinite(length) & (time > 0.0) & np.isfinite(time)
-    ok = finite & (time >= CONTACT_TIME_MIN) & (length <= CONTACT_LENGTH_MAX) & (zeta <= zeta_max) \
-        & ((zeta == 0.0) | (zeta >= zeta_min))
+    finite, ok = _scales_accepted(length, time, zeta, zeta_max, zeta_min)
     if not np.all(ok):
         i = np.flatnonzero(~np.broadcast_to(ok, np.shape(v)).ravel())[0]
         bad = float(np.ravel(v)[i])
