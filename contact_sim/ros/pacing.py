@@ -15,12 +15,12 @@ The protocol (the recorder's side is ``recorder.Recorder.report``):
    before the recorder matched is not the recorder's to acknowledge). The node publishes while
    fewer than ``LEAD_MESSAGES`` are unreleased, and pauses otherwise, until the next
    acknowledgement or until the recorder goes away. It publishes in engine calls of
-   ``CALL_MESSAGES`` (half the lead) at most, counted as 8 messages a tick (contact points add
-   3 messages each, at most an engine call's 20 integrator steps' worth), one a turn of its
-   executor, so that the acknowledgement
-   of one call comes back while the next is computed and published: the two processes work at
-   once (measured at rest, ``bench/bench_recording.py``: one call of the whole lead a turn of
-   20 ms let both wait about two thirds of the time). The first acknowledgement after the
+   ``CALL_MESSAGES`` (half the lead) at most, counted as ``loop.TICK_MESSAGES`` a tick (contact
+   points add 3 messages each, at most ``loop.TURN_STEP_BUDGET`` integrator steps' worth a
+   call), one a turn of its executor, so that the acknowledgement of one call comes back while
+   the next is computed and published: the two processes work at once (measured at rest,
+   ``bench/bench_recording.py``: one call of the whole lead a turn of 20 ms let both wait about
+   two thirds of the time). The first acknowledgement after the
    recorder was missed (not seen by ``watch``) releases everything too, like ``READY_NS``.
 3. Why messages and not ticks: Fast DDS delivers between processes of one machine through a
    shared-memory port whose queue holds 512 messages by default; a burst larger than that is,
