@@ -207,7 +207,7 @@ TRANSCRIPTS['node_start'] = [(c, lambda c=c: node(c)) for c in (
     'contact_sim_node --help > /dev/null; echo "exit code $?"',
     'contact_sim_node --frobnicate; echo "exit code $?"')]
 # a recording whose recorder is killed (SIGKILL: no metadata.yaml), then recovered; in a ROS
-# domain of this build's own (``ros_env``), the node at real time for 6 s
+# domain of this build's own (``node(..., ros=True)``), the node at real time for 6 s
 TRANSCRIPTS['recorder_recover'] = [(c, lambda c=c: node(c, ros=True)) for c in (
     'contact_sim_record -o drop1 > /dev/null 2>&1 & recorder=$!; '
     'contact_sim_node > /dev/null 2>&1 & node=$!; '
