@@ -4,6 +4,7 @@ mode are described in the ``drop`` package's docstring), and ``simulate_drop``, 
 Units: SI; z > 0 is penetration, ż > 0 is downward motion (approach).
 """
 import math
+from itertools import chain
 from operator import attrgetter
 
 import numpy as np
@@ -29,6 +30,25 @@ def _recorded(name, doc):
 
 
 MAX_STEPS_PER_CALL = 10 ** 12     # integrator steps one advance call may be given
+
+
+class _NoPoints:
+    """A sink for the contact points that nobody reads: ``extend`` drops them."""
+
+    @staticmethod
+    def extend(points):
+        pass
+
+
+_NO_POINTS = _NoPoints()
+
+
+def _samples_of(points):
+    """``Samples`` of the engine's points, rows (t, z, ż, F) of exactly four floats: read with
+    ``np.fromiter`` over the rows chained (half the cost of ``np.asarray`` on a list of tuples,
+    which ``Samples.from_points`` takes for any array_like)."""
+    flat = np.fromiter(chain.from_iterable(points), dtype=float, count=4 * len(points))
+    return Samples.from_points(flat)
 
 
 def _step_budget(max_steps):
@@ -281,6 +301,19 @@ class DropSimulation:
         InputError
             Keyed ``t_end`` (before ``time`` or beyond 1e9 s) or ``max_steps``.
         """
+        points = []
+        n_impacts, n_apex = len(self.impacts), len(self.apex_heights)
+        self._advance(t_end, max_steps, points)
+        state = self.state
+        points.append((self.time, state.penetration, state.penetration_rate, state.force))
+        impacts = tuple(self.impacts[n_impacts:])
+        apexes = tuple(self.apex_heights[n_apex:])
+        return Advance(_samples_of(points), impacts, apexes)
+
+    def _advance(self, t_end, max_steps, points):
+        """``advance``'s motion: the contact points passed go to ``points`` (anything with
+        ``extend``: ``_NO_POINTS`` when nobody reads them, as in ``simulate_drop`` without
+        ``sample_rate``)."""
         t_end = require_real('t_end', t_end)
         if not self.time <= t_end <= TIME_MAX:
             allowed = ('{n[t_end]} >= %r' % self.time if t_end < self.time
@@ -288,8 +321,6 @@ class DropSimulation:
             raise InputError('t_end', t_end, '{n[t_end]} = {value} is out of range: allowed '
                              + allowed)
         max_steps = _step_budget(max_steps)
-        points = []
-        n_impacts, n_apex = len(self.impacts), len(self.apex_heights)
         budget = math.inf if max_steps is None else max_steps
         while True:
             move = self._mode.advance(self, t_end, budget, points)
@@ -298,11 +329,6 @@ class DropSimulation:
             budget = move.budget
             self._follow(move.event)
         self.time = move.time
-        state = self.state
-        points.append((self.time, state.penetration, state.penetration_rate, state.force))
-        impacts = tuple(self.impacts[n_impacts:])
-        apexes = tuple(self.apex_heights[n_apex:])
-        return Advance(Samples.from_points(points), impacts, apexes)
 
     def _tick_times(self, times):
         """``times`` of ``advance_ticks`` as a float array (1-D, <= ``MAX_TICKS``, finite,
@@ -472,17 +498,21 @@ def simulate_drop(contact, mass, height, gravity=9.81, duration=5.0, sample_rate
                          settle_tolerance=settle_tolerance, radius=radius, drag=drag,
                          plate=plate)
 
-    def advance(t):
-        part = sim.advance(t, max_steps=max_steps - sim.total_steps)
+    def reached(t):
         if sim.time < t:
             raise InputError('duration', duration, '{n[duration]} = {value} s needs more than '
                              '%d integrator steps (max_steps; reached t = %.6g s): allowed a '
                              'shorter {n[duration]}' % (max_steps, sim.time))
+
+    def advance(t):
+        part = sim.advance(t, max_steps=max_steps - sim.total_steps)
+        reached(t)
         return part
 
     trajectory = None
-    if sample_rate is None:
-        advance(duration)
+    if sample_rate is None:     # no trajectory: its points are not gathered
+        sim._advance(duration, max_steps - sim.total_steps, _NO_POINTS)
+        reached(duration)
     else:
         grid = np.arange(1, int(math.floor(duration * rate + 1e-9)) + 1) / rate
         if grid.size == 0 or grid[-1] < duration:
