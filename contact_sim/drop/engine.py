@@ -310,10 +310,39 @@ class DropSimulation:
         apexes = tuple(self.apex_heights[n_apex:])
         return Advance(_samples_of(points), impacts, apexes)
 
+    def run_to(self, t_end, max_steps=None):
+        """``advance`` without gathering the contact points passed: for a caller that reads only
+        the impacts, apexes and state (``simulate_drop`` without ``sample_rate``, the vibrating
+        table's orbits), which then does not pay for them.
+
+        Parameters
+        ----------
+        t_end : float
+            The time to reach, s, ``time`` <= t_end <= 1e9.
+        max_steps : int, optional
+            Integrator steps allowed in this call, as in ``advance``.
+
+        Raises
+        ------
+        InputError
+            Keyed ``t_end`` or ``max_steps``, as in ``advance``.
+
+        Examples
+        --------
+        >>> import contact_sim as cs
+        >>> from contact_sim.drop import DropSimulation
+        >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+        ...                                     radius=0.0127, damping_factor=8.87e5)
+        >>> sim = DropSimulation(contact, cs.build_mass(sphere='steel', radius=0.0127), 0.1)
+        >>> sim.run_to(0.5)
+        >>> print(f"{len(sim.impacts)} impacts by t = {sim.time:.1f} s")
+        2 impacts by t = 0.5 s
+        """
+        self._advance(t_end, max_steps, _NO_POINTS)
+
     def _advance(self, t_end, max_steps, points):
         """``advance``'s motion: the contact points passed go to ``points`` (anything with
-        ``extend``: ``_NO_POINTS`` when nobody reads them, as in ``simulate_drop`` without
-        ``sample_rate``)."""
+        ``extend``)."""
         t_end = require_real('t_end', t_end)
         if not self.time <= t_end <= TIME_MAX:
             allowed = ('{n[t_end]} >= %r' % self.time if t_end < self.time
@@ -511,7 +540,7 @@ def simulate_drop(contact, mass, height, gravity=9.81, duration=5.0, sample_rate
 
     trajectory = None
     if sample_rate is None:     # no trajectory: its points are not gathered
-        sim._advance(duration, max_steps - sim.total_steps, _NO_POINTS)
+        sim.run_to(duration, max_steps=max_steps - sim.total_steps)
         reached(duration)
     else:
         grid = np.arange(1, int(math.floor(duration * rate + 1e-9)) + 1) / rate

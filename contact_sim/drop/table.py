@@ -239,7 +239,7 @@ class VibratingTable:
         while len(sim.impacts) < total and t < self.max_periods * period and not (
                 sim.carried and t > 10 * period):
             t += 20.0 * period
-            sim.advance(t)
+            sim.run_to(t)
         times = np.array([im.time for im in sim.impacts[:total]])
         speeds = np.array([im.impact_speed for im in sim.impacts[:total]])
         return times, np.mod(w * times + theta, 2.0 * math.pi), speeds

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import contact_sim as cs
+from contact_sim.drop.plate import SinusoidalPlate
 
 M, H, G = 0.066, 1.0, 10.0
 
@@ -186,6 +187,23 @@ def test_set_contact_during_a_flight_never_goes_back_in_time():
     assert np.all(adv.samples.time >= 0.7)
     assert all(imp.time > 0.7 for imp in adv.impacts) and len(adv.impacts) >= 1
     assert all(imp.impact_speed > 0.5 for imp in adv.impacts[:1])
+
+
+@pytest.mark.parametrize('plate', [None, SinusoidalPlate(2e-3, 10.0, 0.3)],
+                         ids=['fixed', 'table'])
+def test_run_to_is_advance_without_the_points(paper, plate):
+    contact, _ = paper
+    quiet = cs.DropSimulation(contact, M, 0.2, gravity=G, plate=plate)
+    loud = cs.DropSimulation(contact, M, 0.2, gravity=G, plate=plate)
+    for t in (0.3, 1.0, 2.5):
+        assert quiet.run_to(t) is None
+        loud.advance(t)
+        assert quiet.time == loud.time == t
+        assert quiet.impacts == loud.impacts and quiet.state == loud.state
+        assert quiet.total_steps == loud.total_steps
+    assert len(quiet.impacts) > 3
+    with pytest.raises(cs.InputError, match='t_end'):
+        quiet.run_to(1.0)
 
 
 def test_step_budget_stops_early_and_resumes_to_the_same_motion(paper):
