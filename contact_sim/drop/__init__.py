@@ -41,7 +41,8 @@ from contact_sim._lazy import lazy_exports
 
 # where each public name lives, imported on first use (``contact_sim._lazy``)
 _EXPORTS = {
-    'engine': ('DropSimulation', 'simulate_drop'),
+    'engine': ('DropSimulation',),
+    'simulate': ('simulate_drop',),
     'limits': ('GRAVITY_MAX', 'HEIGHT_MAX', 'VELOCITY_MAX', 'check_drop'),
     'plate': ('FIXED', 'TABLE_ACCELERATION_MAX', 'TABLE_AMPLITUDE_MAX', 'TABLE_FREQUENCY_MAX',
               'TABLE_PHASE_MAX', 'CommandedPlate', 'FixedPlate', 'PlateMotion', 'SinusoidalPlate',

@@ -141,7 +141,8 @@ def test_an_argument_error_is_refused_before_the_engine_is_imported(command):
              '    print(stop.code)\n'
              'print(sorted(m for m in sys.modules if m.split(".")[0] == "numba" or m in '
              '("contact_sim.phase.compiled", "contact_sim.impact.simulate", '
-             '"contact_sim.drop.engine", "contact_sim.calibration.bounce_fit", '
+             '"contact_sim.drop.engine", "contact_sim.drop.simulate", '
+             '"contact_sim.calibration.bounce_fit", '
              '"contact_sim.export.engines")))\n')
     done = subprocess.run([sys.executable, '-c', probe], capture_output=True, text=True,
                           timeout=300)

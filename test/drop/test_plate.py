@@ -7,7 +7,8 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from contact_sim.model.contact import Contact
-from contact_sim.drop.engine import DropSimulation, simulate_drop
+from contact_sim.drop.engine import DropSimulation
+from contact_sim.drop.simulate import simulate_drop
 from contact_sim.flight.drag import AirDrag, FlightPath
 from contact_sim.drop.plate import CommandedPlate, SinusoidalPlate, SwitchedPlate, table_transition
 

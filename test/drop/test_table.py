@@ -7,7 +7,7 @@ import pytest
 from contact_sim import InputError
 from contact_sim.drop import bifurcation_diagram
 from contact_sim.model.contact import Contact
-from contact_sim.drop.engine import simulate_drop
+from contact_sim.drop.simulate import simulate_drop
 from contact_sim.drop.table import (VibratingTable, period_doubling_threshold, period_one_phase,
                                period_one_threshold)
 
