@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import contact_sim as cs
+from contact_sim.drop import engine
 from contact_sim.drop.plate import SinusoidalPlate
 
 M, H, G = 0.066, 1.0, 10.0
@@ -202,8 +203,21 @@ def test_run_to_is_advance_without_the_points(paper, plate):
         assert quiet.impacts == loud.impacts and quiet.state == loud.state
         assert quiet.total_steps == loud.total_steps
     assert len(quiet.impacts) > 3
+    quiet.run_to(3.0, max_steps=5)
+    loud.advance(3.0, max_steps=5)
+    assert quiet.time == loud.time <= 3.0 and quiet.total_steps == loud.total_steps
     with pytest.raises(cs.InputError, match='t_end'):
         quiet.run_to(1.0)
+
+
+def test_advance_reads_its_points_as_samples_from_points_does(paper, monkeypatch):
+    contact, _ = paper
+    fast = cs.DropSimulation(contact, M, 0.2, gravity=G).advance(1.0).samples
+    monkeypatch.setattr(engine, '_samples_of', cs.Samples.from_points)
+    slow = cs.DropSimulation(contact, M, 0.2, gravity=G).advance(1.0).samples
+    assert fast.time.size > 100
+    for name in ('time', 'penetration', 'penetration_rate', 'force'):
+        assert np.array_equal(getattr(fast, name), getattr(slow, name))
 
 
 def test_step_budget_stops_early_and_resumes_to_the_same_motion(paper):
