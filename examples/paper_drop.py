@@ -42,9 +42,12 @@ def measured_rest_frequency(result, window=0.01, rate=400_000.0):
     out = []
     for start in (result.permanent_contact_time, result.settle_time - window):
         sim = cs.DropSimulation(contact, MASS, HEIGHT, gravity=GRAVITY)
-        sim.advance(start)
+        sim.run_to(start)
         t = start + np.arange(1, int(window * rate) + 1) / rate
-        z = np.array([sim.advance(ti).samples.penetration[-1] for ti in t]) - z0
+        z = np.empty(t.size)
+        for i, ti in enumerate(t):      # the state at each sample time: no contact points needed
+            sim.run_to(ti)
+            z[i] = sim.state.penetration - z0
         up = np.flatnonzero((z[:-1] < 0.0) & (z[1:] >= 0.0))
         crossings = t[up] - z[up] * (t[up + 1] - t[up]) / (z[up + 1] - z[up])
         out.append((len(crossings) - 1) / (crossings[-1] - crossings[0]))
