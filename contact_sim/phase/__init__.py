@@ -24,8 +24,9 @@ the lift-off bound), ``lift_off`` (which roots end a phase, and when its end is 
 creep), ``reference`` (``PhaseIntegrator``: scipy's DOP853 or Radau stepped from
 Python, the reference path), ``compiled_phase`` (``CompiledPhase``, the default engine) over
 ``compiled`` (the numba kernels: DOP853 with dense output and located events) and
-``_dop853_coefficients`` (the generated tableau), ``engines`` (the engine switch and
-``contact_phase``, which picks one).
+``_dop853_coefficients`` (the generated tableau), ``compiled_start`` (a compiled phase as
+another kernel starts and runs it: ``CompiledPhase`` and the drop's compiled bounces),
+``engines`` (the engine switch and ``contact_phase``, which picks one).
 """
 from contact_sim._lazy import lazy_exports
 
@@ -33,17 +34,22 @@ from contact_sim._lazy import lazy_exports
 # the forcing without numba and scipy's integrators
 _EXPORTS = {
     'compiled_phase': ('CompiledPhase',),
-    'energy': ('energy_above_rest', 'lift_off_energy', 'potential_at'),
+    'compiled_start': ('RUN_REASONS', 'compiled_scales', 'constant_parameters', 'energy_stop',
+                       'lift_off_of', 'phase_storage', 'phase_time', 'results_of', 'run_phase',
+                       'start_phase'),
+    'energy': ('energy_above_rest', 'lift_off_energy', 'potential_at', 'potential_of'),
     'engines': ('COMPILED_STIFF_DAMPING', 'ENGINES', 'contact_phase', 'get_engine', 'set_engine',
                 'use_engine'),
     'forcing': ('Forcing',),
+    'lift_off': ('force_can_vanish_inside',),
     'reference': ('STIFF_DAMPING', 'PhaseIntegrator'),
     'scales': ('DEFAULT_ATOL', 'DEFAULT_RTOL', 'PhaseScales', 'phase_scales'),
 }
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
-__all__ = ['COMPILED_STIFF_DAMPING', 'DEFAULT_ATOL', 'DEFAULT_RTOL', 'ENGINES', 'STIFF_DAMPING',
-           'CompiledPhase', 'Forcing', 'PhaseIntegrator', 'PhaseScales', 'contact_phase',
-           'energy_above_rest', 'get_engine', 'lift_off_energy', 'phase_scales', 'potential_at',
-           'set_engine',
-           'use_engine']
+__all__ = ['COMPILED_STIFF_DAMPING', 'DEFAULT_ATOL', 'DEFAULT_RTOL', 'ENGINES', 'RUN_REASONS',
+           'STIFF_DAMPING', 'CompiledPhase', 'Forcing', 'PhaseIntegrator', 'PhaseScales',
+           'compiled_scales', 'constant_parameters', 'contact_phase', 'energy_above_rest',
+           'energy_stop', 'force_can_vanish_inside', 'get_engine', 'lift_off_energy',
+           'lift_off_of', 'phase_scales', 'phase_storage', 'phase_time', 'potential_at',
+           'potential_of', 'results_of', 'run_phase', 'set_engine', 'start_phase', 'use_engine']

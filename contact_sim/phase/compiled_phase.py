@@ -9,10 +9,10 @@ import math
 import numpy as np
 
 from contact_sim.phase import compiled
-from contact_sim.phase.energy import potential_at
+from contact_sim.phase.compiled_start import (constant_parameters, energy_stop, phase_storage,
+                                              start_phase)
 from contact_sim.phase.lift_off import force_can_vanish_inside
-from contact_sim.phase.scales import (DEFAULT_ATOL, DEFAULT_RTOL, FIRST_STEP, phase_scales,
-                                      start_peak_force)
+from contact_sim.phase.scales import DEFAULT_ATOL, DEFAULT_RTOL, PhaseScales, phase_scales
 
 
 class CompiledPhase:
@@ -29,40 +29,46 @@ class CompiledPhase:
     def __init__(self, contact, mass, gravity, start_time, penetration, penetration_rate,
                  rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scales=None, keep_points=True,
                  forcing=None):
-        self.contact = contact
-        self.mass = mass
-        self.start_time = start_time
-        self.scales = sc = scales if scales is not None else phase_scales(
+        sc = scales if scales is not None else phase_scales(
             contact, mass, gravity, penetration, penetration_rate)
-        law = contact.law
-        k, mass_g = contact.stiffness, mass * sc.gravity * sc.length / sc.time ** 2
-        g = mass_g / mass                           # as PhaseIntegrator.energy_above_rest
-        z0 = contact.static_penetration(mass_g)
-        rest_potential = potential_at(contact, mass, g, z0)
         # the layout of compiled.P_*; the forcing: gravity, and the terms of ``forcing``
-        extra = (0.0,) * 5 if forcing is None else forcing.dimensionless(mass, sc, start_time)
-        par = np.array([law.n, law.p, law.q, sc.damping,
-                        sc.gravity, *extra,
-                        start_time, sc.time, sc.length,
-                        k, contact.damping, mass, g, rest_potential, rtol, atol,
-                        float(law.kernel),
-                        2.0 if force_can_vanish_inside(law, g, forcing) else 1.0])
-        self._par = par
-        self._st, self._k, self._f = compiled.new_state(
-            penetration / sc.length, penetration_rate * sc.time / sc.length, FIRST_STEP)
+        par = constant_parameters(contact, mass, rtol, atol,
+                                  2 if force_can_vanish_inside(contact.law, gravity, forcing)
+                                  else 1)
+        if forcing is not None:
+            par[compiled.P_AMPLITUDE:compiled.P_DRAG2 + 1] = forcing.dimensionless(
+                mass, sc, start_time)
+        st, k, f = phase_storage()
+        peak = start_phase(par, st, k, f, start_time, penetration, penetration_rate, sc.length,
+                           sc.time, sc.gravity, sc.damping)
+        self._adopt(contact, mass, sc, par, st, k, f, keep_points,
+                    [(start_time, penetration, penetration_rate, peak)])
+
+    @classmethod
+    def adopt(cls, contact, mass, par, st, k, f, points, keep_points=True):
+        """The phase whose compiled storage is (``par``, st, K, F), started and run by someone
+        else (the drop's compiled bounce loop): its points so far ``points`` (rows (t, z, ż, F),
+        the first one its start), its scales and results read from the storage, which it then
+        owns."""
+        phase = cls.__new__(cls)
+        sc = PhaseScales(par[compiled.P_LENGTH], par[compiled.P_TIME], par[compiled.P_GRAVITY],
+                         par[compiled.P_ZETA])
+        phase._adopt(contact, mass, sc, par, st, k, f, keep_points, points)
+        phase._read_state()
+        return phase
+
+    def _adopt(self, contact, mass, scales, par, st, k, f, keep_points, points):
+        self.contact, self.mass, self.scales = contact, mass, scales
+        self.start_time = points[0][0]
+        self._par, self._st, self._k, self._f = par, st, k, f
         self._buffer = np.empty((compiled.POINT_BUFFER, 4))
         self._keep_points = keep_points
-        # a generous margin on the energy test: the caller's own test has the last word
-        self._energy_margin = 1e-12 * mass * (sc.length / sc.time) ** 2
         self.lifted_off = False
         self.steps = 0
-        self.peak_force = start_peak_force(contact, penetration, penetration_rate,
-                                           compiled.contact_force(penetration, penetration_rate,
-                                                                  par))
-        self.max_penetration = penetration
-        self._st[compiled.S_PEAK], self._st[compiled.S_DEPTH] = self.peak_force, penetration
+        self.peak_force = points[0][3]
+        self.max_penetration = points[0][1]
         self.end = None  # (t, z, ż) at lift-off
-        self.points = [(start_time, penetration, penetration_rate, self.peak_force)]
+        self.points = points
 
     def run(self, t_stop=math.inf, max_steps=None, stop_energy=-math.inf):
         """Step until lift-off, until ``time >= t_stop`` (s), for ``max_steps`` steps, or until a
@@ -70,8 +76,7 @@ class CompiledPhase:
         compiled test uses a margin of 1e-12 of the phase's kinetic energy scale, so it may stop
         a step before the caller's own test agrees, never after).  Returns the steps taken."""
         budget = compiled.MAX_STEPS if max_steps is None else int(min(max_steps, compiled.MAX_STEPS))
-        stop = (stop_energy + abs(stop_energy) * 1e-9 + self._energy_margin
-                if stop_energy > -math.inf else -math.inf)
+        stop = energy_stop(stop_energy, self._par)
         st, buf = self._st, self._buffer
         taken = 0
         while True:
@@ -82,7 +87,15 @@ class CompiledPhase:
                 self.points.extend(map(tuple, buf[:npts].tolist()))
             if reason != compiled.BUFFER_FULL:
                 break
-        values = st.tolist()
+        self._read_state()
+        if reason == compiled.STEP_TOO_SMALL:
+            raise RuntimeError('contact integration failed: Required step size is less than '
+                               'spacing between numbers.')
+        return taken
+
+    def _read_state(self):
+        """The results of the steps taken, from the compiled state."""
+        values = self._st.tolist()
         self.steps = int(values[compiled.S_STEPS])
         self.peak_force = values[compiled.S_PEAK]
         self.max_penetration = values[compiled.S_DEPTH]
@@ -90,10 +103,6 @@ class CompiledPhase:
             self.lifted_off = True
             self.end = (values[compiled.S_END_T], values[compiled.S_END_Z],
                         values[compiled.S_END_RATE])
-        if reason == compiled.STEP_TOO_SMALL:
-            raise RuntimeError('contact integration failed: Required step size is less than '
-                               'spacing between numbers.')
-        return taken
 
     def step(self):
         """Take one integrator step; locate peak, maximum penetration and lift-off in it."""

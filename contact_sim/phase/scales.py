@@ -25,21 +25,33 @@ class PhaseScales:
     damping: float
 
 
-def phase_scales(contact, mass, gravity, penetration, penetration_rate):
-    """Scales for a phase starting at (z, ż): see the module docstring."""
-    law, k = contact.law, contact.stiffness
-    n, p, q = law.n, law.p, law.q
+def scales_of(k, lam, mass, gravity, n, p, q, penetration, penetration_rate):
+    """(Z m, T s, γ, ζ) of a phase starting at (z, ż) (m, m/s) of the law (n, p, q) with
+    stiffness k and damping λ, mass (kg) and gravity (m/s²): the module docstring's scales on
+    floats (Z <= 0 where there is no motion and no gravity, with T = γ = ζ = 0).  Plain Python
+    that numba compiles as it stands (``compiled_start.compiled_scales``, the drop's compiled
+    bounces); ``phase_scales`` checks it."""
     z = max(penetration, 0.0)
     energy_speed_sq = penetration_rate ** 2 + 2.0 * k * z ** (n + 1.0) / ((n + 1.0) * mass)
     length = (mass * energy_speed_sq / k) ** (1.0 / (n + 1.0))
     if gravity > 0.0:
         length = max(length, (mass * gravity / k) ** (1.0 / n))
     if not length > 0.0:
+        return length, 0.0, 0.0, 0.0
+    time = math.sqrt(mass * length ** (1.0 - n) / k)
+    return (length, time, gravity * time ** 2 / length,
+            lam * length ** (p + q - 1.0) * time ** (2.0 - q) / mass)
+
+
+def phase_scales(contact, mass, gravity, penetration, penetration_rate):
+    """Scales for a phase starting at (z, ż): see the module docstring (``scales_of``)."""
+    law = contact.law
+    length, time, gamma, zeta = scales_of(contact.stiffness, contact.damping, mass, gravity,
+                                          law.n, law.p, law.q, penetration, penetration_rate)
+    if not length > 0.0:
         raise ValueError('a contact phase needs motion or gravity: penetration_rate = 0, '
                          'penetration <= 0 and gravity = 0 give no contact')
-    time = math.sqrt(mass * length ** (1.0 - n) / k)
-    return PhaseScales(length, time, gravity * time ** 2 / length,
-                       contact.damping * length ** (p + q - 1.0) * time ** (2.0 - q) / mass)
+    return PhaseScales(length, time, gamma, zeta)
 
 
 def start_peak_force(contact, penetration, penetration_rate, force):
@@ -61,6 +73,12 @@ def start_peak_force(contact, penetration, penetration_rate, force):
         limit λ ż^q (N) as z -> 0+ if that is larger: the force jumps to it at once.
     """
     law = contact.law
-    if penetration <= 0.0 and law.damps_at_touch and penetration_rate > 0.0:
-        return max(force, contact.damping * penetration_rate ** law.q)
+    return start_peak(law.p, contact.damping, law.q, penetration, penetration_rate, force)
+
+
+def start_peak(p, lam, q, penetration, penetration_rate, force):
+    """``start_peak_force`` of a law with exponents p, q and damping λ on floats: plain Python
+    that numba compiles as it stands (``compiled_start.start_phase`` calls it)."""
+    if penetration <= 0.0 and p == 0.0 and penetration_rate > 0.0:   # the law damps at touch
+        return max(force, lam * penetration_rate ** q)
     return force
