@@ -12,8 +12,10 @@ z > 0 is penetration, ż > 0 approach.
 """
 import math
 
-from contact_sim.drop.plate.compiled_flight import (NO_EXIT, ballistic_force_return,
-                                                   commanded_touch_time, sinusoid_touch_time)
+from contact_sim.drop.plate.compiled_ballistic import apex_height, surface_time
+from contact_sim.drop.plate.compiled_ballistic import touch_time as ballistic_touch_time
+from contact_sim.drop.plate.compiled_flight import (NO_EXIT, commanded_touch_time,
+                                                   sinusoid_touch_time)
 from contact_sim.drop.plate.roots import EPS, first_gap_root, first_upward_root
 from contact_sim.flight import FlightPath
 
@@ -43,44 +45,13 @@ def reduced_force_scalar(contact):
     return phi
 
 
-def surface_time(z, zdot, gravity):
-    """Ballistic time (s) to rise from z > 0 (m) at ż (m/s) to the undeformed surface of the
-    fixed plate under ``gravity`` (m/s²); inf: never."""
-    disc = zdot * zdot - 2.0 * gravity * z
-    return 2.0 * z / (-zdot + math.sqrt(disc)) if disc >= 0.0 and zdot < 0.0 else math.inf
-
-
 def touch_time(z, zdot, gravity, contact):
     """Ballistic flight time (s) from (z, ż) (m, m/s) over the fixed plate under ``gravity``
-    (m/s²) until the clamped force of ``contact`` switches on again (inf: never)."""
-    g = gravity
+    (m/s²) until the clamped force of ``contact`` switches on again (inf: never): the compiled
+    ``compiled_ballistic.touch_time``, which the compiled bounce loop plans its flights with."""
     law = contact.law
-    if z > 0.0:
-        # Inside the undeformed surface with zero force (after a lift-off at z > 0): the
-        # force returns when φ = k z^(n-p) + λ ż|ż|^(q-1) turns positive while z > 0.
-        if g > 0.0:
-            t_out = surface_time(z, zdot, g)
-            t_search = min(t_out, max(-zdot / g, 0.0))
-        else:
-            t_search = -z / zdot if zdot < 0.0 else 0.0
-        if t_search > 0.0:
-            # compiled: first_upward_root of φ(z + ż dt + ½ g dt², ż + g dt), step for step
-            root = ballistic_force_return(z, zdot, g, t_search, contact.stiffness,
-                                          contact.damping, law.n - law.p, law.q)
-            if root >= 0.0:
-                return root
-        if g == 0.0:
-            return math.inf
-        if t_search < t_out:
-            return t_search          # ż reaches 0 with z > 0: the spring pushes again
-        # the sphere leaves the undeformed surface: a flight from z = 0 going up
-        return t_out + touch_time(0.0, zdot + g * t_out, gravity, contact)
-    if g > 0.0:
-        disc = zdot * zdot - 2.0 * g * z
-        if zdot >= 0.0:
-            return 2.0 * -z / (zdot + math.sqrt(disc)) if z < 0.0 else 0.0
-        return (-zdot + math.sqrt(disc)) / g
-    return -z / zdot if zdot > 0.0 else math.inf
+    return ballistic_touch_time(z, zdot, gravity, contact.stiffness, contact.damping,
+                                law.n - law.p, law.q)
 
 
 def ballistic_flight(flight, z, zdot, contact, drag_rates, after_lift_off):
@@ -98,10 +69,7 @@ def ballistic_flight(flight, z, zdot, contact, drag_rates, after_lift_off):
         flight.contact_time = t + flight.path.time_to_height(0.0)
         return flight.path.apex_height if after_lift_off else None
     if after_lift_off and g > 0.0 and math.isfinite(dt):
-        t_top = -zdot / g
-        lowest = z - zdot * zdot / (2.0 * g) if 0.0 < t_top < dt else min(
-            z, flight.state(flight.contact_time)[0])
-        return -lowest
+        return apex_height(t, dt, z, zdot, g)
     return None
 
 
