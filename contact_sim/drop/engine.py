@@ -13,7 +13,7 @@ from contact_sim.drop.limits import (DROP_RTOL, MAX_TICKS, TIME_MAX, check_drop,
                                      require_gravity, require_gravity_for, require_height,
                                      require_mass, require_radius, require_velocity)
 from contact_sim.flight import AirDrag
-from contact_sim.drop.mode import Event
+from contact_sim.drop.mode import NO_POINTS, Event
 from contact_sim.drop.mode_carried import CHUNK
 from contact_sim.drop.plate import as_plate
 from contact_sim.drop.records import Advance, DropState, Recorder, Samples, TickBatch
@@ -28,17 +28,6 @@ def _recorded(name, doc):
 
 
 MAX_STEPS_PER_CALL = 10 ** 12     # integrator steps one advance call may be given
-
-
-class _NoPoints:
-    """A sink for the contact points that nobody reads: ``extend`` drops them."""
-
-    @staticmethod
-    def extend(points):
-        pass
-
-
-_NO_POINTS = _NoPoints()
 
 
 def _samples_of(points):
@@ -202,6 +191,7 @@ class DropSimulation:
         """
         self.check_plate(plate)
         new = as_plate(plate)
+        self._mode = self._mode.handed_over(self)
         t = self.time
         z, zdot = self._mode.state(t)
         p, pv = self.plate_motion.state(t)[:2]
@@ -224,6 +214,7 @@ class DropSimulation:
         """
         contact = require_contact(contact)
         self.check(contact)
+        self._mode = self._mode.handed_over(self)
         z, zdot = self._mode.state(self.time)
         self._follow(Event('set_contact', self.time, z, zdot, contact=contact))
 
@@ -336,7 +327,7 @@ class DropSimulation:
         >>> print(f"{len(sim.impacts)} impacts by t = {sim.time:.1f} s")
         2 impacts by t = 0.5 s
         """
-        self._advance(t_end, max_steps, _NO_POINTS)
+        self._advance(t_end, max_steps, NO_POINTS)
 
     def _advance(self, t_end, max_steps, points):
         """``advance``'s motion: the contact points passed go to ``points`` (anything with

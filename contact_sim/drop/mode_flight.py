@@ -5,6 +5,12 @@ import math
 from contact_sim.drop.mode import Event, Mode
 
 
+def ballistic(y0, v0, gravity, dt):
+    """The height y (m) and upward velocity (m/s) dt (s, or an array) after leaving y0 (m) at v0
+    (m/s) in vacuum under ``gravity`` (m/s²)."""
+    return y0 + v0 * dt - 0.5 * gravity * dt * dt, v0 - gravity * dt
+
+
 class Flight(Mode):
     """A flight over ``plate`` from time ``start`` (s) at (z, ż) (m, m/s) relative to it, under
     ``gravity`` (m/s²): the sphere's absolute lowest point starts at y0 = p - z (m), moving up at
@@ -21,6 +27,16 @@ class Flight(Mode):
         self.contact_time = math.inf
         self.apex = plate.plan_flight(self, z, zdot, contact, drag_rates, after_lift_off)
 
+    @classmethod
+    def planned(cls, plate, gravity, start, y0, v0, contact_time):
+        """The vacuum flight from ``start`` (s) at y0 (m), v0 (m/s) over ``plate`` whose touch
+        at ``contact_time`` (s) is planned already (by the compiled bounces, ``mode_train``)."""
+        flight = cls.__new__(cls)
+        flight.plate, flight.gravity, flight.start = plate, gravity, start
+        flight.y0, flight.v0, flight.path, flight.contact_time = y0, v0, None, contact_time
+        flight.apex = None
+        return flight
+
     @property
     def until(self):
         return self.contact_time
@@ -30,7 +46,7 @@ class Flight(Mode):
         dt = t - self.start
         if self.path is not None:
             return self.path.state(dt)
-        return self.y0 + self.v0 * dt - 0.5 * self.gravity * dt * dt, self.v0 - self.gravity * dt
+        return ballistic(self.y0, self.v0, self.gravity, dt)
 
     def state(self, t):
         y, v = self.absolute(t)

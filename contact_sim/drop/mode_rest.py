@@ -109,7 +109,7 @@ class RestWatch:
         if sim.gravity <= 0.0 or phase.lifted_off:
             return
         energy = phase.energy_above_rest()
-        if not self.permanent and (energy < self.floor or _creeps_to_rest(sim, phase)):
+        if not self.permanent and self.lands(sim, phase, energy):
             self.permanent = True
             if not contact.resumed:
                 sim.recorder.permanent_contact_time = phase.start_time
@@ -122,6 +122,12 @@ class RestWatch:
             z, zdot = phase.state
             self.rest = Rest(phase.time, z0, z - z0, zdot, c_lin / (2.0 * sim.mass),
                              k_lin / sim.mass)
+
+    def lands(self, sim, phase, energy):
+        """True if the running ``phase`` (not lifted off, at the ``energy`` above rest (J) its
+        integrator reached) can never leave the plate again: below the lift-off floor, or in a
+        provable creep into the rest depth."""
+        return energy < self.floor or _creeps_to_rest(sim, phase)
 
     def settle(self, sim, contact):
         """The phase settled into ``rest``: complete the landing's record with the final peaks."""

@@ -1,0 +1,160 @@
+"""Bounces on the fixed plate in compiled code: flight, touch, contact phase, lift-off, flight,
+... for as many bounces as fit before the end asked (``run_train``, behind ``mode_train``).
+
+Each piece is the one the Python modes use, called from here: the flight's touch time and apex
+(``plate.compiled_ballistic``), the phase's scales, start and run (``phase.compiled_scales``,
+``phase.start_phase``, ``phase.run_phase``), and the energy bound of the rebound
+(``bounded_rate``, which ``mode_contact`` uses too).  What the loop adds is the sequence: the
+transitions ``touch`` -> ``impact`` and ``lift_off`` -> ``bounce`` of ``transitions.TRANSITIONS``
+on the fixed plate in vacuum, the impact records (``ImpactRecord``'s fields and the apex, a row
+each in ``imp``) and the points (``pts``).
+
+It stops, with its state in ``tr`` (the layout ``TR_*``), where the Python modes take over or the
+caller asked: the time ``t_stop`` (s), the step budget, a step whose energy fell below the
+lift-off floor (``RestWatch`` decides whether the contact is permanent), a phase too stiff for the
+compiled integrator (``phase.COMPILED_STIFF_DAMPING``: the ``touch`` goes to the Python path),
+or full buffers.  Units: SI; z > 0 penetration, ż > 0 approach.
+"""
+import math
+
+from numba import njit
+
+from contact_sim.drop.plate.compiled_ballistic import apex_height
+from contact_sim.drop.plate.compiled_ballistic import touch_time as ballistic_touch_time
+from contact_sim.phase import (RUN_REASONS, compiled_scales, energy_stop, lift_off_of,
+                               phase_time, potential_of, results_of, run_phase, start_phase)
+
+_KW = dict(cache=True, nogil=True, error_model='numpy')
+LIFTED_OFF, TIME_REACHED, BUDGET_SPENT, ENERGY_BELOW, BUFFER_FULL, STEP_TOO_SMALL = RUN_REASONS
+STIFF_PHASE = 5               # why ``run_train`` returned, beside the phase's reasons
+MAX_STEPS = 2 ** 62
+
+# -- the train's state (float64[NTR]) ------------------------------------------------------------
+TR_FLIGHT = 0                 # 1.0 in flight, 0.0 in a contact phase
+TR_START, TR_Y0, TR_V0, TR_TOUCH = 1, 2, 3, 4    # the flight: start (s), y, v (m, m/s), touch (s)
+TR_GRAVITY, TR_FLOOR, TR_STIFF = 5, 6, 7   # g (m/s²), lift-off energy floor (J), ζ limit
+TR_NPTS, TR_PHASE_ROW, TR_EMITTED = 8, 9, 10   # rows of pts: used, the phase's first, handed out
+TR_NIMP, TR_STEPS, TR_KEEP = 11, 12, 13   # rows of imp used; steps of phases ended; keep points
+TR_TIME = 14                  # the time reached (s)
+TR_Z, TR_RATE = 15, 16        # (z, ż) at a touch left to the Python path (STIFF_PHASE)
+TR_T0, TR_Z0, TR_RATE0 = 17, 18, 19   # the phase's first point
+TR_STOP = 20                  # the energy (J) below which the phase stops for the floor's test
+TR_K, TR_LAM, TR_MASS, TR_N, TR_P, TR_Q = 21, 22, 23, 24, 25, 26   # the contact and the sphere
+NTR = 27
+
+# -- an impact record's row (float64[NREC]): ImpactRecord's fields, then the apex after it -------
+NREC = 8
+REC_APEX = 7
+
+_potential = njit('float64(float64, float64, float64, float64, float64)', **_KW)(potential_of)
+
+
+@njit('float64(float64, float64, float64, float64, float64, float64, float64, float64)', **_KW)
+def bounded_rate(k, n, mass, g, start_z, start_rate, z, zdot):
+    """The rate ż (m/s) at a lift-off at (z, ż) on the fixed plate with the energy above rest
+    no higher than at the phase's start (``start_z`` m, ``start_rate`` m/s): see
+    ``mode_contact.energy_bounded_rate``."""
+    e_start = 0.5 * mass * start_rate * start_rate + _potential(k, n, mass, g, start_z)
+    potential = _potential(k, n, mass, g, z)
+    if not 0.5 * mass * zdot * zdot + potential > e_start:
+        return zdot
+    return math.copysign(math.sqrt(max(2.0 * (e_start - potential) / mass, 0.0)), zdot)
+
+
+@njit(**_KW)
+def _touch(tr, st, K, F, par, pts):
+    """The flight touches at ``tr[TR_TOUCH]``: start the contact phase there (``impact``), or
+    leave it to the Python path (False) if it is stiff."""
+    g, t = tr[TR_GRAVITY], tr[TR_TOUCH]
+    dt = t - tr[TR_START]
+    y = tr[TR_Y0] + tr[TR_V0] * dt - 0.5 * g * dt * dt          # as Flight.absolute
+    z, zdot = 0.0 - y, 0.0 - (tr[TR_V0] - g * dt)
+    if 0.0 > z:                                                  # as Flight.event_at_until
+        z = 0.0
+    length, time, gamma, zeta = compiled_scales(tr[TR_K], tr[TR_LAM], tr[TR_MASS], g, tr[TR_N],
+                                                tr[TR_P], tr[TR_Q], z, zdot)
+    if zeta > tr[TR_STIFF]:
+        tr[TR_Z], tr[TR_RATE] = z, zdot
+        return False
+    peak = start_phase(par, st, K, F, t, z, zdot, length, time, gamma, zeta)
+    if tr[TR_KEEP] == 0.0:               # nobody reads the points of the phases ended
+        tr[TR_NPTS] = tr[TR_EMITTED] = 0.0
+    row = int(tr[TR_NPTS])
+    pts[row, 0], pts[row, 1], pts[row, 2], pts[row, 3] = t, z, zdot, peak
+    tr[TR_PHASE_ROW], tr[TR_NPTS] = row, row + 1
+    tr[TR_T0], tr[TR_Z0], tr[TR_RATE0] = t, z, zdot
+    tr[TR_STOP] = energy_stop(tr[TR_FLOOR], par)
+    tr[TR_FLIGHT] = 0.0
+    return True
+
+
+@njit(**_KW)
+def _lift_off(tr, st, imp):
+    """The phase lifted off: record the impact (``Contact._finish``), plan the flight after it
+    (``bounce``: ``Flight`` and ``ballistic_flight``)."""
+    g, k, lam, n, p, q = tr[TR_GRAVITY], tr[TR_K], tr[TR_LAM], tr[TR_N], tr[TR_P], tr[TR_Q]
+    _, t, z, end_rate = lift_off_of(st)
+    peak, depth, steps = results_of(st)
+    zdot = bounded_rate(k, n, tr[TR_MASS], g, tr[TR_Z0], tr[TR_RATE0], z, end_rate)
+    speed, rebound = max(tr[TR_RATE0], 0.0), max(-zdot, 0.0)
+    row = int(tr[TR_NIMP])
+    imp[row, 0], imp[row, 1], imp[row, 2] = tr[TR_T0], speed, rebound
+    imp[row, 3] = rebound / speed if speed > 0.0 else 0.0
+    imp[row, 4], imp[row, 5], imp[row, 6] = t - tr[TR_T0], max(peak, 0.0), depth
+    flight_time = ballistic_touch_time(z, zdot, g, k, lam, n - p, q)
+    imp[row, REC_APEX] = (apex_height(t, flight_time, z, zdot, g) if math.isfinite(flight_time)
+                          else math.nan)
+    tr[TR_NIMP] = row + 1
+    tr[TR_STEPS] += steps
+    tr[TR_START], tr[TR_Y0], tr[TR_V0] = t, 0.0 - z, 0.0 - zdot       # as Flight.__init__
+    tr[TR_TOUCH] = t + flight_time
+    tr[TR_FLIGHT] = 1.0
+
+
+@njit('UniTuple(int64, 2)(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], '
+      'float64[::1], float64[:, ::1], float64[:, ::1], float64, int64)', **_KW)
+def run_train(tr, st, K, F, par, pts, imp, t_stop, max_steps):
+    """Bounce until ``t_stop`` (s) or another stop (module docstring), with at most
+    ``max_steps`` integrator steps; returns (reason, steps taken): TIME_REACHED (in flight, or
+    the phase reached ``t_stop`` or lifts off after it), BUDGET_SPENT, ENERGY_BELOW, BUFFER_FULL
+    (``pts`` or ``imp``: make room and call again), STEP_TOO_SMALL, or STIFF_PHASE (the touch at
+    ``tr[TR_TIME]`` is the Python path's); the time reached in ``tr[TR_TIME]``."""
+    taken = 0
+    cap = pts.shape[0] - 4
+    while True:
+        if tr[TR_FLIGHT] != 0.0:
+            if tr[TR_TOUCH] > t_stop:                       # as Mode.advance
+                tr[TR_TIME] = t_stop
+                return TIME_REACHED, taken
+            if tr[TR_NPTS] >= cap:
+                return BUFFER_FULL, taken
+            if not _touch(tr, st, K, F, par, pts):
+                tr[TR_TIME] = tr[TR_TOUCH]
+                return STIFF_PHASE, taken
+            continue
+        lifted, end_time, _, _ = lift_off_of(st)
+        if lifted:                                          # as Contact.advance
+            if end_time > t_stop:
+                tr[TR_TIME] = t_stop
+                return TIME_REACHED, taken
+            if tr[TR_NIMP] >= imp.shape[0]:
+                return BUFFER_FULL, taken
+            _lift_off(tr, st, imp)
+            continue
+        now = phase_time(st, par)
+        if now >= t_stop:
+            tr[TR_TIME] = t_stop
+            return TIME_REACHED, taken
+        if taken >= max_steps:
+            tr[TR_TIME] = now
+            return BUDGET_SPENT, taken
+        npts = int(tr[TR_NPTS])
+        if npts >= cap:
+            return BUFFER_FULL, taken
+        reason, added, steps = run_phase(st, K, F, par, pts[npts:], t_stop, max_steps - taken,
+                                         tr[TR_STOP])
+        taken += steps
+        tr[TR_NPTS] = npts + added
+        if reason == ENERGY_BELOW or reason == STEP_TOO_SMALL:
+            tr[TR_TIME] = phase_time(st, par)
+            return reason, taken

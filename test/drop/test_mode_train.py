@@ -1,0 +1,176 @@
+"""The compiled bounces (``mode_train.Bouncing``) against the Python modes they string together:
+the same drops, stepping, changes from outside and hand-overs, with the trains switched off as
+the reference (``trains_enabled(False)``)."""
+import contextlib
+import dataclasses
+import math
+import random
+
+import numpy as np
+import pytest
+
+import contact_sim as cs
+from contact_sim.drop import mode_train
+from contact_sim.drop.engine import DropSimulation
+from contact_sim.drop.mode_contact import Contact
+from contact_sim.drop.mode_train import Bouncing
+from contact_sim.drop.plate import SinusoidalPlate
+from contact_sim.phase import phase_scales
+from contact_sim.phase.reference import PhaseIntegrator
+
+M = 0.066
+CONTACTS = {
+    'azad_featherstone': (cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5), 0.2),
+    'hunt_crossley': (cs.Contact(cs.HUNT_CROSSLEY, 1e9, 2e8), 0.3),
+    'lee_wang': (cs.Contact(cs.LEE_WANG, 1e9, 1e5), 0.3),
+    'linear': (cs.Contact(cs.LINEAR, 1e6, 20.0), 0.3),
+}
+REL = 1e-9      # the same functions in the same order: equal but for the last bits of a machine
+
+
+@contextlib.contextmanager
+def trains(flag):
+    previous = mode_train.trains_enabled(flag)
+    try:
+        yield
+    finally:
+        mode_train.trains_enabled(previous)
+
+
+def both(run):
+    """``run()`` with the Python modes (the reference) and with the trains."""
+    with trains(False):
+        reference = run()
+    with trains(True):
+        compiled = run()
+    return reference, compiled
+
+
+def assert_close(a, b):
+    assert np.allclose(np.asarray(a, dtype=float), np.asarray(b, dtype=float), rtol=REL,
+                       atol=0.0, equal_nan=True)
+
+
+def assert_same_impacts(a, b):
+    assert len(a) == len(b)
+    for x, y in zip(a, b):
+        assert_close(dataclasses.astuple(x), dataclasses.astuple(y))
+
+
+@pytest.mark.parametrize('law', sorted(CONTACTS))
+def test_a_drop_with_trains_is_the_drop_of_the_python_modes(law):
+    contact, height = CONTACTS[law]
+    ref, new = both(lambda: cs.simulate_drop(contact, M, height, duration=5.0,
+                                             sample_rate=2000.0))
+    assert len(ref.impacts) > 5
+    assert_same_impacts(ref.impacts, new.impacts)
+    assert_close(ref.apex_heights, new.apex_heights)
+    for name in ('time', 'penetration', 'penetration_rate', 'force'):
+        assert_close(getattr(ref.trajectory, name), getattr(new.trajectory, name))
+    assert_close([ref.permanent_contact_time, ref.settle_time],       # nan: not reached
+                 [new.permanent_contact_time, new.settle_time])
+
+
+def test_the_drop_runs_as_a_train_until_it_lands():
+    contact, height = CONTACTS['azad_featherstone']
+    sim = DropSimulation(contact, M, height)
+    assert isinstance(sim._mode, Bouncing)
+    sim.run_to(1.0)
+    assert isinstance(sim._mode, Bouncing) and len(sim.impacts) > 3
+    sim.run_to(5.0)
+    assert not isinstance(sim._mode, Bouncing)         # landed: the Python modes go on
+    assert sim.impacts[-1].contact_duration == math.inf
+    with trains(False):
+        assert not isinstance(DropSimulation(contact, M, height)._mode, Bouncing)
+
+
+def stepped(contact, height, seed, kind):
+    """A drop advanced in random calls; what each call returned and the state after it."""
+    rng = random.Random(seed)
+    sim = DropSimulation(contact, M, height)
+    out = []
+    t = 0.0
+    for _ in range(250):
+        t = max(t, sim.time) + rng.choice([0.0, 1e-5, 3e-4, 1e-3, 0.01, 0.05])
+        if kind == 'advance':
+            adv = sim.advance(t, max_steps=rng.choice([None, None, 0, 1, 7, 60]))
+            out.append((adv.samples.time, adv.samples.force, [dataclasses.astuple(i) for i in
+                                                              adv.impacts], adv.apex_heights))
+        else:
+            batch = sim.advance_ticks(np.linspace(sim.time, t, 5))
+            out.append((batch.penetration, batch.points.time, batch.points.force,
+                        batch.point_tick, [dataclasses.astuple(i) for i in batch.impacts]))
+        out.append((sim.time, sim.state.penetration, sim.state.penetration_rate,
+                    sim.in_contact))
+    return out, sim
+
+
+@pytest.mark.parametrize('kind', ['advance', 'ticks'])
+def test_stepping_a_train_gives_the_python_modes_points_impacts_and_states(kind):
+    contact, height = CONTACTS['azad_featherstone']
+    (ref, ref_sim), (new, new_sim) = both(lambda: stepped(contact, height, 3, kind))
+    assert len(ref) == len(new)
+    for a, b in zip(ref, new):
+        for x, y in zip(a, b):
+            if isinstance(x, list) and x and isinstance(x[0], tuple):
+                assert len(x) == len(y)
+                for u, v in zip(x, y):
+                    assert_close(u, v)
+            else:
+                assert_close(x, y)
+    assert len(new_sim.impacts) == len(ref_sim.impacts) > 3
+    assert new_sim.total_steps > 0
+
+
+@pytest.mark.parametrize('when', ['flight', 'contact'])
+def test_a_change_from_outside_hands_the_train_over(when):
+    contact, height = CONTACTS['azad_featherstone']
+    softer = cs.Contact(cs.AZAD_FEATHERSTONE, 5e9, 2e5)
+    table = SinusoidalPlate(1e-3, 20.0, 0.0)
+
+    def run():
+        sim = DropSimulation(contact, M, height)
+        sim.run_to(0.4)
+        while sim.in_contact != (when == 'contact'):
+            sim.advance(sim.time + 2e-5)
+        was_train = isinstance(sim._mode, Bouncing)
+        sim.set_contact(softer)
+        sim.advance(sim.time + 0.3)
+        sim.set_plate(table)
+        sim.advance(sim.time + 0.3)
+        return was_train, sim
+
+    (ref_train, ref), (new_train, new) = both(run)
+    assert new_train and not ref_train
+    assert_same_impacts(ref.impacts, new.impacts)
+    assert_close(ref.apex_heights, new.apex_heights)
+    assert_close([ref.time, ref.state.penetration, ref.total_steps],
+                 [new.time, new.state.penetration, new.total_steps])
+
+
+def test_a_phase_too_stiff_for_the_compiled_integrator_goes_to_the_python_path():
+    # zeta far above COMPILED_STIFF_DAMPING: the touch is handed to transitions.impact
+    contact = cs.Contact(cs.HUNT_CROSSLEY, 1e9, 1e13)
+    assert phase_scales(contact, M, 9.81, 0.0, 1.0).damping > 200.0
+    sim = DropSimulation(contact, M, 0.05)
+    assert isinstance(sim._mode, Bouncing)
+    sim.advance(0.1015)                         # the touch at 0.101 s
+    assert isinstance(sim._mode, Contact)
+    assert isinstance(sim._mode.integrator, PhaseIntegrator)
+    ref, new = both(lambda: cs.simulate_drop(contact, M, 0.05, duration=0.3))
+    assert_same_impacts(ref.impacts, new.impacts)
+
+
+def test_full_buffers_are_emptied_and_grown_without_losing_a_point(monkeypatch):
+    monkeypatch.setattr(mode_train, 'POINT_ROWS', 8)
+    monkeypatch.setattr(mode_train, 'RECORD_ROWS', 1)
+    contact, height = CONTACTS['linear']
+    ref, new = both(lambda: cs.simulate_drop(contact, M, height, duration=3.0,
+                                             sample_rate=500.0))
+    assert_same_impacts(ref.impacts, new.impacts)
+    assert_close(ref.apex_heights, new.apex_heights)
+    (ref_s, _), (new_s, _) = both(lambda: stepped(contact, height, 8, 'advance'))
+    assert len(ref_s) == len(new_s)
+    for a, b in zip(ref_s[::2], new_s[::2]):
+        assert_close(a[0], b[0])
+        assert_close(a[1], b[1])
