@@ -12,7 +12,8 @@ is the figure to compare; the load average is printed beside it):
   ``examples/bifurcation.py``), µs per bounce and its ratio to one ``simulate_impact`` at the
   drop's mean impact speed (target <= 1.5);
 * the same for the peers' problem of ``bench_peers.py`` (a Hunt-Crossley steel ball dropped from
-  1 m, 5 s);
+  1 m, 5 s); both drops also with every bounce through the Python modes
+  (``mode_train.trains_enabled(False)``, the reference the compiled bounces replace);
 * a bounce on a vibrating table (``VibratingTable.run`` at Γ = 2, 400 impacts), µs per bounce and
   its ratio to ``simulate_impact``; and the same orbit (40 s) with the compiled flights beside the
   Python reference path they replace (``flights.gap_flight``);
@@ -34,6 +35,7 @@ import numpy as np
 
 import contact_sim as cs
 from contact_sim import phase
+from contact_sim.drop import mode_train
 from contact_sim.drop.engine import DropSimulation
 from contact_sim.drop.mode_flight import Flight
 from contact_sim.drop.plate import CommandedPlate, PlateMotion, SinusoidalPlate
@@ -140,6 +142,15 @@ def main():
                                                        duration=5.0), args.repeat)
     n_hc = len(hc_drop.impacts)
     speed_hc = float(np.mean([i.impact_speed for i in hc_drop.impacts]))
+    # the same two drops with every bounce through the Python modes (the trains' reference)
+    previous = mode_train.trains_enabled(False)
+    try:
+        wall_drop_ref, drop_ref = best_of(lambda: cs.simulate_drop(
+            contact, MASS, 0.2, gravity=g, duration=20.0), args.repeat)
+        wall_hc_ref, hc_ref = best_of(lambda: cs.simulate_drop(
+            hc, hc_mass, 1.0, gravity=g, duration=5.0), args.repeat)
+    finally:
+        mode_train.trains_enabled(previous)
     # a vibrating table at Γ = 2 (period-1), 400 impacts
     table = VibratingTable(contact, MASS, FREQUENCY, bounces=300, transient=100,
                            restitution_guess=E_1MS)
@@ -191,6 +202,12 @@ def main():
         bounce_ratios.append(bounce / impact)
         print(f'{name:<34} {speed:11.4g} {steps:6d} {kernel * 1e6:12.2f} {impact * 1e6:12.2f} '
               f'{impact / kernel:14.1f} {bounce * 1e6:12.1f} {bounce / impact:14.1f}')
+    print(f'fixed plate, drop 0.2 m, 20 s: {wall_drop * 1e3:.3f} ms ({n_drop} bounces) with the '
+          f'compiled bounces (mode_train), {wall_drop_ref * 1e3:.3f} ms '
+          f'({len(drop_ref.impacts)}) with the Python modes')
+    print(f"peers' Hunt-Crossley drop, 1 m, 5 s: {wall_hc * 1e3:.3f} ms ({n_hc} bounces) with "
+          f'the compiled bounces, {wall_hc_ref * 1e3:.3f} ms ({len(hc_ref.impacts)}) with the '
+          f'Python modes')
     print(f'table G = 2, 40 s: {wall_fast / n_fast * 1e6:.1f} us a bounce ({n_fast} bounces) '
           f'with the compiled flights, {wall_ref / n_ref * 1e6:.1f} us ({n_ref}) with the '
           f'Python reference flights (flights.gap_flight)')
