@@ -103,6 +103,8 @@ def run(params, recorded, window, workdir, domain, node_env=None, recorder_env=N
         last = clock[0]
         out['node_log'] = process.output()
         out['errors'] = errors(out['node_log'])
+        out['start'] = [line for line in out['node_log'].splitlines()
+                        if 'paced by a recorder' in line or 'no recorder found' in line]
         if recorder is not None:
             recorder.stop()
             out['errors'] += errors(recorder.output())
@@ -134,9 +136,11 @@ def check_bag(bag, last_seen):
     for topic in ('/contact_sim/pose', '/contact_sim/twist', '/clock'):
         ns = np.array(stamps.get(topic, [0]))
         ticks = np.rint(ns / 1e7).astype(int)
-        whole = ticks[0] == 1 and np.all(np.diff(ticks) == 1) and ns[-1] >= last_seen * 1e9 - 1e3
+        gaps = int(np.count_nonzero(np.diff(ticks) != 1))
+        whole = ticks[0] == 1 and not gaps and ns[-1] >= last_seen * 1e9 - 1e3
         report.append(f'{topic.rsplit("/", 1)[1]} {len(ns)} ticks to {ns[-1] * 1e-9:.2f} s '
-                      + ('complete' if whole else 'INCOMPLETE'))
+                      + ('complete' if whole else f'INCOMPLETE (from tick {ticks[0]}, '
+                                                  f'{gaps} gaps)'))
     samples = [np.array(stamps.get(f'/contact_sim/{t}', [])) for t in ('wrench', 'contact',
                                                                        'plate_wrench')]
     same = all(len(ns) == len(samples[0]) and np.array_equal(ns, samples[0]) for ns in samples)
@@ -196,6 +200,9 @@ def main():
                          if len(per_cpu) == 2 else ''))
                 for line in out['errors'][:5]:
                     print(f'         log: {line}')
+                if recorded and 'INCOMPLETE' in out['bag']:
+                    for line in out['start']:   # how the node began: paced, or not
+                        print(f'         node: {line}')
                 if recorded:
                     print(f'         bag: {out["bag"]}: {out["rate"] * out["messages"]:.0f} '
                           'messages recorded a wall s (the middleware alone: '
