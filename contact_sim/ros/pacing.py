@@ -60,9 +60,11 @@ MISSES = 2            # looks in a row without a recorder before it counts as go
 
 def lead_messages(environ=os.environ):
     """The lead (messages): ``ASYNC_LEAD_MESSAGES`` when the process publishes asynchronously
-    (``RMW_FASTRTPS_PUBLICATION_MODE=ASYNCHRONOUS``), else ``LEAD_MESSAGES``."""
+    through Fast DDS (``RMW_FASTRTPS_PUBLICATION_MODE=ASYNCHRONOUS`` and the default or an
+    ``rmw_fastrtps*`` ``RMW_IMPLEMENTATION``), else ``LEAD_MESSAGES``."""
+    fast_dds = environ.get('RMW_IMPLEMENTATION', 'rmw_fastrtps_cpp').startswith('rmw_fastrtps')
     asynchronous = environ.get('RMW_FASTRTPS_PUBLICATION_MODE') == 'ASYNCHRONOUS'
-    return ASYNC_LEAD_MESSAGES if asynchronous else LEAD_MESSAGES
+    return ASYNC_LEAD_MESSAGES if asynchronous and fast_dds else LEAD_MESSAGES
 
 
 class RecorderPace:

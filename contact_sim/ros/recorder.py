@@ -27,7 +27,8 @@ from .startup import spin_until_signal
 
 FLUSH_PERIOD = 0.5  # s of wall time between flushes of the bag to disk
 REPORT_PERIOD = 0.02  # s of wall time between acknowledgements on ~/recorded, at least
-ACK_EVERY = 64        # and one after this many messages on the paced topics (pacing.LEAD_MESSAGES)
+ACK_EVERY = 64        # and one after this many messages on the paced topics (pacing.lead_messages)
+TAKE_MESSAGES = 256   # messages taken from one reader in one wake-up, at most (then the timers run)
 
 
 class Recorder(Node):
@@ -149,7 +150,12 @@ class Recorder(Node):
             for name, msg_type, type_name, handle, pointer in readers:
                 if pointer not in ready:
                     continue
-                while (taken := handle.take_message(msg_type, True)) is not None:
+                # at most TAKE_MESSAGES a reader a call: a node that refills the reader while
+                # it is read must not keep the timers, the stop and the signals waiting
+                for _ in range(TAKE_MESSAGES):
+                    taken = handle.take_message(msg_type, True)
+                    if taken is None:
+                        break
                     on_message(name, type_name, taken[0])
                     count += 1
             return count
@@ -308,8 +314,8 @@ class Recorder(Node):
             A function of no arguments, True once the cut is reached.
         """
         # stopping: the acknowledgement stops moving but its publisher stays until the recorder
-        # is gone, so the node stays within LEAD_MESSAGES of it while the lagging topics drain (a
-        # node let loose here outruns its writers' histories and the drain loses samples)
+        # is gone, so the node stays within its lead (pacing.lead_messages) of it while the
+        # lagging topics drain (a node let loose here outruns its writers' histories and the drain loses samples)
         self._stopping = True
         own = [ns for topic, ns in self.covered_ns.items()
                if self._topics[topic].kind != 'clock']

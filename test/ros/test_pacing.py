@@ -112,3 +112,6 @@ def test_the_lead_is_larger_publishing_asynchronously():
     assert pacing.lead_messages({'RMW_FASTRTPS_PUBLICATION_MODE': 'SYNCHRONOUS'}) == 256
     assert pacing.lead_messages({'RMW_FASTRTPS_PUBLICATION_MODE': 'ASYNCHRONOUS'}) \
         == pacing.ASYNC_LEAD_MESSAGES == 512
+    # the variable means nothing to another middleware: the lead stays
+    assert pacing.lead_messages({'RMW_FASTRTPS_PUBLICATION_MODE': 'ASYNCHRONOUS',
+                                 'RMW_IMPLEMENTATION': 'rmw_cyclonedds_cpp'}) == 256
