@@ -32,6 +32,8 @@ from contact_sim.ros.pacing import LEAD_MESSAGES  # noqa: E402
 from contact_sim.ros.recorder import ACK_EVERY  # noqa: E402
 
 TOPIC, ACK = '/bench_dds_floor/data', '/bench_dds_floor/recorded'
+TAKE = ['events']    # how the subscriber takes (--take)
+SUB_ENV = {}          # the subscriber's environment changes (--publication-mode: the publisher's only)
 REST_MESSAGES = 800   # messages a simulated second at rest: 8 a tick at 100 Hz (loop.TICK_MESSAGES)
 
 
@@ -40,7 +42,7 @@ def cpu_seconds():
     return usage.ru_utime + usage.ru_stime
 
 
-def subscriber(count):
+def subscriber(count, take='events'):
     """Take ``count`` messages raw; acknowledge every ACK_EVERY; print CPU µs a message."""
     node = rclpy.create_node('bench_dds_floor_sub')
     executor = EventsExecutor()
@@ -56,10 +58,22 @@ def subscriber(count):
             msg = Clock()
             msg.clock.sec = got[0]
             ack.publish(msg)
-    node.create_subscription(PoseStamped, TOPIC, on_message, RECORD_QOS, raw=True)
+    subscription = node.create_subscription(PoseStamped, TOPIC, on_message, RECORD_QOS, raw=True)
     print('ready', flush=True)
-    while got[0] < count:
-        executor.spin_once(timeout_sec=0.1)
+    if take == 'events':
+        while got[0] < count:
+            executor.spin_once(timeout_sec=0.1)
+    else:   # a wait set of the one subscription; every message there taken at each wake-up
+        from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
+        executor.remove_node(node)
+        wait_set = _rclpy.WaitSet(1, 0, 0, 0, 0, 0, node.context.handle)
+        handle, take_message = subscription.handle, subscription.handle.take_message
+        while got[0] < count:
+            wait_set.clear_entities()
+            wait_set.add_subscription(handle)
+            wait_set.wait(100_000_000)
+            while (taken := take_message(PoseStamped, True)) is not None:
+                on_message(taken[0])
     print(f'{(cpu_seconds() - start[0]) / count * 1e6:.1f}', flush=True)
     time.sleep(0.5)   # the last acknowledgement out
 
@@ -67,8 +81,10 @@ def subscriber(count):
 def publisher(count):
     """Start the subscriber, send ``count`` messages paced by it; (wall s, CPU µs a message of
     each side)."""
-    sub = subprocess.Popen([sys.executable, __file__, '--role', 'sub', '--messages', str(count)],
-                           stdout=subprocess.PIPE, text=True, env=os.environ.copy())
+    env = {**os.environ, **SUB_ENV}
+    sub = subprocess.Popen([sys.executable, __file__, '--role', 'sub', '--messages', str(count),
+                            '--take', TAKE[0]],
+                           stdout=subprocess.PIPE, text=True, env={k: v for k, v in env.items() if v})
     try:
         if sub.stdout.readline().strip() != 'ready':
             raise RuntimeError('the subscriber did not start')
@@ -85,7 +101,7 @@ def publisher(count):
                 raise RuntimeError('the subscriber was not discovered within 30 s')
             executor.spin_once(timeout_sec=0.05)
         data = serialize_message(PoseStamped())
-        wall, cpu = time.monotonic(), cpu_seconds()
+        wall, cpu, own = time.monotonic(), cpu_seconds(), time.thread_time()
         for sent in range(1, count + 1):
             while sent - acked[0] > LEAD_MESSAGES:
                 executor.spin_once(timeout_sec=1.0)
@@ -94,8 +110,9 @@ def publisher(count):
                 executor.spin_once(timeout_sec=0)
         while acked[0] < count:
             executor.spin_once(timeout_sec=1.0)
+        own = (time.thread_time() - own) / count * 1e6
         wall, cpu = time.monotonic() - wall, (cpu_seconds() - cpu) / count * 1e6
-        return wall, cpu, float(sub.stdout.readline())
+        return wall, cpu, own, float(sub.stdout.readline())
     finally:
         sub.wait(30)
 
@@ -103,22 +120,35 @@ def publisher(count):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--messages', type=int, default=40000)
+    parser.add_argument('--publication-mode', choices=('SYNCHRONOUS', 'ASYNCHRONOUS'),
+                        default=None, help='RMW_FASTRTPS_PUBLICATION_MODE of the publishing process'
+                        ' only (default: as the environment says)')
+    parser.add_argument('--take', choices=('events', 'waitset'), default='events',
+                        help="the subscriber's take: a callback a message from the events executor"
+                        ' (as contact_sim_record), or a wait set and every message there taken at'
+                        ' each wake-up')
     parser.add_argument('--role', choices=('pub', 'sub'), default='pub', help=argparse.SUPPRESS)
     options = parser.parse_args()
+    TAKE[0] = options.take
+    if options.publication_mode and options.role == 'pub':
+        SUB_ENV['RMW_FASTRTPS_PUBLICATION_MODE'] = os.environ.get('RMW_FASTRTPS_PUBLICATION_MODE', '')
+        os.environ['RMW_FASTRTPS_PUBLICATION_MODE'] = options.publication_mode
     if 'ROS_DOMAIN_ID' not in os.environ:
         os.environ['ROS_DOMAIN_ID'] = str(150 + os.getpid() % 80)
     rclpy.init()
     try:
         if options.role == 'sub':
-            subscriber(options.messages)
+            subscriber(options.messages, options.take)
             return
         load = os.getloadavg()[0]
-        wall, pub_us, sub_us = publisher(options.messages)
+        wall, pub_us, own_us, sub_us = publisher(options.messages)
     finally:
         rclpy.try_shutdown()
     rate = options.messages / wall
-    print(f'{options.messages} messages paced (lead {LEAD_MESSAGES}, acknowledged every '
-          f'{ACK_EVERY}): {rate:.0f} messages/s; CPU {pub_us:.1f} us a message publishing, '
+    mode = os.environ.get('RMW_FASTRTPS_PUBLICATION_MODE', 'default')
+    print(f'publisher RMW_FASTRTPS_PUBLICATION_MODE {mode}, take {options.take}: {options.messages} messages paced (lead {LEAD_MESSAGES}, acknowledged every '
+          f'{ACK_EVERY}): {rate:.0f} messages/s; CPU {pub_us:.1f} us a message publishing '
+          f'({own_us:.1f} in the publishing thread), '
           f'{sub_us:.1f} us taking; load average {load:.1f} before, {os.getloadavg()[0]:.1f} '
           'after')
     print(f'a recorded node at rest ({REST_MESSAGES} messages a simulated s) cannot pass '

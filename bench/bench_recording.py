@@ -38,11 +38,15 @@ from bench_node import cpu_seconds, executable  # noqa: E402
 SCENARIOS = {'rest': [], 'bouncing': ['plate_amplitude:=0.002', 'plate_frequency:=20.0']}
 
 
+EXECUTABLES = {}   # name -> path, instead of the installed one (--recorder-exe, --node-exe)
+
+
 class Proc:
     def __init__(self, name, args, env, workdir):
         self.log = Path(workdir) / f'{name}-{time.monotonic_ns()}.log'
         with open(self.log, 'w') as out:
-            self.popen = subprocess.Popen([executable(name), *args], env=env, stdout=out,
+            program = EXECUTABLES.get(name) or executable(name)
+            self.popen = subprocess.Popen([program, *args], env=env, stdout=out,
                                           stderr=subprocess.STDOUT, start_new_session=True)
 
     def output(self):
@@ -64,7 +68,7 @@ def until(condition, spin, timeout, what):
         spin()
 
 
-def run(params, recorded, window, workdir, domain):
+def run(params, recorded, window, workdir, domain, node_env=None, recorder_env=None):
     env = {**os.environ, 'ROS_DOMAIN_ID': str(domain), 'ROS_LOG_DIR': str(workdir)}
     context = rclpy.Context()
     rclpy.init(context=context, domain_id=domain)
@@ -80,10 +84,11 @@ def run(params, recorded, window, workdir, domain):
         executor.spin_once(timeout_sec=0.05)
     recorder, bag = None, Path(workdir) / f'bag-{time.monotonic_ns()}'
     if recorded:
-        recorder = Proc('contact_sim_record', ['-o', str(bag)], env, workdir)
+        recorder = Proc('contact_sim_record', ['-o', str(bag)], {**env, **(recorder_env or {})},
+                        workdir)
         until(lambda: 'recording' in recorder.output(), spin, 60, 'the recorder')
     args = ['--ros-args'] + sum((['-p', p] for p in ['real_time_factor:=.inf', *params]), [])
-    process = Proc('contact_sim_node', args, env, workdir)
+    process = Proc('contact_sim_node', args, {**env, **(node_env or {})}, workdir)
     try:
         until(lambda: clock[0] > 4.0, spin, 120, 'simulated t > 4 s')
         w0, s0, c0 = time.monotonic(), clock[0], process.cpu()
@@ -97,8 +102,12 @@ def run(params, recorded, window, workdir, domain):
         process.stop()   # the node first: its last ticks must reach the bag
         last = clock[0]
         out['node_log'] = process.output()
+        out['errors'] = errors(out['node_log'])
+        out['start'] = [line for line in out['node_log'].splitlines()
+                        if 'paced by a recorder' in line or 'no recorder found' in line]
         if recorder is not None:
             recorder.stop()
+            out['errors'] += errors(recorder.output())
             out['bag'], out['messages'] = check_bag(bag, last)
     finally:
         for p in (process, recorder):
@@ -107,6 +116,12 @@ def run(params, recorded, window, workdir, domain):
         node.destroy_node()
         context.try_shutdown()
     return out
+
+
+def errors(log):
+    """The lines of a process's log that say something went wrong (errors, a refused publish)."""
+    return [line for line in log.splitlines()
+            if any(word in line for word in ('[ERROR]', '[FATAL]', 'cannot publish', 'Traceback'))]
 
 
 def check_bag(bag, last_seen):
@@ -121,9 +136,17 @@ def check_bag(bag, last_seen):
     for topic in ('/contact_sim/pose', '/contact_sim/twist', '/clock'):
         ns = np.array(stamps.get(topic, [0]))
         ticks = np.rint(ns / 1e7).astype(int)
-        whole = ticks[0] == 1 and np.all(np.diff(ticks) == 1) and ns[-1] >= last_seen * 1e9 - 1e3
+        gaps = int(np.count_nonzero(np.diff(ticks) != 1))
+        whole = ticks[0] == 1 and not gaps and ns[-1] >= last_seen * 1e9 - 1e3
         report.append(f'{topic.rsplit("/", 1)[1]} {len(ns)} ticks to {ns[-1] * 1e-9:.2f} s '
-                      + ('complete' if whole else 'INCOMPLETE'))
+                      + ('complete' if whole else f'INCOMPLETE (from tick {ticks[0]}, '
+                                                  f'{gaps} gaps)'))
+    samples = [np.array(stamps.get(f'/contact_sim/{t}', [])) for t in ('wrench', 'contact',
+                                                                       'plate_wrench')]
+    same = all(len(ns) == len(samples[0]) and np.array_equal(ns, samples[0]) for ns in samples)
+    rising = all(np.all(np.diff(ns) > 0) for ns in samples)
+    report.append(f'wrench/contact/plate_wrench {len(samples[0])} samples, '
+                  + ('the same stamps, increasing' if same and rising else 'DIFFER'))
     impacts = len(stamps.get('/contact_sim/impact', []))
     messages = sum(len(ns) for ns in stamps.values()) / max(last_seen, 1e-9)
     return ('; '.join(report) + f'; {impacts} impacts (last /clock seen {last_seen:.2f} s); '
@@ -133,14 +156,40 @@ def check_bag(bag, last_seen):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('--window', type=float, default=15.0, help='wall s measured (15)')
+    parser.add_argument('--scenario', choices=tuple(SCENARIOS), action='append', default=None,
+                        help='run only this scenario (repeatable; default: all)')
+    parser.add_argument('--recorded-only', action='store_true',
+                        help='only the recorded runs (not the node alone)')
+    parser.add_argument('--node-env', action='append', default=[], metavar='NAME=VALUE',
+                        help="set in the node's environment only (repeatable)")
+    parser.add_argument('--recorder-env', action='append', default=[], metavar='NAME=VALUE',
+                        help="set in the recorder's environment only (repeatable)")
+    parser.add_argument('--recorder-exe', default=None, metavar='PATH',
+                        help='the contact_sim_record to run (default: the installed one), e.g. '
+                        "another checkout's, to compare")
+    parser.add_argument('--node-exe', default=None, metavar='PATH',
+                        help='the contact_sim_node to run (default: the installed one)')
     options = parser.parse_args()
+    for name, path in (('contact_sim_record', options.recorder_exe),
+                       ('contact_sim_node', options.node_exe)):
+        if path:
+            EXECUTABLES[name] = path
+            print(f'{name}: {path}')
+    node_env = dict(item.split('=', 1) for item in options.node_env)
+    recorder_env = dict(item.split('=', 1) for item in options.recorder_env)
+    for what, extra in (('node', node_env), ('recorder', recorder_env)):
+        if extra:
+            print(f'{what} environment: ' + ' '.join(f'{k}={v}' for k, v in extra.items()))
     domain = 150 + os.getpid() % 80
     print(f'load average at the start: {os.getloadavg()[0]:.1f} (2 cores: '
           f'{os.cpu_count()} CPUs)')
     with tempfile.TemporaryDirectory(prefix='bench_recording_') as workdir:
         for name, params in SCENARIOS.items():
-            for recorded in (False, True):
-                out = run(params, recorded, options.window, workdir, domain)
+            if options.scenario and name not in options.scenario:
+                continue
+            for recorded in (True,) if options.recorded_only else (False, True):
+                out = run(params, recorded, options.window, workdir, domain, node_env,
+                          recorder_env)
                 what = 'recorded' if recorded else 'alone   '
                 per_cpu = [100 * out['rate'] / out[k] for k in ('node', 'recorder') if out[k]]
                 print(f'{name:8s} {what} {out["rate"]:6.1f} x real time; node '
@@ -149,6 +198,11 @@ def main():
                       + ', '.join(f'{v:.0f}' for v in per_cpu)
                       + (f' (a core each: at most {min(per_cpu):.0f} x real time)'
                          if len(per_cpu) == 2 else ''))
+                for line in out['errors'][:5]:
+                    print(f'         log: {line}')
+                if recorded and 'INCOMPLETE' in out['bag']:
+                    for line in out['start']:   # how the node began: paced, or not
+                        print(f'         node: {line}')
                 if recorded:
                     print(f'         bag: {out["bag"]}: {out["rate"] * out["messages"]:.0f} '
                           'messages recorded a wall s (the middleware alone: '

@@ -25,10 +25,10 @@ the contact points are).
 
 Pacing by a recorder (``pacing.RecorderPace``, the protocol is described there). Running as fast
 as possible while ``contact_sim_record`` is there, the node publishes no more than
-``pacing.LEAD_MESSAGES`` messages beyond what the recorder has acknowledged: before each engine
-call it asks for room, and sizes the call to it and to ``pacing.CALL_MESSAGES``, counted as 8
-messages a tick (a tick's contact points add 3 messages each, at most ``TURN_STEP_BUDGET`` steps'
-worth in a call), one call a turn, so that the recorder's acknowledgements are taken between
+``RecorderPace.lead`` messages (``pacing.lead_messages``) beyond what the recorder has
+acknowledged: before each engine call it asks for room, and sizes the call to it and to half the
+lead (``RecorderPace.call``), counted as 8 messages a tick (a tick's contact points add 3 messages
+each, at most ``TURN_STEP_BUDGET`` steps' worth in a call), one call a turn, so that the recorder's acknowledgements are taken between
 calls and it records one call while the node computes the next; without room the node pauses its
 timer, and resumes at the next acknowledgement (or when the recorder has gone: checked
 every ``WATCH_PERIOD``). At a stop (``drain``) it finishes its tick, publishes what waits and
@@ -40,7 +40,7 @@ import time
 import numpy as np
 import rclpy
 
-from .pacing import CALL_MESSAGES, RecorderPace
+from .pacing import RecorderPace
 
 TURN_STEP_BUDGET = 20    # integrator steps per engine call (~10 ms); then the wall budget is checked
 BATCH_TICKS = 256        # ticks per batched engine call (advance_ticks), then the budgets are checked
@@ -166,7 +166,7 @@ class TickLoop:
         room = self._pace.room()
         if room == math.inf:
             return upto
-        return min(upto, self._tick + max(1, min(int(room), CALL_MESSAGES) // TICK_MESSAGES))
+        return min(upto, self._tick + max(1, min(int(room), self._pace.call) // TICK_MESSAGES))
 
     def drain(self):
         """At a stop: tick no more, finish the tick begun, and return a predicate that holds

@@ -51,7 +51,8 @@ from .params import DEFAULTS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, build_mode
 from .plate_command import COMMAND_FIELDS, read_plate_command
 from .query import MAX_NAMES, answer_queries
 from .refusals import REFUSAL_PERIOD, RefusalLog
-from .startup import ArgumentError, node_arguments, print_usage, spin_until_signal
+from .startup import ArgumentError, node_arguments, print_usage, publication_mode, \
+    spin_until_signal
 from .view import View
 
 
@@ -383,6 +384,7 @@ def main(args=None):
         if node_arguments(argv) == 'help':
             print_usage(sys.stdout)
             return 0
+        publication_mode()
         rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
     except ArgumentError as error:
         log.fatal(str(error))

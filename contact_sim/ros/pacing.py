@@ -13,7 +13,8 @@ The protocol (the recorder's side is ``recorder.Recorder.report``):
    (the last tick end published, the count so far). An acknowledgement of time t releases every
    note stamped at or before t; ``READY_NS`` releases everything published so far (what went out
    before the recorder matched is not the recorder's to acknowledge). The node publishes while
-   fewer than ``LEAD_MESSAGES`` are unreleased, and pauses otherwise, until the next
+   fewer than ``LEAD_MESSAGES`` (``ASYNC_LEAD_MESSAGES`` publishing asynchronously) are
+   unreleased, and pauses otherwise, until the next
    acknowledgement or until the recorder goes away. It publishes in engine calls of
    ``CALL_MESSAGES`` (half the lead) at most, counted as ``loop.TICK_MESSAGES`` a tick (contact
    points add 3 messages each, at most ``loop.TURN_STEP_BUDGET`` integrator steps' worth a
@@ -38,6 +39,7 @@ The protocol (the recorder's side is ``recorder.Recorder.report``):
    (``recorder.Recorder.cut``).
 """
 import math
+import os
 import time
 from collections import deque
 
@@ -45,9 +47,24 @@ from .messages import PROGRESS
 
 LEAD_MESSAGES = 256   # unacknowledged messages on the paced topics (< the 512 of a shm port)
 CALL_MESSAGES = LEAD_MESSAGES // 2   # messages of one engine call while paced (as ticks)
+# Publishing asynchronously (startup.publication_mode), Fast DDS's sending thread sends what has
+# queued together, several samples a shared-memory message, and the lead can be larger (still
+# below the 1,000 samples the state topics' writers keep). Measured with
+# bench/bench_recording.py --recorded-only --scenario bouncing, alternately, load 2.6-3.1:
+# 10.7-13.0x with 512, 9.2-9.4x with 256.
+ASYNC_LEAD_MESSAGES = 512
 START_GRACE = 3.0     # s of wall time a flat-out node waits at its start for a recorder
 READY_NS = 0          # an acknowledgement of nothing: the recorder is ready
 MISSES = 2            # looks in a row without a recorder before it counts as gone
+
+
+def lead_messages(environ=os.environ):
+    """The lead (messages): ``ASYNC_LEAD_MESSAGES`` when the process publishes asynchronously
+    through Fast DDS (``RMW_FASTRTPS_PUBLICATION_MODE=ASYNCHRONOUS`` and the default or an
+    ``rmw_fastrtps*`` ``RMW_IMPLEMENTATION``), else ``LEAD_MESSAGES``."""
+    fast_dds = environ.get('RMW_IMPLEMENTATION', 'rmw_fastrtps_cpp').startswith('rmw_fastrtps')
+    asynchronous = environ.get('RMW_FASTRTPS_PUBLICATION_MODE') == 'ASYNCHRONOUS'
+    return ASYNC_LEAD_MESSAGES if asynchronous and fast_dds else LEAD_MESSAGES
 
 
 class RecorderPace:
@@ -61,6 +78,15 @@ class RecorderPace:
         () -> int: the messages published so far on the paced topics.
     on_room : callable
         Called (no arguments) when an acknowledgement makes room.
+    lead : int, optional
+        The messages it may publish beyond the acknowledged (default ``lead_messages()``).
+
+    Attributes
+    ----------
+    lead : int
+        As given.
+    call : int
+        Half the lead: the messages of one engine call while paced.
 
     Examples
     --------
@@ -68,7 +94,9 @@ class RecorderPace:
     without a recorder (after ``START_GRACE``) the room is infinite.
     """
 
-    def __init__(self, node, sent, on_room):
+    def __init__(self, node, sent, on_room, lead=None):
+        self.lead = lead_messages() if lead is None else lead   # messages ahead at most
+        self.call = self.lead // 2    # messages of one engine call while paced
         self._subscription = node.create_subscription(PROGRESS.msg_type, PROGRESS.name,
                                                       self._on_ack, PROGRESS.qos)
         self._sent, self._on_room = sent, on_room
@@ -115,7 +143,7 @@ class RecorderPace:
             return math.inf
         if self.recorded_ns is None:
             return 0
-        return LEAD_MESSAGES - (self._sent() - self._acked)
+        return self.lead - (self._sent() - self._acked)
 
     def mark(self, stamp_ns):
         """After an engine call: the tick ends sent so far reach ``stamp_ns`` (ns). (Contact

@@ -15,6 +15,7 @@ from functools import partial
 
 import rclpy
 from rclpy.executors import ExternalShutdownException
+from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
@@ -26,7 +27,8 @@ from .startup import spin_until_signal
 
 FLUSH_PERIOD = 0.5  # s of wall time between flushes of the bag to disk
 REPORT_PERIOD = 0.02  # s of wall time between acknowledgements on ~/recorded, at least
-ACK_EVERY = 64        # and one after this many messages on the paced topics (pacing.LEAD_MESSAGES)
+ACK_EVERY = 64        # and one after this many messages on the paced topics (pacing.lead_messages)
+TAKE_MESSAGES = 256   # messages taken from one reader in one wake-up, at most (then the timers run)
 
 
 class Recorder(Node):
@@ -96,6 +98,7 @@ class Recorder(Node):
                 topic.msg_type, name, partial(self._on_message, name, topic.type_name),
                 RECORD_QOS, raw=True)
         self.topics = list(self._topics)
+        self._taken = ()       # subscriptions taken by take(), not by an executor (taker())
         self.covered_ns = {}   # topic -> simulated time (ns) its recorded messages reach
         self.publishers_matched = {}  # topic -> number of matched publishers
         self.cut_ns = None     # set at the stop: see cut()
@@ -112,6 +115,51 @@ class Recorder(Node):
         self.create_timer(REPORT_PERIOD, self.report)
         self.get_logger().info(f'recording {", ".join(self.topics)} to {self.bag.path} '
                                f'({storage})')
+
+    @property
+    def subscriptions(self):
+        """The subscriptions an executor serves: after ``taker()``, not the recorded topics'."""
+        return [s for s in super().subscriptions if s not in self._taken]
+
+    def taker(self):
+        """Take the recorded topics' messages directly (call before adding the node to an
+        executor, which then no longer serves them): a wait set of their subscriptions, and at
+        each wake-up every message waiting on each of them taken in one go, without a callback
+        from an executor a message (measured with ``bench/bench_dds_floor.py --take``).
+
+        Returns
+        -------
+        callable
+            ``take(timeout)``: wait at most ``timeout`` s for a message, record everything
+            waiting; the number of messages recorded.
+        """
+        readers = [(name, self._topics[name].msg_type, self._topics[name].type_name,
+                    subscription.handle, subscription.handle.pointer)
+                   for name, subscription in self._readers.items()]
+        self._taken = tuple(self._readers.values())
+        wait_set = _rclpy.WaitSet(len(readers), 0, 0, 0, 0, 0, self.context.handle)
+        on_message = self._on_message
+
+        def take(timeout):
+            wait_set.clear_entities()
+            for reader in readers:
+                wait_set.add_subscription(reader[3])
+            wait_set.wait(int(timeout * 1e9))
+            ready = wait_set.get_ready_entities('subscription')
+            count = 0
+            for name, msg_type, type_name, handle, pointer in readers:
+                if pointer not in ready:
+                    continue
+                # at most TAKE_MESSAGES a reader a call: a node that refills the reader while
+                # it is read must not keep the timers, the stop and the signals waiting
+                for _ in range(TAKE_MESSAGES):
+                    taken = handle.take_message(msg_type, True)
+                    if taken is None:
+                        break
+                    on_message(name, type_name, taken[0])
+                    count += 1
+            return count
+        return take
 
     def recorded_ns(self):
         """The simulated time up to which every per-tick topic with a matched publisher is recorded.
@@ -154,12 +202,22 @@ class Recorder(Node):
         ns = self.recorded_ns()
         if ns is None:
             self.poll_matches(only_new=True)
-            if self._reported_ns <= READY_NS and self.ready():
+            if self._reported_ns <= READY_NS and self.ready() and self._say(READY_NS):
                 self._reported_ns = READY_NS
-                self._progress.publish(clock_msg(READY_NS))
-        elif ns > self._reported_ns:
+        elif ns > self._reported_ns and self._say(ns):
             self._reported_ns = ns
+
+    def _say(self, ns):
+        """Publish the acknowledgement ``ns``; False if the middleware refused it (an
+        asynchronous writer whose one sample is still being sent: it is said again at the next
+        report)."""
+        try:
             self._progress.publish(clock_msg(ns))
+        except _rclpy.RCLError:
+            if not self.context.ok():
+                raise
+            return False
+        return True
 
     def flush(self):
         """Put what has been recorded on disk (at most every FLUSH_PERIOD s, and by the timer)."""
@@ -256,8 +314,8 @@ class Recorder(Node):
             A function of no arguments, True once the cut is reached.
         """
         # stopping: the acknowledgement stops moving but its publisher stays until the recorder
-        # is gone, so the node stays within LEAD_MESSAGES of it while the lagging topics drain (a
-        # node let loose here outruns its writers' histories and the drain loses samples)
+        # is gone, so the node stays within its lead (pacing.lead_messages) of it while the
+        # lagging topics drain (a node let loose here outruns its writers' histories and the drain loses samples)
         self._stopping = True
         own = [ns for topic, ns in self.covered_ns.items()
                if self._topics[topic].kind != 'clock']
@@ -361,7 +419,8 @@ def record_main(args=None):
     code = 0
     try:
         recorder = Recorder(output, options.storage, options.node, clock=not options.no_clock)
-        if not spin_until_signal(recorder, stop_after=options.duration, drain=recorder.cut):
+        if not spin_until_signal(recorder, stop_after=options.duration, drain=recorder.cut,
+                                 take=recorder.taker()):
             recorder.get_logger().warning(
                 f'stopped before {", ".join(recorder.lagging())} caught up: the bag ends '
                 f'earlier on those topics')

@@ -38,6 +38,16 @@ def assert_one_fatal_line(code, output, *texts):
         assert text in lines[0], output
 
 
+def test_the_node_publishes_asynchronously_unless_the_environment_says_otherwise():
+    from contact_sim.ros.startup import PUBLICATION_MODE, publication_mode
+    environ = {}
+    assert publication_mode(environ) == PUBLICATION_MODE == 'ASYNCHRONOUS'
+    assert environ == {'RMW_FASTRTPS_PUBLICATION_MODE': 'ASYNCHRONOUS'}
+    environ = {'RMW_FASTRTPS_PUBLICATION_MODE': 'SYNCHRONOUS'}
+    assert publication_mode(environ) == 'SYNCHRONOUS'
+    assert environ == {'RMW_FASTRTPS_PUBLICATION_MODE': 'SYNCHRONOUS'}
+
+
 def test_help_prints_the_usage_without_starting_ros_and_unknown_arguments_are_refused(
         ros_env, workdir):
     helped = Process('contact_sim_node', ['--help'], ros_env, workdir)

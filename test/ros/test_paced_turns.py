@@ -36,13 +36,15 @@ class Outbox:
 class Pace:
     """A recorder that has acknowledged ``acked`` of the messages sent."""
 
+    lead, call = pacing.LEAD_MESSAGES, pacing.CALL_MESSAGES
+
     def __init__(self, out, recorder=True):
         self.out, self.acked, self.recorder = out, 0, recorder
 
     def room(self):
         if not self.recorder:
             return math.inf
-        return pacing.LEAD_MESSAGES - (self.out.sent - self.acked)
+        return self.lead - (self.out.sent - self.acked)
 
     def mark(self, ns):
         pass

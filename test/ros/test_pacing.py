@@ -53,7 +53,8 @@ def ack(node, ns):
 
 def make(sent):
     node, rooms = Node(), []
-    pace = pacing.RecorderPace(node, lambda: sent[0], lambda: rooms.append(True))
+    pace = pacing.RecorderPace(node, lambda: sent[0], lambda: rooms.append(True),
+                               lead=pacing.LEAD_MESSAGES)
     return node, pace, rooms
 
 
@@ -104,3 +105,13 @@ def test_a_recorder_found_again_after_it_was_missed_does_not_stall_the_node(cloc
     ack(node, 30_000_000_000)
     assert pace.room() == pacing.LEAD_MESSAGES
     assert sum('paced by a recorder' in line for line in node.logger.lines) == 2
+
+
+def test_the_lead_is_larger_publishing_asynchronously():
+    assert pacing.lead_messages({}) == pacing.LEAD_MESSAGES == 256
+    assert pacing.lead_messages({'RMW_FASTRTPS_PUBLICATION_MODE': 'SYNCHRONOUS'}) == 256
+    assert pacing.lead_messages({'RMW_FASTRTPS_PUBLICATION_MODE': 'ASYNCHRONOUS'}) \
+        == pacing.ASYNC_LEAD_MESSAGES == 512
+    # the variable means nothing to another middleware: the lead stays
+    assert pacing.lead_messages({'RMW_FASTRTPS_PUBLICATION_MODE': 'ASYNCHRONOUS',
+                                 'RMW_IMPLEMENTATION': 'rmw_cyclonedds_cpp'}) == 256

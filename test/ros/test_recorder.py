@@ -159,6 +159,46 @@ def test_a_stopping_recorder_keeps_pacing_the_node_until_it_is_gone(tmp_path):
         context.try_shutdown()
 
 
+def test_a_refused_acknowledgement_is_said_again_at_the_next_report(tmp_path):
+    """An asynchronous writer of depth 1 can refuse a publish while its sample is being sent
+    (RMW_FASTRTPS_PUBLICATION_MODE=ASYNCHRONOUS set by the user): the recorder goes on and
+    says it again at the next report."""
+    from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
+    context = rclpy.Context()
+    context.init()
+    recorder = cs_recorder.Recorder(tmp_path / 'bag', target='/refused_probe', clock=False,
+                                    context=context)
+    said, refuse = [], [True]
+
+    class Progress:
+        topic_name = '/refused_probe/recorded'
+
+        def get_subscription_count(self):
+            return 0
+
+        def publish(self, msg):
+            if refuse.pop() if refuse else False:
+                raise _rclpy.RCLError('cannot publish data')
+            said.append(stamp_ns(msg.clock))
+    try:
+        recorder._progress = Progress()
+        for topic in recorder.topics:
+            recorder.publishers_matched[topic] = int(topic.endswith('/pose'))
+        msg = cs_msgs.pose_msg(1_000_000_000, 0.01, 0.0, 'plate')
+        recorder._on_message('/refused_probe/pose', cs_msgs.type_name(type(msg)),
+                             serialize_message(msg))
+        recorder.report()
+        assert said == []                 # refused
+        recorder.report()
+        assert said == [1_000_000_000]    # said again
+        recorder.report()
+        assert said == [1_000_000_000]    # once
+    finally:
+        recorder.close()
+        recorder.destroy_node()
+        context.try_shutdown()
+
+
 def test_recorder_stops_on_a_consistent_cut(tmp_path):
     """The stop waits until every continuous topic with a publisher reaches the furthest
     simulated time any topic shows, an impact counting to the end of its contact."""
