@@ -40,7 +40,8 @@ TR_Z, TR_RATE = 15, 16        # (z, ż) at a touch left to the Python path (STIF
 TR_T0, TR_Z0, TR_RATE0 = 17, 18, 19   # the phase's first point
 TR_STOP = 20                  # the energy (J) below which the phase stops for the floor's test
 TR_K, TR_LAM, TR_MASS, TR_N, TR_P, TR_Q = 21, 22, 23, 24, 25, 26   # the contact and the sphere
-NTR = 27
+TR_RAN = 27                   # 1.0: the call's last work was a run of the phase's steps
+NTR = 28
 
 # -- an impact record's row (float64[NREC]): ImpactRecord's fields, then the apex after it -------
 NREC = 8
@@ -118,9 +119,12 @@ def run_train(tr, st, K, F, par, pts, imp, t_stop, max_steps):
     ``max_steps`` integrator steps; returns (reason, steps taken): TIME_REACHED (in flight, or
     the phase reached ``t_stop`` or lifts off after it), BUDGET_SPENT, ENERGY_BELOW, BUFFER_FULL
     (``pts`` or ``imp``: make room and call again), STEP_TOO_SMALL, or STIFF_PHASE (the touch at
-    ``tr[TR_TIME]`` is the Python path's); the time reached in ``tr[TR_TIME]``."""
+    ``tr[TR_TIME]`` is the Python path's); the time reached in ``tr[TR_TIME]``, and in
+    ``tr[TR_RAN]`` whether the phase's steps ran last (``Contact.advance`` tests the phase for
+    permanence after each run, not at a stop before one)."""
     taken = 0
     cap = pts.shape[0] - 4
+    tr[TR_RAN] = 0.0
     while True:
         if tr[TR_FLIGHT] != 0.0:
             if tr[TR_TOUCH] > t_stop:                       # as Mode.advance
@@ -131,6 +135,7 @@ def run_train(tr, st, K, F, par, pts, imp, t_stop, max_steps):
             if not _touch(tr, st, K, F, par, pts):
                 tr[TR_TIME] = tr[TR_TOUCH]
                 return STIFF_PHASE, taken
+            tr[TR_RAN] = 0.0
             continue
         lifted, end_time, _, _ = lift_off_of(st)
         if lifted:                                          # as Contact.advance
@@ -155,6 +160,7 @@ def run_train(tr, st, K, F, par, pts, imp, t_stop, max_steps):
                                          tr[TR_STOP])
         taken += steps
         tr[TR_NPTS] = npts + added
+        tr[TR_RAN] = 1.0
         if reason == ENERGY_BELOW or reason == STEP_TOO_SMALL:
             tr[TR_TIME] = phase_time(st, par)
             return reason, taken

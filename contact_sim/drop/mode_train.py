@@ -4,8 +4,10 @@ compiled code (``compiled_train.run_train``).
 The same motion as the modes it strings together (``Flight`` -> ``touch`` -> ``Contact`` ->
 ``lift_off`` -> ``Flight`` ...: the same functions, in the same order), without returning to
 Python between bounces.  It ends with one of its own events: ``landed`` (the running phase
-became permanent: a ``Contact`` over it goes on, ``event.after``) or ``touch`` (the next phase is
-too stiff for the compiled integrator: ``transitions.impact`` starts it on the Python path).  A
+became permanent: a ``Contact`` over it goes on, ``event.after``), ``touch`` (the next phase is
+too stiff for the compiled integrator: ``transitions.impact`` starts it on the Python path) or
+``handed_over`` (the default engine is no longer the compiled one: its current flight or phase
+goes on as a ``Flight`` or ``Contact``, ``event.after``).  A
 change from outside (``set_plate``, ``set_contact``) first takes the train's current flight or
 phase as a ``Flight`` or ``Contact`` (``Mode.handed_over``), whose transitions then apply.
 """
@@ -121,6 +123,9 @@ class Bouncing(Mode):
                               tr.item(ct.TR_Y0), tr.item(ct.TR_V0), tr.item(ct.TR_TOUCH))
 
     def advance(self, sim, t_end, budget, points):
+        if get_engine() != 'compiled':      # the engine changed: the Python modes go on
+            return Move(Event('handed_over', sim.time, after=self.handed_over(sim)), sim.time,
+                        budget)
         tr = self.tr
         tr[ct.TR_KEEP] = 0.0 if points is NO_POINTS else 1.0
         while True:
@@ -140,7 +145,8 @@ class Bouncing(Mode):
             if reason == ct.STIFF_PHASE:
                 return Move(Event('touch', time, tr.item(ct.TR_Z), tr.item(ct.TR_RATE)), time,
                             budget)
-            if reason in _TESTED and not self.in_flight and not lift_off_of(self.st)[0]:
+            if (reason in _TESTED and tr.item(ct.TR_RAN) and not self.in_flight
+                    and not lift_off_of(self.st)[0]):
                 contact = self._contact()
                 phase = contact.integrator
                 if contact.watch.lands(sim, phase, phase.energy_above_rest()):

@@ -30,16 +30,18 @@ def scales_of(k, lam, mass, gravity, n, p, q, penetration, penetration_rate):
     stiffness k and damping λ, mass (kg) and gravity (m/s²): the module docstring's scales on
     floats (Z <= 0 where there is no motion and no gravity, with T = γ = ζ = 0).  Plain Python
     that numba compiles as it stands (``compiled_start.compiled_scales``, the drop's compiled
-    bounces); ``phase_scales`` checks it."""
+    bounces); ``phase_scales`` checks it.  Squares are products (numba turns ``x ** 2`` into
+    one, libm's pow(x, 2) is not always the same double): both give the same numbers."""
     z = max(penetration, 0.0)
-    energy_speed_sq = penetration_rate ** 2 + 2.0 * k * z ** (n + 1.0) / ((n + 1.0) * mass)
+    energy_speed_sq = (penetration_rate * penetration_rate
+                       + 2.0 * k * z ** (n + 1.0) / ((n + 1.0) * mass))
     length = (mass * energy_speed_sq / k) ** (1.0 / (n + 1.0))
     if gravity > 0.0:
         length = max(length, (mass * gravity / k) ** (1.0 / n))
     if not length > 0.0:
         return length, 0.0, 0.0, 0.0
     time = math.sqrt(mass * length ** (1.0 - n) / k)
-    return (length, time, gravity * time ** 2 / length,
+    return (length, time, gravity * (time * time) / length,
             lam * length ** (p + q - 1.0) * time ** (2.0 - q) / mass)
 
 

@@ -15,7 +15,7 @@ from contact_sim.drop.engine import DropSimulation
 from contact_sim.drop.mode_contact import Contact
 from contact_sim.drop.mode_train import Bouncing
 from contact_sim.drop.plate import SinusoidalPlate
-from contact_sim.phase import phase_scales
+from contact_sim.phase import phase_scales, use_engine
 from contact_sim.phase.reference import PhaseIntegrator
 
 M = 0.066
@@ -174,3 +174,20 @@ def test_full_buffers_are_emptied_and_grown_without_losing_a_point(monkeypatch):
     for a, b in zip(ref_s[::2], new_s[::2]):
         assert_close(a[0], b[0])
         assert_close(a[1], b[1])
+
+
+def test_a_train_hands_over_when_the_default_engine_changes():
+    contact, height = CONTACTS['azad_featherstone']
+
+    def run():
+        sim = DropSimulation(contact, M, height)
+        sim.run_to(0.3)
+        with use_engine('scipy'):
+            sim.run_to(0.9)
+            mode = sim._mode
+        return sim, mode
+
+    (ref, _), (new, mode) = both(run)
+    assert not isinstance(mode, Bouncing)
+    assert_same_impacts(ref.impacts, new.impacts)
+    assert len(new.impacts) >= 4
