@@ -51,7 +51,8 @@ TARGET_IMPACT_OVER_KERNEL, TARGET_BOUNCE_OVER_IMPACT = 3.0, 1.5
 
 @dataclass(frozen=True)
 class ReferenceTable(SinusoidalPlate):
-    """The table with its flights planned by the Python path (``flights.gap_flight``)."""
+    """The table with its flights planned by the Python path (``flights.gap_flight``), and so
+    through the Python modes (``table`` is None: no compiled bounces)."""
 
     def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
         return PlateMotion.plan_flight(self, flight, z, zdot, contact, drag_rates,

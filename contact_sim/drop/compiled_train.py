@@ -20,13 +20,16 @@ import math
 from numba import njit
 
 from contact_sim.drop.plate.compiled_ballistic import apex_height
+from contact_sim.drop.plate.compiled_flight import NO_EXIT, sinusoid_touch_time
 from contact_sim.drop.plate.compiled_ballistic import touch_time as ballistic_touch_time
 from contact_sim.phase import (RUN_REASONS, compiled_scales, energy_stop, lift_off_of,
-                               phase_time, potential_of, results_of, run_phase, start_phase)
+                               phase_time, potential_of, results_of, run_phase,
+                               set_plate_forcing, start_phase)
 
 _KW = dict(cache=True, nogil=True, error_model='numpy')
 LIFTED_OFF, TIME_REACHED, BUDGET_SPENT, ENERGY_BELOW, BUFFER_FULL, STEP_TOO_SMALL = RUN_REASONS
-STIFF_PHASE = 5               # why ``run_train`` returned, beside the phase's reasons
+STIFF_PHASE, CARRY_TEST, NO_EXIT_FOUND = 5, 6, 7   # why ``run_train`` returned, beside the
+#                                                   phase's reasons
 MAX_STEPS = 2 ** 62
 
 # -- the train's state (float64[NTR]) ------------------------------------------------------------
@@ -41,7 +44,11 @@ TR_T0, TR_Z0, TR_RATE0 = 17, 18, 19   # the phase's first point
 TR_STOP = 20                  # the energy (J) below which the phase stops for the floor's test
 TR_K, TR_LAM, TR_MASS, TR_N, TR_P, TR_Q = 21, 22, 23, 24, 25, 26   # the contact and the sphere
 TR_RAN = 27                   # 1.0: the call's last work was a run of the phase's steps
-NTR = 28
+TR_MOVING, TR_AMP, TR_OMEGA, TR_PHASE = 28, 29, 30, 31   # the table p = a sin(ω t + ϕ): 1.0, a, ω, ϕ
+TR_FORCE_AMP, TR_BOUND = 32, 33   # its acceleration's amplitude -a ω² (m/s²); g + a ω² (m/s²)
+TR_CHUNK, TR_CHUNK_LEFT, TR_CHECKED = 34, 35, 36   # CarryWatch's run of steps, its steps left,
+#                               and the phase's steps at the last test for the carried state
+NTR = 37
 
 # -- an impact record's row (float64[NREC]): ImpactRecord's fields, then the apex after it -------
 NREC = 8
@@ -63,21 +70,36 @@ def bounded_rate(k, n, mass, g, start_z, start_rate, z, zdot):
 
 
 @njit(**_KW)
+def _plate(tr, t):
+    """(p m, ṗ m/s, p̈ m/s²) of the plate at t (s), as ``SinusoidalPlate.state`` (zeros: fixed)."""
+    if tr[TR_MOVING] == 0.0:
+        return 0.0, 0.0, 0.0
+    w, a = tr[TR_OMEGA], tr[TR_AMP]
+    th = w * t + tr[TR_PHASE]
+    s, c = math.sin(th), math.cos(th)
+    return a * s, a * w * c, -a * w * w * s
+
+
+@njit(**_KW)
 def _touch(tr, st, K, F, par, pts):
     """The flight touches at ``tr[TR_TOUCH]``: start the contact phase there (``impact``), or
     leave it to the Python path (False) if it is stiff."""
     g, t = tr[TR_GRAVITY], tr[TR_TOUCH]
     dt = t - tr[TR_START]
     y = tr[TR_Y0] + tr[TR_V0] * dt - 0.5 * g * dt * dt          # as Flight.absolute
-    z, zdot = 0.0 - y, 0.0 - (tr[TR_V0] - g * dt)
+    p, pv, _ = _plate(tr, t)
+    z, zdot = p - y, pv - (tr[TR_V0] - g * dt)
     if 0.0 > z:                                                  # as Flight.event_at_until
         z = 0.0
     length, time, gamma, zeta = compiled_scales(tr[TR_K], tr[TR_LAM], tr[TR_MASS], g, tr[TR_N],
                                                 tr[TR_P], tr[TR_Q], z, zdot)
-    if zeta > tr[TR_STIFF]:
+    if zeta > tr[TR_STIFF] and tr[TR_MOVING] == 0.0:   # a forced phase is always compiled
         tr[TR_Z], tr[TR_RATE] = z, zdot
         return False
     peak = start_phase(par, st, K, F, t, z, zdot, length, time, gamma, zeta)
+    if tr[TR_MOVING] != 0.0:
+        set_plate_forcing(par, tr[TR_FORCE_AMP], tr[TR_OMEGA], tr[TR_PHASE])
+    tr[TR_CHUNK_LEFT], tr[TR_CHECKED] = 0.0, -1.0
     if tr[TR_KEEP] == 0.0:               # nobody reads the points of the phases ended
         tr[TR_NPTS] = tr[TR_EMITTED] = 0.0
     row = int(tr[TR_NPTS])
@@ -96,20 +118,66 @@ def _lift_off(tr, st, imp):
     g, k, lam, n, p, q = tr[TR_GRAVITY], tr[TR_K], tr[TR_LAM], tr[TR_N], tr[TR_P], tr[TR_Q]
     _, t, z, end_rate = lift_off_of(st)
     peak, depth, steps = results_of(st)
-    zdot = bounded_rate(k, n, tr[TR_MASS], g, tr[TR_Z0], tr[TR_RATE0], z, end_rate)
+    zdot = end_rate if tr[TR_MOVING] != 0.0 else bounded_rate(k, n, tr[TR_MASS], g, tr[TR_Z0],
+                                                              tr[TR_RATE0], z, end_rate)
     speed, rebound = max(tr[TR_RATE0], 0.0), max(-zdot, 0.0)
     row = int(tr[TR_NIMP])
     imp[row, 0], imp[row, 1], imp[row, 2] = tr[TR_T0], speed, rebound
     imp[row, 3] = rebound / speed if speed > 0.0 else 0.0
     imp[row, 4], imp[row, 5], imp[row, 6] = t - tr[TR_T0], max(peak, 0.0), depth
+    tr[TR_NIMP] = row + 1
+    tr[TR_STEPS] += steps
+    plate, plate_rate, _ = _plate(tr, t)
+    y0, v0 = plate - z, plate_rate - zdot                                # as Flight.__init__
+    tr[TR_START], tr[TR_Y0], tr[TR_V0] = t, y0, v0
+    tr[TR_FLIGHT] = 1.0
+    if tr[TR_MOVING] != 0.0:                      # as flights.table_flight
+        touch = sinusoid_touch_time(t, y0, v0, g, z, zdot, tr[TR_AMP], tr[TR_OMEGA],
+                                    tr[TR_PHASE], k, lam, n - p, q, tr[TR_BOUND])
+        imp[row, REC_APEX] = y0 + 0.5 * v0 * v0 / g if v0 > 0.0 else math.nan
+        tr[TR_TOUCH] = touch
+        return touch != NO_EXIT
     flight_time = ballistic_touch_time(z, zdot, g, k, lam, n - p, q)
     imp[row, REC_APEX] = (apex_height(t, flight_time, z, zdot, g) if math.isfinite(flight_time)
                           else math.nan)
-    tr[TR_NIMP] = row + 1
-    tr[TR_STEPS] += steps
-    tr[TR_START], tr[TR_Y0], tr[TR_V0] = t, 0.0 - z, 0.0 - zdot       # as Flight.__init__
     tr[TR_TOUCH] = t + flight_time
-    tr[TR_FLIGHT] = 1.0
+    return True
+
+
+@njit(**_KW)
+def _carried_run(tr, st, K, F, par, pts, t_stop, max_steps, taken, cap):
+    """A contact phase on the table as ``Contact.advance`` runs it with a ``CarryWatch``: the
+    tests before a run of ``TR_CHUNK`` steps (the time, the budget, the carried state, which
+    Python makes where p̈ > -g/4: CARRY_TEST), then the run (the budget does not cut it).
+    Returns (reason to return, or -1 to go on, steps taken)."""
+    if tr[TR_CHUNK_LEFT] <= 0.0:
+        now = phase_time(st, par)
+        if now >= t_stop:
+            tr[TR_TIME] = t_stop
+            return TIME_REACHED, taken
+        if taken >= max_steps:
+            tr[TR_TIME] = now
+            return BUDGET_SPENT, taken
+        steps = results_of(st)[2]
+        if _plate(tr, now)[2] > -0.25 * tr[TR_GRAVITY] and tr[TR_CHECKED] != steps:
+            tr[TR_CHECKED] = steps
+            tr[TR_TIME] = now
+            return CARRY_TEST, taken
+        tr[TR_CHUNK_LEFT] = tr[TR_CHUNK]
+    npts = int(tr[TR_NPTS])
+    if npts >= cap:
+        return BUFFER_FULL, taken
+    reason, added, steps = run_phase(st, K, F, par, pts[npts:], t_stop, int(tr[TR_CHUNK_LEFT]),
+                                     -math.inf)
+    taken += steps
+    tr[TR_NPTS] = npts + added
+    if reason == BUFFER_FULL:            # the same run goes on at the next call
+        tr[TR_CHUNK_LEFT] -= steps
+        return BUFFER_FULL, taken
+    tr[TR_CHUNK_LEFT] = 0.0
+    if reason == STEP_TOO_SMALL:
+        return reason, taken
+    return -1, taken
 
 
 @njit('UniTuple(int64, 2)(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], '
@@ -144,7 +212,13 @@ def run_train(tr, st, K, F, par, pts, imp, t_stop, max_steps):
                 return TIME_REACHED, taken
             if tr[TR_NIMP] >= imp.shape[0]:
                 return BUFFER_FULL, taken
-            _lift_off(tr, st, imp)
+            if not _lift_off(tr, st, imp):
+                return NO_EXIT_FOUND, taken
+            continue
+        if tr[TR_MOVING] != 0.0:
+            reason, taken = _carried_run(tr, st, K, F, par, pts, t_stop, max_steps, taken, cap)
+            if reason >= 0:
+                return reason, taken
             continue
         now = phase_time(st, par)
         if now >= t_stop:

@@ -17,6 +17,7 @@ import numpy as np
 
 from contact_sim.drop import compiled_train as ct
 from contact_sim.drop.mode import NO_POINTS, Event, Mode, Move
+from contact_sim.drop.mode_carried import CHUNK
 from contact_sim.drop.mode_contact import Contact
 from contact_sim.drop.mode_flight import Flight, ballistic
 from contact_sim.drop.records import ImpactRecord
@@ -42,9 +43,12 @@ def trains_enabled(flag=None):
 
 
 def takes(sim, flight):
-    """True if ``flight`` of ``sim`` can go on as a train: the fixed plate, vacuum, g > 0, the
-    compiled engine, no contact waiting, a touch ahead."""
-    return (_enabled and not sim.plate_motion.moving and sim.drag_rates is None
+    """True if ``flight`` of ``sim`` can go on as a train: the fixed plate or a table for ever
+    (``PlateMotion.table``), vacuum, g > 0, the compiled engine, no contact waiting, a touch
+    ahead."""
+    plate = sim.plate_motion
+    return (_enabled and (not plate.moving or plate.table is not None)
+            and sim.drag_rates is None
             and sim.gravity > 0.0 and sim.pending_contact is None
             and get_engine() == 'compiled' and math.isfinite(flight.contact_time))
 
@@ -59,19 +63,29 @@ class Bouncing(Mode):
     def __init__(self, sim, flight):
         self._sim = sim
         self.contact, self.mass, self.gravity = sim.contact, sim.mass, sim.gravity
+        self.plate = plate = sim.plate_motion
         law = self.contact.law
+        forcing = plate.forcing_piece(flight.start)[0]
         self.par = constant_parameters(self.contact, sim.mass, sim.rtol, sim.rtol * 1e-2,
-                                       2 if force_can_vanish_inside(law, sim.gravity) else 1)
+                                       2 if force_can_vanish_inside(law, sim.gravity, forcing)
+                                       else 1)
         self.st, self.K, self.F = phase_storage()
         tr = self.tr = np.zeros(ct.NTR)
         tr[ct.TR_FLIGHT] = 1.0
         tr[ct.TR_START], tr[ct.TR_Y0], tr[ct.TR_V0] = flight.start, flight.y0, flight.v0
         tr[ct.TR_TOUCH], tr[ct.TR_GRAVITY] = flight.contact_time, sim.gravity
-        tr[ct.TR_FLOOR] = lift_off_energy(self.contact, sim.mass, sim.gravity)
+        tr[ct.TR_FLOOR] = (lift_off_energy(self.contact, sim.mass, sim.gravity)
+                           if not plate.moving else -math.inf)
         tr[ct.TR_STIFF] = COMPILED_STIFF_DAMPING
         tr[ct.TR_K], tr[ct.TR_LAM], tr[ct.TR_MASS] = (self.contact.stiffness,
                                                       self.contact.damping, sim.mass)
         tr[ct.TR_N], tr[ct.TR_P], tr[ct.TR_Q] = law.n, law.p, law.q
+        if plate.moving:
+            tr[ct.TR_MOVING] = 1.0
+            tr[ct.TR_AMP], tr[ct.TR_OMEGA], tr[ct.TR_PHASE] = plate.table
+            tr[ct.TR_FORCE_AMP] = forcing.acceleration_amplitude
+            tr[ct.TR_BOUND] = sim.gravity + plate.acceleration_bound()
+            tr[ct.TR_CHUNK] = CHUNK
         self.pts = np.empty((POINT_ROWS, 4))
         self.imp = np.empty((RECORD_ROWS, ct.NREC))
         self._view = None           # the Contact over the running phase, until the next call
@@ -100,17 +114,20 @@ class Bouncing(Mode):
             tr = self.tr
             y, v = ballistic(tr.item(ct.TR_Y0), tr.item(ct.TR_V0), self.gravity,
                              t - tr.item(ct.TR_START))
-            return 0.0 - y, 0.0 - v                 # as Flight.state over the fixed plate
+            p, pv, _ = self.plate.state(t)
+            return p - y, pv - v                    # as Flight.state
         return self._contact().state(t)
 
     def states(self, t):
         if not self.in_flight:
             return None
+        plate = self.plate.states(t)
+        if plate is None:
+            return None
         tr = self.tr
         y, v = ballistic(tr.item(ct.TR_Y0), tr.item(ct.TR_V0), self.gravity,
                          t - tr.item(ct.TR_START))
-        zero = np.zeros_like(t)
-        return zero - y, zero - v
+        return plate[0] - y, plate[1] - v           # as Flight.states
 
     def handed_over(self, sim):
         """The train's current flight (a ``Flight``) or phase (a ``Contact``), which goes on in
@@ -142,11 +159,20 @@ class Bouncing(Mode):
                 raise RuntimeError('contact integration failed: Required step size is less '
                                    'than spacing between numbers.')
             time = tr.item(ct.TR_TIME)
+            if reason == ct.CARRY_TEST:             # as Contact.advance before a run
+                contact = self._contact()
+                event = contact.watch.before_run(sim, contact)
+                if event is not None:
+                    return Move(event, event.time, budget)
+                continue
+            if reason == ct.NO_EXIT_FOUND:
+                raise RuntimeError('no exit from the plate surface found after t = '
+                                   f'{tr.item(ct.TR_START)!r}')
             if reason == ct.STIFF_PHASE:
                 return Move(Event('touch', time, tr.item(ct.TR_Z), tr.item(ct.TR_RATE)), time,
                             budget)
-            if (reason in _TESTED and tr.item(ct.TR_RAN) and not self.in_flight
-                    and not lift_off_of(self.st)[0]):
+            if (reason in _TESTED and tr.item(ct.TR_RAN) and not self.plate.moving
+                    and not self.in_flight and not lift_off_of(self.st)[0]):
                 contact = self._contact()
                 phase = contact.integrator
                 if contact.watch.lands(sim, phase, phase.energy_above_rest()):

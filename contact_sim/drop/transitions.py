@@ -118,4 +118,5 @@ TRANSITIONS = {
     (Bouncing, 'touch'): impact,
     (Bouncing, 'landed'): built,
     (Bouncing, 'handed_over'): built,
+    (Bouncing, 'carried'): built,
 }

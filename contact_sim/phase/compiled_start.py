@@ -13,7 +13,8 @@ from numba import njit
 
 from contact_sim.phase import compiled
 from contact_sim.phase.compiled import (BUDGET_SPENT, BUFFER_FULL, ENERGY_BELOW, LIFTED_OFF,
-                                        NPAR, P_ATOL, P_DAMPING, P_ENERGY_GRAVITY, P_GRAVITY,
+                                        NPAR, P_AMPLITUDE, P_ATOL, P_DRAG1, P_DRAG2, P_OMEGA,
+                                        P_PHASE, P_DAMPING, P_ENERGY_GRAVITY, P_GRAVITY,
                                         P_KIND, P_LENGTH, P_LIFT_EVENTS, P_MASS, P_N, P_P, P_Q,
                                         P_REST_POTENTIAL, P_RTOL, P_START, P_STIFFNESS, P_TIME,
                                         P_ZETA, S_DEPTH, S_END_RATE, S_END_T, S_END_Z, S_H,
@@ -93,6 +94,16 @@ def energy_stop(stop_energy, par):
         return -np.inf
     v = par[P_LENGTH] / par[P_TIME]
     return stop_energy + abs(stop_energy) * 1e-9 + 1e-12 * par[P_MASS] * (v * v)
+
+
+@njit('void(float64[::1], float64, float64, float64)', **_KW)
+def set_plate_forcing(par, amplitude, omega, phase):
+    """The forcing slots of ``par`` for a plate's acceleration A sin(Ω t + ϕ) alone (no drag),
+    ``Forcing.dimensionless`` of it at the phase's start and scales, in compiled code."""
+    time, length = par[P_TIME], par[P_LENGTH]
+    par[P_AMPLITUDE] = amplitude * (time * time) / length
+    par[P_OMEGA], par[P_PHASE] = omega * time, omega * par[P_START] + phase
+    par[P_DRAG1] = par[P_DRAG2] = 0.0
 
 
 @njit('float64(float64[::1], float64[::1])', **_KW)

@@ -38,7 +38,7 @@ class Forcing:
         """(A T²/Z, Ω T, Ω t₀ + ϕ, c₁ T/m, c₂ Z/m): the slots P_AMPLITUDE ... P_DRAG2 of a phase
         that starts at t₀ with the scales Z, T."""
         length, time = scales.length, scales.time
-        return (self.acceleration_amplitude * time ** 2 / length,
+        return (self.acceleration_amplitude * (time * time) / length,
                 self.angular_frequency * time,
                 self.angular_frequency * start_time + self.phase,
                 self.linear_drag * time / mass,

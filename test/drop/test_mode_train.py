@@ -191,3 +191,45 @@ def test_a_train_hands_over_when_the_default_engine_changes():
     assert not isinstance(mode, Bouncing)
     assert_same_impacts(ref.impacts, new.impacts)
     assert len(new.impacts) >= 4
+
+
+@pytest.mark.parametrize('table', [(0.002, 20.0, 0.0), (0.001, 10.0, 1.0)],
+                         ids=['bouncing', 'carried'])
+def test_a_table_train_is_the_python_modes_bounces_and_carried_state(table):
+    contact, _ = CONTACTS['azad_featherstone']
+    plate = SinusoidalPlate(*table)
+
+    def run():
+        sim = DropSimulation(contact, M, 0.05, plate=plate)
+        was_train = isinstance(sim._mode, Bouncing)
+        sim.run_to(10.0)
+        return was_train, sim
+
+    (ref_train, ref), (new_train, new) = both(run)
+    assert new_train and not ref_train
+    assert len(ref.impacts) > 20
+    assert_same_impacts(ref.impacts, new.impacts)
+    assert_close(ref.apex_heights, new.apex_heights)
+    assert new.carried == ref.carried
+    assert_close([ref.state.penetration, ref.total_steps], [new.state.penetration,
+                                                            new.total_steps])
+
+
+def test_stepping_a_table_train_gives_the_python_modes_points_and_states():
+    contact, _ = CONTACTS['azad_featherstone']
+
+    def run():
+        rng = random.Random(4)
+        sim = DropSimulation(contact, M, 0.05, plate=SinusoidalPlate(0.001, 10.0, 1.0))
+        out = []
+        for _ in range(200):
+            t = sim.time + rng.choice([0.0, 1e-5, 3e-4, 1e-3, 0.01, 0.05])
+            adv = sim.advance(t, max_steps=rng.choice([None, None, 0, 1, 7, 60]))
+            out.append((adv.samples.time, adv.samples.force, sim.time, sim.carried))
+        return out, sim
+
+    (ref, ref_sim), (new, new_sim) = both(run)
+    for a, b in zip(ref, new):
+        for x, y in zip(a, b):
+            assert_close(x, y)
+    assert_same_impacts(ref_sim.impacts, new_sim.impacts)

@@ -74,6 +74,8 @@ class PlateMotion:
     def acceleration_bound(self):
         raise NotImplementedError
 
+    table = None   # (a m, ω rad/s, ϕ rad) of a plate a sin(ω t + ϕ) for ever (``SinusoidalPlate``)
+
     def forcing_piece(self, t):
         raise NotImplementedError
 
@@ -290,6 +292,16 @@ class SinusoidalPlate(PlateMotion):
 
     def forcing_piece(self, t):
         return self._forcing, math.inf
+
+    @property
+    def table(self):
+        """(a m, ω rad/s, ϕ rad): the table's motion for the compiled bounces
+        (``drop.mode_train``, which compute its state, forcing and flights as this class does),
+        or ``None`` where it does not accelerate or a subclass computes them otherwise."""
+        own = all(getattr(type(self), name) is getattr(SinusoidalPlate, name)
+                  for name in ('state', 'forcing_piece', 'plan_flight'))
+        return ((self.amplitude, self.angular_frequency, self.phase)
+                if own and self._forcing.active else None)
 
     @functools.cached_property
     def _forcing(self):
