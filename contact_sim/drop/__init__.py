@@ -21,11 +21,12 @@ alone, ``advance`` until its next event):
   to advance;
 * ``mode_carried.Carried`` (a moving plate): quasi-static while the plate's acceleration is
   above -g/2; event ``released``;
-* ``mode_train.Bouncing`` (the fixed plate in vacuum, the compiled engine): the flights and
-  contact phases above strung together in compiled code (``compiled_train``), many bounces a
-  call, with the same functions in the same order; events ``landed`` (a ``Contact`` over the
-  phase goes on) and ``touch`` (a phase too stiff for the compiled integrator, left to
-  ``Contact``).  A change from outside first takes its current flight or phase
+* ``mode_train.Bouncing`` (the fixed plate or a vibrating table in vacuum, the compiled
+  engine): the flights and contact phases above strung together in compiled code
+  (``compiled_train``), many bounces a call, with the same functions in the same order; events
+  ``landed`` (a ``Contact`` over the phase goes on), ``carried`` (as a contact's), ``touch`` (a
+  phase too stiff for the compiled integrator, left to ``Contact``) and ``handed_over`` (the
+  engine changed).  A change from outside first takes its current flight or phase
   (``Mode.handed_over``).
 
 What follows an event is looked up in one table, ``transitions.TRANSITIONS``; the record of

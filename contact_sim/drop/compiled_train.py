@@ -1,13 +1,15 @@
-"""Bounces on the fixed plate in compiled code: flight, touch, contact phase, lift-off, flight,
-... for as many bounces as fit before the end asked (``run_train``, behind ``mode_train``).
+"""Bounces on the fixed plate or a vibrating table in compiled code: flight, touch, contact
+phase, lift-off, flight, ... for as many bounces as fit before the end asked (``run_train``,
+behind ``mode_train``).
 
 Each piece is the one the Python modes use, called from here: the flight's touch time and apex
 (``plate.compiled_ballistic``), the phase's scales, start and run (``phase.compiled_scales``,
 ``phase.start_phase``, ``phase.run_phase``), and the energy bound of the rebound
 (``bounded_rate``, which ``mode_contact`` uses too).  What the loop adds is the sequence: the
 transitions ``touch`` -> ``impact`` and ``lift_off`` -> ``bounce`` of ``transitions.TRANSITIONS``
-on the fixed plate in vacuum, the impact records (``ImpactRecord``'s fields and the apex, a row
-each in ``imp``) and the points (``pts``).
+in vacuum (on the table with its forcing, ``CarryWatch``'s runs of steps and the test for the
+carried state left to Python: CARRY_TEST), the impact records (``ImpactRecord``'s fields and
+the apex, a row each in ``imp``) and the points (``pts``).
 
 It stops, with its state in ``tr`` (the layout ``TR_*``), where the Python modes take over or the
 caller asked: the time ``t_stop`` (s), the step budget, a step whose energy fell below the

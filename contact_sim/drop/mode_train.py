@@ -1,4 +1,5 @@
-"""Bouncing: flights and contact phases on the fixed plate in vacuum, many bounces a call, in
+"""Bouncing: flights and contact phases on the fixed plate or a vibrating table (a
+``SinusoidalPlate``, ``PlateMotion.table``) in vacuum, many bounces a call, in
 compiled code (``compiled_train.run_train``).
 
 The same motion as the modes it strings together (``Flight`` -> ``touch`` -> ``Contact`` ->
@@ -32,7 +33,7 @@ _enabled = True
 
 
 def trains_enabled(flag=None):
-    """Whether new flights on the fixed plate in vacuum become trains (``Bouncing``); with
+    """Whether new flights that ``takes`` accepts become trains (``Bouncing``); with
     ``flag``, set it and return the previous value (``False``: every bounce through the Python
     modes, the reference the trains are tested against)."""
     global _enabled
