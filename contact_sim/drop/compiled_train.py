@@ -147,19 +147,31 @@ def _lift_off(tr, st, imp):
 
 
 @njit(**_KW)
+def _stop_before_run(tr, st, par, t_stop, max_steps, taken):
+    """Where ``Contact.advance`` stops before a run of the phase's steps: TIME_REACHED once the
+    phase reached ``t_stop`` (s), BUDGET_SPENT once ``max_steps`` are taken (at the phase's
+    time), else -1; the time in ``tr[TR_TIME]``."""
+    now = phase_time(st, par)
+    if now >= t_stop:
+        tr[TR_TIME] = t_stop
+        return TIME_REACHED
+    if taken >= max_steps:
+        tr[TR_TIME] = now
+        return BUDGET_SPENT
+    return -1
+
+
+@njit(**_KW)
 def _carried_run(tr, st, K, F, par, pts, t_stop, max_steps, taken, cap):
     """A contact phase on the table as ``Contact.advance`` runs it with a ``CarryWatch``: the
     tests before a run of ``TR_CHUNK`` steps (the time, the budget, the carried state, which
     Python makes where p̈ > -g/4: CARRY_TEST), then the run (the budget does not cut it).
     Returns (reason to return, or -1 to go on, steps taken)."""
     if tr[TR_CHUNK_LEFT] <= 0.0:
+        stop = _stop_before_run(tr, st, par, t_stop, max_steps, taken)
+        if stop >= 0:
+            return stop, taken
         now = phase_time(st, par)
-        if now >= t_stop:
-            tr[TR_TIME] = t_stop
-            return TIME_REACHED, taken
-        if taken >= max_steps:
-            tr[TR_TIME] = now
-            return BUDGET_SPENT, taken
         steps = results_of(st)[2]
         if _plate(tr, now)[2] > -0.25 * tr[TR_GRAVITY] and tr[TR_CHECKED] != steps:
             tr[TR_CHECKED] = steps
@@ -222,13 +234,9 @@ def run_train(tr, st, K, F, par, pts, imp, t_stop, max_steps):
             if reason >= 0:
                 return reason, taken
             continue
-        now = phase_time(st, par)
-        if now >= t_stop:
-            tr[TR_TIME] = t_stop
-            return TIME_REACHED, taken
-        if taken >= max_steps:
-            tr[TR_TIME] = now
-            return BUDGET_SPENT, taken
+        stop = _stop_before_run(tr, st, par, t_stop, max_steps, taken)
+        if stop >= 0:
+            return stop, taken
         npts = int(tr[TR_NPTS])
         if npts >= cap:
             return BUFFER_FULL, taken
