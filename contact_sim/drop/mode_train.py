@@ -21,10 +21,11 @@ from contact_sim.drop.mode import NO_POINTS, Event, Mode, Move
 from contact_sim.drop.mode_carried import CHUNK
 from contact_sim.drop.mode_contact import Contact
 from contact_sim.drop.mode_flight import Flight, ballistic
+from contact_sim.drop.plate.flights import no_exit
 from contact_sim.drop.records import ImpactRecord
 from contact_sim.phase import (COMPILED_STIFF_DAMPING, CompiledPhase, constant_parameters,
                                force_can_vanish_inside, get_engine, lift_off_energy, lift_off_of,
-                               phase_storage, results_of)
+                               phase_storage, results_of, step_too_small)
 
 POINT_ROWS = 1024         # the points buffer to start with (it grows for a long phase)
 RECORD_ROWS = 256         # impact records a kernel call may make before Python reads them
@@ -157,8 +158,7 @@ class Bouncing(Mode):
                 self._make_room()
                 continue
             if reason == ct.STEP_TOO_SMALL:
-                raise RuntimeError('contact integration failed: Required step size is less '
-                                   'than spacing between numbers.')
+                raise step_too_small()
             time = tr.item(ct.TR_TIME)
             if reason == ct.CARRY_TEST:             # as Contact.advance before a run
                 contact = self._contact()
@@ -167,8 +167,7 @@ class Bouncing(Mode):
                     return Move(event, event.time, budget)
                 continue
             if reason == ct.NO_EXIT_FOUND:
-                raise RuntimeError('no exit from the plate surface found after t = '
-                                   f'{tr.item(ct.TR_START)!r}')
+                raise no_exit(tr.item(ct.TR_START))
             if reason == ct.STIFF_PHASE:
                 return Move(Event('touch', time, tr.item(ct.TR_Z), tr.item(ct.TR_RATE)), time,
                             budget)

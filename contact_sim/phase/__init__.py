@@ -36,7 +36,7 @@ _EXPORTS = {
     'compiled_phase': ('CompiledPhase',),
     'compiled_start': ('RUN_REASONS', 'compiled_scales', 'constant_parameters', 'energy_stop',
                        'lift_off_of', 'phase_storage', 'phase_time', 'results_of', 'run_phase',
-                       'set_plate_forcing', 'start_phase'),
+                       'set_plate_forcing', 'start_phase', 'step_too_small'),
     'energy': ('energy_above_rest', 'lift_off_energy', 'potential_at', 'potential_of'),
     'engines': ('COMPILED_STIFF_DAMPING', 'ENGINES', 'contact_phase', 'get_engine', 'set_engine',
                 'use_engine'),
@@ -53,4 +53,4 @@ __all__ = ['COMPILED_STIFF_DAMPING', 'DEFAULT_ATOL', 'DEFAULT_RTOL', 'ENGINES', 
            'energy_stop', 'force_can_vanish_inside', 'get_engine', 'lift_off_energy',
            'lift_off_of', 'phase_scales', 'phase_storage', 'phase_time', 'potential_at',
            'potential_of', 'results_of', 'run_phase', 'set_engine', 'set_plate_forcing',
-           'start_phase', 'use_engine']
+           'start_phase', 'step_too_small', 'use_engine']

@@ -462,10 +462,3 @@ def energy_above_rest(st, par):
     """The energy above rest (J) at the integrator's state."""
     return _energy_above_rest(st, par)
 
-
-def new_state(x0, u0, first_step):
-    """Integrator storage for a phase starting at σ = 0 with y = (x0, u0): (st, K, F)."""
-    st = np.zeros(NSTATE)
-    st[S_X], st[S_U], st[S_H] = x0, u0, first_step
-    # dy/dσ = 2σ (u, a) vanishes at σ = 0
-    return st, np.zeros((A.shape[0], 2)), np.zeros((D.shape[0] + 3, 2))

@@ -10,7 +10,7 @@ import numpy as np
 
 from contact_sim.phase import compiled
 from contact_sim.phase.compiled_start import (constant_parameters, energy_stop, phase_storage,
-                                              start_phase)
+                                              start_phase, step_too_small)
 from contact_sim.phase.lift_off import force_can_vanish_inside
 from contact_sim.phase.scales import DEFAULT_ATOL, DEFAULT_RTOL, PhaseScales, phase_scales
 
@@ -89,8 +89,7 @@ class CompiledPhase:
                 break
         self._read_state()
         if reason == compiled.STEP_TOO_SMALL:
-            raise RuntimeError('contact integration failed: Required step size is less than '
-                               'spacing between numbers.')
+            raise step_too_small()
         return taken
 
     def _read_state(self):

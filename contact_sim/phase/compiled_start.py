@@ -106,6 +106,13 @@ def set_plate_forcing(par, amplitude, omega, phase):
     par[P_DRAG1] = par[P_DRAG2] = 0.0
 
 
+def step_too_small():
+    """The error of a phase whose step size fell below the spacing of the doubles
+    (``compiled.STEP_TOO_SMALL``)."""
+    return RuntimeError('contact integration failed: Required step size is less than spacing '
+                        'between numbers.')
+
+
 @njit('float64(float64[::1], float64[::1])', **_KW)
 def phase_time(st, par):
     """The time (s) the phase's integrator has reached."""

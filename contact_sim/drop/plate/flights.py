@@ -87,11 +87,16 @@ def gap_flight(plate, flight, z, zdot, contact, drag_rates, after_lift_off):
     return None
 
 
+def no_exit(start):
+    """The error of a search that found no exit from the plate's surface after ``start`` (s)."""
+    return RuntimeError(f'no exit from the plate surface found after t = {start!r}')
+
+
 def _compiled_flight(flight, touch, after_lift_off):
     """Set ``flight``'s ``contact_time`` to ``touch`` (s, from a compiled search of
     ``compiled_flight``); returns the apex height (m) of a rising flight ``after_lift_off``."""
     if touch == NO_EXIT:
-        raise RuntimeError(f'no exit from the plate surface found after t = {flight.start!r}')
+        raise no_exit(flight.start)
     flight.contact_time = touch
     if after_lift_off and flight.v0 > 0.0:
         g = flight.gravity
@@ -177,7 +182,7 @@ def gap_touch_time(plate, flight, z0, zdot0, contact, drag_rates):
                 break
             stretch *= 2.0
         else:
-            raise RuntimeError(f'no exit from the plate surface found after t = {t0!r}')
+            raise no_exit(t0)
     while True:
         t_root, G, dG = first_gap_root(gap, t, bound, local_curvature=curvature)
         if dG < 0.0:
