@@ -28,10 +28,10 @@ as possible while ``contact_sim_record`` is there, the node publishes no more th
 ``RecorderPace.lead`` messages (``pacing.lead_messages``) beyond what the recorder has
 acknowledged: before each engine call it asks for room, and sizes the call to it and to half the
 lead (``RecorderPace.call``), counted as 8 messages a tick (a tick's contact points add 3 messages
-each, at most ``TURN_STEP_BUDGET`` steps' worth in a call), one call a turn, so that the recorder's acknowledgements are taken between
-calls and it records one call while the node computes the next; without room the node pauses its
-timer, and resumes at the next acknowledgement (or when the recorder has gone: checked
-every ``WATCH_PERIOD``). At a stop (``drain``) it finishes its tick, publishes what waits and
+each, at most ``TURN_STEP_BUDGET`` steps' worth in a call), one call a turn, so that the
+recorder's acknowledgements are taken between calls and it records one call while the node
+computes the next; without room the node pauses its timer, and resumes at the next
+acknowledgement (or when the recorder has gone: checked every ``WATCH_PERIOD``). At a stop (``drain``) it finishes its tick, publishes what waits and
 waits until the recorder has acknowledged all of it.
 """
 import math

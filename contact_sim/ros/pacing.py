@@ -14,9 +14,9 @@ The protocol (the recorder's side is ``recorder.Recorder.report``):
    note stamped at or before t; ``READY_NS`` releases everything published so far (what went out
    before the recorder matched is not the recorder's to acknowledge). The node publishes while
    fewer than ``LEAD_MESSAGES`` (``ASYNC_LEAD_MESSAGES`` publishing asynchronously) are
-   unreleased, and pauses otherwise, until the next
-   acknowledgement or until the recorder goes away. It publishes in engine calls of
-   ``CALL_MESSAGES`` (half the lead) at most, counted as ``loop.TICK_MESSAGES`` a tick (contact
+   unreleased, and pauses otherwise, until the next acknowledgement or until the recorder goes
+   away. It publishes in engine calls of half the lead at most (``RecorderPace.call``:
+   ``CALL_MESSAGES`` of the synchronous lead), counted as ``loop.TICK_MESSAGES`` a tick (contact
    points add 3 messages each, at most ``loop.TURN_STEP_BUDGET`` integrator steps' worth a
    call), one a turn of its executor, so that the acknowledgement of one call comes back while
    the next is computed and published: the two processes work at once (measured at rest,

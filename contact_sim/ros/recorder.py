@@ -315,7 +315,8 @@ class Recorder(Node):
         """
         # stopping: the acknowledgement stops moving but its publisher stays until the recorder
         # is gone, so the node stays within its lead (pacing.lead_messages) of it while the
-        # lagging topics drain (a node let loose here outruns its writers' histories and the drain loses samples)
+        # lagging topics drain (a node let loose here outruns its writers' histories and the
+        # drain loses samples)
         self._stopping = True
         own = [ns for topic, ns in self.covered_ns.items()
                if self._topics[topic].kind != 'clock']
