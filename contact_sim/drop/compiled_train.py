@@ -23,6 +23,8 @@ from numba import njit
 
 from contact_sim.drop.plate.compiled_ballistic import apex_height
 from contact_sim.drop.plate.compiled_flight import NO_EXIT, sinusoid_touch_time
+from contact_sim.drop.plate.flights import rise_apex
+from contact_sim.drop.plate.motions import sinusoid_state
 from contact_sim.drop.plate.compiled_ballistic import touch_time as ballistic_touch_time
 from contact_sim.phase import (RUN_REASONS, compiled_scales, energy_stop, lift_off_of,
                                phase_time, potential_of, results_of, run_phase,
@@ -57,6 +59,9 @@ NREC = 8
 REC_APEX = 7
 
 _potential = njit('float64(float64, float64, float64, float64, float64)', **_KW)(potential_of)
+_sinusoid = njit('UniTuple(float64, 3)(float64, float64, float64, float64)',
+                 **_KW)(sinusoid_state)
+_rise_apex = njit('float64(float64, float64, float64)', **_KW)(rise_apex)
 
 
 @njit('float64(float64, float64, float64, float64, float64, float64, float64, float64)', **_KW)
@@ -76,10 +81,7 @@ def _plate(tr, t):
     """(p m, ṗ m/s, p̈ m/s²) of the plate at t (s), as ``SinusoidalPlate.state`` (zeros: fixed)."""
     if tr[TR_MOVING] == 0.0:
         return 0.0, 0.0, 0.0
-    w, a = tr[TR_OMEGA], tr[TR_AMP]
-    th = w * t + tr[TR_PHASE]
-    s, c = math.sin(th), math.cos(th)
-    return a * s, a * w * c, -a * w * w * s
+    return _sinusoid(tr[TR_AMP], tr[TR_OMEGA], tr[TR_PHASE], t)
 
 
 @njit(**_KW)
@@ -136,7 +138,7 @@ def _lift_off(tr, st, imp):
     if tr[TR_MOVING] != 0.0:                      # as flights.table_flight
         touch = sinusoid_touch_time(t, y0, v0, g, z, zdot, tr[TR_AMP], tr[TR_OMEGA],
                                     tr[TR_PHASE], k, lam, n - p, q, tr[TR_BOUND])
-        imp[row, REC_APEX] = y0 + 0.5 * v0 * v0 / g if v0 > 0.0 else math.nan
+        imp[row, REC_APEX] = _rise_apex(y0, v0, g) if v0 > 0.0 else math.nan
         tr[TR_TOUCH] = touch
         return touch != NO_EXIT
     flight_time = ballistic_touch_time(z, zdot, g, k, lam, n - p, q)

@@ -83,8 +83,14 @@ def gap_flight(plate, flight, z, zdot, contact, drag_rates, after_lift_off):
     flight.contact_time = gap_touch_time(plate, flight, z, zdot, contact, drag_rates)
     if after_lift_off and flight.v0 > 0.0:
         path = flight.path
-        return path.apex_height if path is not None else flight.y0 + 0.5 * flight.v0 * flight.v0 / g
+        return path.apex_height if path is not None else rise_apex(flight.y0, flight.v0, g)
     return None
+
+
+def rise_apex(y0, v0, gravity):
+    """The apex height (m) of a vacuum flight leaving y0 (m) upwards at v0 > 0 (m/s) under
+    ``gravity`` (m/s²): plain Python that numba compiles as it stands (the compiled bounces)."""
+    return y0 + 0.5 * v0 * v0 / gravity
 
 
 def no_exit(start):
@@ -99,8 +105,7 @@ def _compiled_flight(flight, touch, after_lift_off):
         raise no_exit(flight.start)
     flight.contact_time = touch
     if after_lift_off and flight.v0 > 0.0:
-        g = flight.gravity
-        return flight.y0 + 0.5 * flight.v0 * flight.v0 / g
+        return rise_apex(flight.y0, flight.v0, flight.gravity)
     return None
 
 

@@ -167,6 +167,15 @@ def constant_forcing(acceleration):
     return Forcing(acceleration_amplitude=acceleration, angular_frequency=0.0, phase=math.pi / 2)
 
 
+def sinusoid_state(amplitude, angular_frequency, phase, t):
+    """(p m, ṗ m/s, p̈ m/s²) of p = a sin(ω t + ϕ) at t (s): ``SinusoidalPlate.state``, plain
+    Python that numba compiles as it stands (the compiled bounces, ``drop.compiled_train``)."""
+    w, a = angular_frequency, amplitude
+    th = w * t + phase
+    s, c = math.sin(th), math.cos(th)
+    return a * s, a * w * c, -a * w * w * s
+
+
 @dataclass(frozen=True)
 class SinusoidalPlate(PlateMotion):
     """A table vibrating as p(t) = a sin(2π f t + ϕ), in the ranges a table has.
@@ -248,10 +257,7 @@ class SinusoidalPlate(PlateMotion):
         return self.amplitude * self.angular_frequency ** 2 / gravity
 
     def state(self, t):
-        w, a = self.angular_frequency, self.amplitude
-        th = w * t + self.phase
-        s, c = math.sin(th), math.cos(th)
-        return a * s, a * w * c, -a * w * w * s
+        return sinusoid_state(self.amplitude, self.angular_frequency, self.phase, t)
 
     def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
         """In vacuum the touch time comes from compiled code (``flights.table_flight``), with
