@@ -5,12 +5,14 @@ and the recorder's QoS and the recorder's pacing, and nothing else (no engine, n
     python bench/bench_dds_floor.py [--messages 40000]
 
 A publisher sends serialized ``geometry_msgs/PoseStamped`` (the node's state QoS, raw bytes as
-the node's outbox does) at most ``pacing.LEAD_MESSAGES`` beyond what a subscriber (a second
-process: keep-all reliable, raw, the events executor, as ``contact_sim_record``) has acknowledged
+the node's outbox does) at most the node's lead (``pacing.lead_messages``) beyond what a
+subscriber (a second process: keep-all reliable, raw, by default the events executor; with
+``--take waitset`` as ``contact_sim_record`` takes) has acknowledged
 on a ``~/recorded``-like topic every ``recorder.ACK_EVERY`` messages. Printed: messages per wall
 second, CPU µs per message of each process (user + system, its middleware threads included),
 and what that rate allows a recorded node: at ``bench_recording``'s messages per simulated
-second (8 a tick at rest at 100 Hz), the real-time factor no recorded node can pass here.
+second (8 a tick at rest at 100 Hz; 1458 bouncing), the real-time factor no recorded node can
+pass here. Run it as the node publishes: ``--publication-mode ASYNCHRONOUS --take waitset``.
 """
 import argparse
 import os
@@ -28,13 +30,15 @@ from rosgraph_msgs.msg import Clock
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from contact_sim.ros.messages import PROGRESS, RECORD_QOS, STATE_QOS  # noqa: E402
-from contact_sim.ros.pacing import LEAD_MESSAGES  # noqa: E402
+from contact_sim.ros.pacing import lead_messages  # noqa: E402
 from contact_sim.ros.recorder import ACK_EVERY  # noqa: E402
 
 TOPIC, ACK = '/bench_dds_floor/data', '/bench_dds_floor/recorded'
 TAKE = ['events']    # how the subscriber takes (--take)
 SUB_ENV = {}          # the subscriber's environment changes (--publication-mode: the publisher's only)
 REST_MESSAGES = 800   # messages a simulated second at rest: 8 a tick at 100 Hz (loop.TICK_MESSAGES)
+BOUNCING_MESSAGES = 1458   # bouncing: bench_recording's bag (the contact samples on 3 topics)
+LEAD = []             # the publisher's lead: the node's (pacing.lead_messages) in its environment
 
 
 def cpu_seconds():
@@ -103,7 +107,7 @@ def publisher(count):
         data = serialize_message(PoseStamped())
         wall, cpu, own = time.monotonic(), cpu_seconds(), time.thread_time()
         for sent in range(1, count + 1):
-            while sent - acked[0] > LEAD_MESSAGES:
+            while sent - acked[0] > LEAD[0]:
                 executor.spin_once(timeout_sec=1.0)
             publisher.publish(data)
             if sent % 8 == 0:
@@ -141,19 +145,20 @@ def main():
             subscriber(options.messages, options.take)
             return
         load = os.getloadavg()[0]
+        LEAD.append(lead_messages())
         wall, pub_us, own_us, sub_us = publisher(options.messages)
     finally:
         rclpy.try_shutdown()
     rate = options.messages / wall
     mode = os.environ.get('RMW_FASTRTPS_PUBLICATION_MODE', 'default')
-    print(f'publisher RMW_FASTRTPS_PUBLICATION_MODE {mode}, take {options.take}: {options.messages} messages paced (lead {LEAD_MESSAGES}, acknowledged every '
+    print(f'publisher RMW_FASTRTPS_PUBLICATION_MODE {mode}, take {options.take}: {options.messages} messages paced (lead {LEAD[0]}, acknowledged every '
           f'{ACK_EVERY}): {rate:.0f} messages/s; CPU {pub_us:.1f} us a message publishing '
           f'({own_us:.1f} in the publishing thread), '
           f'{sub_us:.1f} us taking; load average {load:.1f} before, {os.getloadavg()[0]:.1f} '
           'after')
     print(f'a recorded node at rest ({REST_MESSAGES} messages a simulated s) cannot pass '
-          f'{rate / REST_MESSAGES:.0f}x real time here; N messages a simulated s: '
-          f'{rate:.0f} / N')
+          f'{rate / REST_MESSAGES:.0f}x real time here, nor one bouncing ({BOUNCING_MESSAGES}) '
+          f'{rate / BOUNCING_MESSAGES:.0f}x; N messages a simulated s: {rate:.0f} / N')
 
 
 if __name__ == '__main__':
