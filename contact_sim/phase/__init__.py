@@ -26,13 +26,15 @@ Python, the reference path), ``compiled_phase`` (``CompiledPhase``, the default 
 ``compiled`` (the numba kernels: DOP853 with dense output and located events) and
 ``_dop853_coefficients`` (the generated tableau), ``compiled_start`` (a compiled phase as
 another kernel starts and runs it: ``CompiledPhase`` and the drop's compiled bounces),
-``engines`` (the engine switch and ``contact_phase``, which picks one).
+``brent`` (Brent's method one iteration at a time, for the compiled root searches here and in
+the drop's flights), ``engines`` (the engine switch and ``contact_phase``, which picks one).
 """
 from contact_sim._lazy import lazy_exports
 
 # where each public name lives, imported on first use (``contact_sim._lazy``): the scales and
 # the forcing without numba and scipy's integrators
 _EXPORTS = {
+    'brent': ('brent_evaluated', 'brent_next', 'brent_start'),
     'compiled_phase': ('CompiledPhase',),
     'compiled_start': ('RUN_REASONS', 'compiled_scales', 'constant_parameters', 'energy_stop',
                        'lift_off_of', 'phase_storage', 'phase_time', 'results_of', 'run_phase',
@@ -49,7 +51,7 @@ __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = ['COMPILED_STIFF_DAMPING', 'DEFAULT_ATOL', 'DEFAULT_RTOL', 'ENGINES', 'RUN_REASONS',
            'STIFF_DAMPING', 'CompiledPhase', 'Forcing', 'PhaseIntegrator', 'PhaseScales',
-           'compiled_scales', 'constant_parameters', 'contact_phase', 'energy_above_rest',
+           'brent_evaluated', 'brent_next', 'brent_start', 'compiled_scales', 'constant_parameters', 'contact_phase', 'energy_above_rest',
            'energy_stop', 'force_can_vanish_inside', 'get_engine', 'lift_off_energy',
            'lift_off_of', 'phase_scales', 'phase_storage', 'phase_time', 'potential_at',
            'potential_of', 'results_of', 'run_phase', 'set_engine', 'set_plate_forcing',

@@ -31,6 +31,7 @@ import math
 import numpy as np
 from numba import njit
 
+from contact_sim.phase.brent import brent_evaluated, brent_next, brent_start
 from contact_sim.phase._dop853_coefficients import A as _A16, B as _B, C as _C16, D as _D, E3 as _E3, E5 as _E5
 
 N_STAGES = 12
@@ -70,6 +71,8 @@ POINT_BUFFER = 512
 MAX_STEPS = 2 ** 62
 
 _KW = dict(cache=True, nogil=True, error_model='numpy')
+_brent_start, _brent_next, _brent_evaluated = (njit(**_KW)(f) for f in (brent_start, brent_next,
+                                                                     brent_evaluated))
 
 
 @njit(**_KW)
@@ -291,46 +294,14 @@ def _root(which, xa, xb, st, F, par):
     if (fpre < 0.0) == (fcur < 0.0):
         # the step's end values bracketed it; the interpolant's ends round the other way
         return xpre if abs(fpre) < abs(fcur) else xcur
-    xblk = 0.0
-    fblk = 0.0
-    spre = 0.0
-    scur = 0.0
+    state = _brent_start(xpre, xcur, fpre, fcur)
+    x = xcur
     for _ in range(ROOT_MAXITER):
-        if fpre != 0.0 and fcur != 0.0 and (fpre < 0.0) != (fcur < 0.0):
-            xblk = xpre
-            fblk = fpre
-            spre = scur = xcur - xpre
-        if abs(fblk) < abs(fcur):
-            xpre, xcur, xblk = xcur, xblk, xcur
-            fpre, fcur, fblk = fcur, fblk, fcur
-        delta = (ROOT_XTOL + ROOT_RTOL * abs(xcur)) / 2.0
-        sbis = (xblk - xcur) / 2.0
-        if fcur == 0.0 or abs(sbis) < delta:
-            return xcur
-        if abs(spre) > delta and abs(fcur) < abs(fpre):
-            if xpre == xblk:
-                stry = -fcur * (xcur - xpre) / (fcur - fpre)          # interpolate
-            else:
-                dpre = (fpre - fcur) / (xpre - xcur)                  # extrapolate
-                dblk = (fblk - fcur) / (xblk - xcur)
-                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
-            if 2.0 * abs(stry) < min(abs(spre), 3.0 * abs(sbis) - delta):
-                spre = scur                                           # good short step
-                scur = stry
-            else:
-                spre = sbis
-                scur = sbis
-        else:
-            spre = sbis
-            scur = sbis
-        xpre = xcur
-        fpre = fcur
-        if abs(scur) > delta:
-            xcur += scur
-        else:
-            xcur += delta if sbis > 0.0 else -delta
-        fcur = _g(which, st, F, xcur, par)
-    return xcur
+        done, x, state = _brent_next(state, ROOT_XTOL, ROOT_RTOL)
+        if done:
+            return x
+        state = _brent_evaluated(state, _g(which, st, F, x, par))
+    return x
 
 
 @njit(**_KW)

@@ -22,8 +22,11 @@ from numba import njit, types
 from numba.extending import overload
 
 from contact_sim.drop.plate.roots import EPS
+from contact_sim.phase import brent_evaluated, brent_next, brent_start
 
 _KW = dict(cache=True, nogil=True, error_model='numpy')
+_brent_start, _brent_next, _brent_evaluated = (njit(**_KW)(f) for f in (brent_start, brent_next,
+                                                                     brent_evaluated))
 TWO_PI = 2.0 * math.pi
 NO_EXIT = -1.0        # the sphere never left the surface after 10000 stretches (an error)
 
@@ -220,46 +223,14 @@ def _brentq(xa, xb, start, fl, pl, law):
         return xpre
     if fcur == 0.0:
         return xcur
-    xblk = 0.0
-    fblk = 0.0
-    spre = 0.0
-    scur = 0.0
+    state = _brent_start(xpre, xcur, fpre, fcur)
+    x = xcur
     for _ in range(100):
-        if fpre != 0.0 and fcur != 0.0 and (fpre < 0.0) != (fcur < 0.0):
-            xblk = xpre
-            fblk = fpre
-            spre = scur = xcur - xpre
-        if abs(fblk) < abs(fcur):
-            xpre, xcur, xblk = xcur, xblk, xcur
-            fpre, fcur, fblk = fcur, fblk, fcur
-        delta = (xtol + rtol * abs(xcur)) / 2.0
-        sbis = (xblk - xcur) / 2.0
-        if fcur == 0.0 or abs(sbis) < delta:
-            return xcur
-        if abs(spre) > delta and abs(fcur) < abs(fpre):
-            if xpre == xblk:
-                stry = -fcur * (xcur - xpre) / (fcur - fpre)
-            else:
-                dpre = (fpre - fcur) / (xpre - xcur)
-                dblk = (fblk - fcur) / (xblk - xcur)
-                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
-            if 2.0 * abs(stry) < min(abs(spre), 3.0 * abs(sbis) - delta):
-                spre = scur
-                scur = stry
-            else:
-                spre = sbis
-                scur = sbis
-        else:
-            spre = sbis
-            scur = sbis
-        xpre = xcur
-        fpre = fcur
-        if abs(scur) > delta:
-            xcur += scur
-        else:
-            xcur += delta if sbis > 0.0 else -delta
-        fcur = _phi(xcur, start, fl, pl, law)
-    return xcur
+        done, x, state = _brent_next(state, xtol, rtol)
+        if done:
+            return x
+        state = _brent_evaluated(state, _phi(x, start, fl, pl, law))
+    return x
 
 
 @njit(**_KW)
