@@ -21,10 +21,11 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
-from contact_sim.drop.plate.roots import EPS
+from contact_sim.drop.plate.roots import EPS, power, quadratic_positive
 from contact_sim.phase import brent_evaluated, brent_next, brent_start
 
 _KW = dict(cache=True, nogil=True, error_model='numpy')
+_power, _quadratic_positive = njit(**_KW)(power), njit(**_KW)(quadratic_positive)
 _brent_start, _brent_next, _brent_evaluated = (njit(**_KW)(f) for f in (brent_start, brent_next,
                                                                      brent_evaluated))
 TWO_PI = 2.0 * math.pi
@@ -149,15 +150,6 @@ def _plate_acceleration_range(t0, t1, pl):
 # -- the search, for any plate -----------------------------------------------------------------
 
 @njit(**_KW)
-def _quadratic_positive(g, dg, curvature, h):
-    if g + dg * h + 0.5 * curvature * h * h <= 0.0:
-        return False
-    if curvature > 0.0 and dg < 0.0 and -dg / curvature < h:
-        return g - 0.5 * dg * dg / curvature > 0.0
-    return True
-
-
-@njit(**_KW)
 def _first_gap_root(sign, t0, bound, t_max, fl, pl):
     """``roots.first_gap_root`` of sign·G (sign -1: the way out of the surface) with the local
     curvature bound of ``flights.gap_touch_time``; returns (found, t, G, G')."""
@@ -186,20 +178,6 @@ def _first_gap_root(sign, t0, bound, t_max, fl, pl):
             return False, t, G, dG
         t = t_next
     return False, t, 0.0, 0.0
-
-
-@njit(**_KW)
-def _power(x, e):
-    """x ** e for x >= 0 as numpy's ``array ** e`` (``flights._power``)."""
-    if e == 1.0:
-        return x
-    if e == 0.5:
-        return math.sqrt(x)
-    if e == 0.0:
-        return 1.0
-    if e == 2.0:
-        return x * x
-    return x ** e
 
 
 @njit(**_KW)

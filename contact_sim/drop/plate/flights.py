@@ -17,20 +17,8 @@ from contact_sim.drop.plate.compiled_ballistic import touch_time as ballistic_to
 from contact_sim.drop.plate.compiled_flight import (NO_EXIT, commanded_touch_time,
                                                    sinusoid_touch_time)
 from contact_sim.drop.plate.roots import EPS, first_gap_root, first_upward_root
+from contact_sim.drop.plate.roots import power as _power
 from contact_sim.flight import FlightPath
-
-
-def _power(x, e):
-    """x ** e for x >= 0 as numpy's ``array ** e`` computes it (its exact cases 0, 1/2, 1, 2)."""
-    if e == 1.0:
-        return x
-    if e == 0.5:
-        return math.sqrt(x)
-    if e == 0.0:
-        return 1.0
-    if e == 2.0:
-        return x * x
-    return x ** e
 
 
 def reduced_force_scalar(contact):

@@ -9,8 +9,24 @@ from scipy.optimize import brentq
 EPS = np.finfo(float).eps
 
 
-def _quadratic_positive(g, dg, curvature, h):
-    """True if g + dg s + ½ curvature s² > 0 for every s in [0, h]."""
+def power(x, e):
+    """x ** e for x >= 0 as numpy's ``array ** e`` computes it (its exact cases 0, 1/2, 1, 2):
+    the force's powers in the functions whose roots are searched (``flights``, and compiled in
+    ``compiled_flight``)."""
+    if e == 1.0:
+        return x
+    if e == 0.5:
+        return math.sqrt(x)
+    if e == 0.0:
+        return 1.0
+    if e == 2.0:
+        return x * x
+    return x ** e
+
+
+def quadratic_positive(g, dg, curvature, h):
+    """True if g + dg s + ½ curvature s² > 0 for every s in [0, h] (plain Python, compiled in
+    ``compiled_flight``)."""
     if g + dg * h + 0.5 * curvature * h * h <= 0.0:
         return False
     if curvature > 0.0 and dg < 0.0 and -dg / curvature < h:
@@ -45,7 +61,7 @@ def first_gap_root(gap, t0, curvature_bound, t_max=math.inf, max_steps=100000,
         if local_curvature is not None and h >= 0.5 * trial:
             # the steps are not shrinking (no root ahead yet): try twice the last one, once
             trial = 2.0 * max(trial, h)
-            if _quadratic_positive(G, dG, local_curvature(t, trial), trial):
+            if quadratic_positive(G, dG, local_curvature(t, trial), trial):
                 h = trial
         trial = h
         t_next = t + h
