@@ -13,7 +13,8 @@ second, CPU µs per message of each process (user + system, its middleware threa
 and what that rate allows a recorded node: at ``bench_recording``'s messages per simulated
 second (8 a tick at rest at 100 Hz; 1458 bouncing), the real-time factor this one topic's rate
 would be. It is not a ceiling for the node, whose messages go out on 9 topics: on 2026-12-02
-this bench gave 49,000-57,000 messages a second while ``bench_recording`` carried 62,000-74,000. Run it as the node publishes: ``--publication-mode ASYNCHRONOUS --take waitset``.
+this bench gave 44,000-57,000 messages a second while ``bench_recording`` carried
+62,000-74,000. Run it as the node publishes: ``--publication-mode ASYNCHRONOUS --take waitset``.
 """
 import argparse
 import os
@@ -130,9 +131,9 @@ def main():
                         default=None, help='RMW_FASTRTPS_PUBLICATION_MODE of the publishing process'
                         ' only (default: as the environment says)')
     parser.add_argument('--take', choices=('events', 'waitset'), default='events',
-                        help="the subscriber's take: a callback a message from the events executor"
-                        ' (as contact_sim_record), or a wait set and every message there taken at'
-                        ' each wake-up')
+                        help="the subscriber's take: a callback a message from the events executor,"
+                        ' or a wait set and every message there taken at each wake-up (as'
+                        ' contact_sim_record)')
     parser.add_argument('--role', choices=('pub', 'sub'), default='pub', help=argparse.SUPPRESS)
     options = parser.parse_args()
     TAKE[0] = options.take

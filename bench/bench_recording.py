@@ -15,7 +15,8 @@ simulated s per wall s (from /clock), the CPU of the node and of the recorder (%
 what it gave, not what the code can do on idle cores). Simulated s per CPU s of each process
 says what the work costs: with a core each, the recorded rate could be at most the smaller.
 The messages a simulated s in the bag times the rate is what went through the middleware a wall
-s; ``bench/bench_dds_floor.py`` measures how many it can carry with nothing else to do.
+s; ``bench/bench_dds_floor.py`` measures how many it carries on one topic with nothing else to
+do (not a ceiling for the node, which publishes on 9).
 """
 import argparse
 import os
@@ -205,7 +206,7 @@ def main():
                         print(f'         node: {line}')
                 if recorded:
                     print(f'         bag: {out["bag"]}: {out["rate"] * out["messages"]:.0f} '
-                          'messages recorded a wall s (the middleware alone: '
+                          'messages recorded a wall s (the middleware alone on one topic: '
                           'bench/bench_dds_floor.py)')
 
 

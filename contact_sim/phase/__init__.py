@@ -51,7 +51,8 @@ __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = ['COMPILED_STIFF_DAMPING', 'DEFAULT_ATOL', 'DEFAULT_RTOL', 'ENGINES', 'RUN_REASONS',
            'STIFF_DAMPING', 'CompiledPhase', 'Forcing', 'PhaseIntegrator', 'PhaseScales',
-           'brent_evaluated', 'brent_next', 'brent_start', 'compiled_scales', 'constant_parameters', 'contact_phase', 'energy_above_rest',
+           'brent_evaluated', 'brent_next', 'brent_start',
+           'compiled_scales', 'constant_parameters', 'contact_phase', 'energy_above_rest',
            'energy_stop', 'force_can_vanish_inside', 'get_engine', 'lift_off_energy',
            'lift_off_of', 'phase_scales', 'phase_storage', 'phase_time', 'potential_at',
            'potential_of', 'results_of', 'run_phase', 'set_engine', 'set_plate_forcing',
