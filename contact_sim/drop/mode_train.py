@@ -1,13 +1,15 @@
-"""Bouncing: flights and contact phases on the fixed plate or a vibrating table (a
-``SinusoidalPlate``, ``PlateMotion.table``) in vacuum, many bounces a call, in
-compiled code (``compiled_train.run_train``).
+"""Bouncing: flights and contact phases on the fixed plate, a vibrating table (a
+``SinusoidalPlate``, ``PlateMotion.table``) or a plate through set-points (a ``CommandedPlate``,
+``PlateMotion.pieces``) in vacuum, many bounces a call, in compiled code
+(``compiled_train.run_train``).
 
 The same motion as the modes it strings together (``Flight`` -> ``touch`` -> ``Contact`` ->
-``lift_off`` -> ``Flight`` ...: the same functions, in the same order), without returning to
-Python between bounces.  It ends with one of its own events: ``landed`` (the running phase
-became permanent: a ``Contact`` over it goes on, ``event.after``), ``touch`` (the next phase is
-too stiff for the compiled integrator: ``transitions.impact`` starts it on the Python path) or
-``handed_over`` (the default engine is no longer the compiled one: its current flight or phase
+``lift_off`` -> ``Flight`` ..., and ``Contact`` -> ``knot`` -> ``Contact`` where a commanded
+plate's forcing changes: the same functions, in the same order), without returning to Python
+between bounces.  It ends with one of its own events: ``landed`` (the running phase became
+permanent: a ``Contact`` over it goes on, ``event.after``), ``touch`` or ``knot`` (the next phase
+is too stiff for the compiled integrator: ``transitions.impact`` or ``go_on`` starts it on the
+Python path), ``carried`` (``CarryWatch`` found the sphere carried) or ``handed_over`` (the default engine is no longer the compiled one: its current flight or phase
 goes on as a ``Flight`` or ``Contact``, ``event.after``).  A
 change from outside (``set_plate``, ``set_contact``) first takes the train's current flight or
 phase as a ``Flight`` or ``Contact`` (``Mode.handed_over``), whose transitions then apply.
@@ -30,6 +32,7 @@ from contact_sim.phase import (COMPILED_STIFF_DAMPING, CompiledPhase, constant_p
 POINT_ROWS = 1024         # the points buffer to start with (it grows for a long phase)
 RECORD_ROWS = 256         # impact records a kernel call may make before Python reads them
 _TESTED = (ct.TIME_REACHED, ct.BUDGET_SPENT, ct.ENERGY_BELOW)
+_NO_PIECES = np.zeros((4, 1))   # ``run_train``'s pieces where the plate is not commanded
 _enabled = True
 
 
@@ -45,11 +48,12 @@ def trains_enabled(flag=None):
 
 
 def takes(sim, flight):
-    """True if ``flight`` of ``sim`` can go on as a train: the fixed plate or a table for ever
-    (``PlateMotion.table``), vacuum, g > 0, the compiled engine, no contact waiting, a touch
-    ahead."""
+    """True if ``flight`` of ``sim`` can go on as a train: the fixed plate, a table for ever
+    (``PlateMotion.table``) or a plate through set-points (``PlateMotion.pieces``), vacuum,
+    g > 0, the compiled engine, no contact waiting, a touch ahead."""
     plate = sim.plate_motion
-    return (_enabled and (not plate.moving or plate.table is not None)
+    return (_enabled and (not plate.moving or plate.table is not None
+                          or plate.pieces is not None)
             and sim.drag_rates is None
             and sim.gravity > 0.0 and sim.pending_contact is None
             and get_engine() == 'compiled' and math.isfinite(flight.contact_time))
@@ -82,12 +86,18 @@ class Bouncing(Mode):
         tr[ct.TR_K], tr[ct.TR_LAM], tr[ct.TR_MASS] = (self.contact.stiffness,
                                                       self.contact.damping, sim.mass)
         tr[ct.TR_N], tr[ct.TR_P], tr[ct.TR_Q] = law.n, law.p, law.q
+        self.pc = _NO_PIECES
         if plate.moving:
-            tr[ct.TR_MOVING] = 1.0
-            tr[ct.TR_AMP], tr[ct.TR_OMEGA], tr[ct.TR_PHASE] = plate.table
-            tr[ct.TR_FORCE_AMP] = forcing.acceleration_amplitude
+            if plate.table is not None:
+                tr[ct.TR_MOVING] = ct.TABLE
+                tr[ct.TR_AMP], tr[ct.TR_OMEGA], tr[ct.TR_PHASE] = plate.table
+                tr[ct.TR_FORCE_AMP] = forcing.acceleration_amplitude
+            else:
+                tr[ct.TR_MOVING] = ct.COMMANDED
+                self.pc = plate.pieces
             tr[ct.TR_BOUND] = sim.gravity + plate.acceleration_bound()
             tr[ct.TR_CHUNK] = CHUNK
+        tr[ct.TR_VANISHES] = float(law.force_vanishes_inside)
         self.pts = np.empty((POINT_ROWS, 4))
         self.imp = np.empty((RECORD_ROWS, ct.NREC))
         self._view = None           # the Contact over the running phase, until the next call
@@ -150,7 +160,7 @@ class Bouncing(Mode):
         while True:
             steps = ct.MAX_STEPS if math.isinf(budget) else int(budget)
             reason, taken = ct.run_train(tr, self.st, self.K, self.F, self.par, self.pts,
-                                         self.imp, float(t_end), steps)
+                                         self.imp, self.pc, float(t_end), steps)
             budget -= taken
             self._view = None
             self._report(sim, points, t_end)
@@ -171,6 +181,10 @@ class Bouncing(Mode):
             if reason == ct.STIFF_PHASE:
                 return Move(Event('touch', time, tr.item(ct.TR_Z), tr.item(ct.TR_RATE)), time,
                             budget)
+            if reason == ct.STIFF_KNOT:         # the phase ended, its steps reported
+                self._handed = True
+                return Move(Event('knot', time, tr.item(ct.TR_Z), tr.item(ct.TR_RATE),
+                                  record=self._record()), time, budget)
             if (reason in _TESTED and tr.item(ct.TR_RAN) and not self.plate.moving
                     and not self.in_flight and not lift_off_of(self.st)[0]):
                 contact = self._contact()
@@ -186,7 +200,8 @@ class Bouncing(Mode):
     # -- the kernel's output ---------------------------------------------------------------
     def _report(self, sim, points, t_end):
         """Hand the kernel's output to the drop: the impact records and apexes, the steps of
-        the phases ended, the points up to ``t_end`` (s) not handed out yet."""
+        the phases ended, the points up to ``t_end`` (s) not handed out yet (in a contact
+        phase, up to its knot at the latest, as ``Contact.take_points``)."""
         tr, recorder = self.tr, sim.recorder
         n = int(tr.item(ct.TR_NIMP))
         if n:
@@ -199,6 +214,8 @@ class Bouncing(Mode):
         tr[ct.TR_STEPS] = 0.0
         start, used = int(tr.item(ct.TR_EMITTED)), int(tr.item(ct.TR_NPTS))
         if used > start:
+            if not self.in_flight:
+                t_end = min(t_end, tr.item(ct.TR_KNOT))
             stop = start + int(np.searchsorted(self.pts[start:used, 0], t_end, side='right'))
             if stop > start and points is not NO_POINTS:
                 points.extend(self.pts[start:stop].tolist())
@@ -230,7 +247,15 @@ class Bouncing(Mode):
             phase = CompiledPhase.adopt(self.contact, self.mass, self.par, self.st, self.K,
                                         self.F, [tuple(row) for row in
                                                  self.pts[first:used].tolist()])
-            contact = Contact(self._sim, phase.start_time, 0.0, 0.0, integrator=phase)
+            contact = Contact(self._sim, phase.start_time, 0.0, 0.0, record=self._record(),
+                              integrator=phase)
             contact.emitted = int(tr.item(ct.TR_EMITTED)) - first
             self._view = contact
         return self._view
+
+    def _record(self):
+        """The running contact's record (``Contact``'s: its first point (t, z, ż, F), the peak
+        force (N) and depth (m) before its phase's last restart at a knot)."""
+        tr = self.tr
+        return ((tr.item(ct.TR_T0), tr.item(ct.TR_Z0), tr.item(ct.TR_RATE0), tr.item(ct.TR_F0)),
+                tr.item(ct.TR_REC_PEAK), tr.item(ct.TR_REC_DEPTH))

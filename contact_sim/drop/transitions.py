@@ -3,8 +3,8 @@
 ``TRANSITIONS[(mode class, event name)]`` is the entry ``(sim, mode, event) -> next mode`` (the
 same mode: no change), ``sim`` the ``DropSimulation``, ``mode`` the mode the event ended.  The
 events a mode reports itself (``Mode.advance``): ``touch`` (flight), ``lift_off``, ``knot``,
-``settled``, ``carried`` (contact), ``released`` (carried), ``landed``, ``touch`` and
-``handed_over`` (the compiled bounces, ``mode_train``: a flight becomes one where
+``settled``, ``carried`` (contact), ``released`` (carried), ``landed``, ``touch``, ``knot``,
+``carried`` and ``handed_over`` (the compiled bounces, ``mode_train``: a flight becomes one where
 ``mode_train.takes`` it).  The changes from outside (taken by the mode's ``handed_over``), at
 the current time: ``set_contact`` (``event.contact`` is the new contact) and ``set_plate`` (the
 plate's motion has changed; (z, ż) are relative to the new plate).
@@ -116,6 +116,7 @@ TRANSITIONS = {
     (Carried, 'set_contact'): new_contact(resume),
     (Carried, 'set_plate'): resume,
     (Bouncing, 'touch'): impact,
+    (Bouncing, 'knot'): go_on,
     (Bouncing, 'landed'): built,
     (Bouncing, 'handed_over'): built,
     (Bouncing, 'carried'): built,

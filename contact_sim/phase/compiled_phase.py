@@ -9,8 +9,8 @@ import math
 import numpy as np
 
 from contact_sim.phase import compiled
-from contact_sim.phase.compiled_start import (constant_parameters, energy_stop, phase_storage,
-                                              start_phase, step_too_small)
+from contact_sim.phase.compiled_start import (constant_parameters, energy_stop, phase_state_at,
+                                              phase_storage, start_phase, step_too_small)
 from contact_sim.phase.lift_off import force_can_vanish_inside
 from contact_sim.phase.scales import DEFAULT_ATOL, DEFAULT_RTOL, PhaseScales, phase_scales
 
@@ -124,9 +124,7 @@ class CompiledPhase:
 
     def state_at(self, t):
         """(z, ż) at a time t within the last step, from the dense output."""
-        s = math.sqrt(max(t - self.start_time, 0.0) / self.scales.time)
-        x, u = compiled.state_in_last_step(self._st, self._k, self._f, self._par, s)
-        return self._dimensional(s, x, u)[1:]
+        return phase_state_at(self._st, self._k, self._f, self._par, t)
 
     def energy_above_rest(self):
         """Mechanical energy (J) above static equilibrium at the integrator's current state

@@ -8,6 +8,8 @@ of the first point.  The loop then runs the phase with ``compiled.run`` (``run_p
 reasons re-exported here) and reads its lift-off and peaks with ``lift_off_of`` and
 ``results_of``.  Units: SI.
 """
+import math
+
 import numpy as np
 from numba import njit
 
@@ -106,6 +108,19 @@ def set_plate_forcing(par, amplitude, omega, phase):
     par[P_DRAG1] = par[P_DRAG2] = 0.0
 
 
+@njit('void(float64[::1], float64, float64)', **_KW)
+def set_constant_forcing(par, acceleration, lift_events):
+    """The forcing slots of ``par`` for a constant acceleration A (m/s²) beyond gravity as
+    ``CompiledPhase`` fills them from ``constant_forcing(A)`` (A sin(0 t + π/2), A ≠ 0; none
+    for A = 0, the unforced phase ``contact_phase`` makes then), and the phase's lift-off events
+    (1 or 2, ``force_can_vanish_inside``)."""
+    if acceleration != 0.0:
+        set_plate_forcing(par, acceleration, 0.0, math.pi / 2)
+    else:
+        par[P_AMPLITUDE:P_DRAG2 + 1] = 0.0
+    par[P_LIFT_EVENTS] = lift_events
+
+
 def step_too_small():
     """The error of a phase whose step size fell below the spacing of the doubles
     (``compiled.STEP_TOO_SMALL``)."""
@@ -129,3 +144,15 @@ def lift_off_of(st):
 def results_of(st):
     """(peak force N, maximum penetration m, steps) of a phase's state so far."""
     return st[S_PEAK], st[S_DEPTH], st[S_STEPS]
+
+
+@njit('UniTuple(float64, 2)(float64[::1], float64[:, ::1], float64[:, ::1], float64[::1], '
+      'float64)', **_KW)
+def phase_state_at(st, K, F, par, t):
+    """(z m, ż m/s) of a phase at a time t (s) within its last step, from the step's dense
+    output (``CompiledPhase.state_at``; the drop's compiled bounces restart a phase so at a
+    commanded plate's knot)."""
+    time, length = par[P_TIME], par[P_LENGTH]
+    s = math.sqrt(max(t - par[P_START], 0.0) / time)
+    x, u = compiled.state_in_last_step(st, K, F, par, s)
+    return x * length, u * length / time

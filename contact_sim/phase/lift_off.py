@@ -29,8 +29,21 @@ def force_can_vanish_inside(law, gravity, forcing=None):
         round-off, which ended heavily damped Hunt-Crossley impacts early (54-98 % short at
         ζ >= 46).
     """
-    pulls = forcing is not None and abs(forcing.acceleration_amplitude) > gravity
+    pulls = forcing is not None and pulls_out(gravity, forcing.acceleration_amplitude)
     return law.force_vanishes_inside or pulls
+
+
+def pulls_out(gravity, acceleration_amplitude):
+    """Whether a forcing of amplitude A (m/s²) can pull the sphere out against ``gravity`` g
+    (m/s²): |A| > g.  Plain Python that numba compiles as it stands (the compiled bounces on a
+    commanded plate test each phase's forcing with it).
+
+    Examples
+    --------
+    >>> pulls_out(9.81, -12.0), pulls_out(9.81, 5.0)
+    (True, False)
+    """
+    return abs(acceleration_amplitude) > gravity
 
 
 def is_stiff(law, gravity, damping, threshold):

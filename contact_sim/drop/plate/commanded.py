@@ -9,6 +9,7 @@ import numpy as np
 
 from contact_sim.drop.plate.flights import commanded_flight, gap_flight
 from contact_sim.drop.plate.motions import PlateMotion, constant_forcing
+from contact_sim.drop.plate.pieces import forcing_end, piece_state
 from contact_sim.validation import InputError
 
 
@@ -75,10 +76,20 @@ class CommandedPlate(PlateMotion):
 
     @functools.cached_property
     def piece_arrays(self):
-        """The pieces (start times s, positions m, velocities m/s, accelerations m/s²; the last
-        runs to +inf with zero acceleration) as contiguous float64 arrays, built once: the
-        commanded plate as the compiled flight search takes it."""
-        return tuple(np.array(seq, dtype=np.float64) for seq in self._pieces)
+        """The pieces (rows: start times s, positions m, velocities m/s, accelerations m/s²; the
+        last piece runs to +inf with zero acceleration) as one C-contiguous float64 array of
+        shape (4, pieces), built once: the commanded plate as the compiled flight search and the
+        compiled bounces take it (each row a contiguous array)."""
+        return np.array(self._pieces, dtype=np.float64)
+
+    @property
+    def pieces(self):
+        """``piece_arrays`` for the compiled bounces (``drop.mode_train``, which compute the
+        plate's state, forcing and flights as this class does), or ``None`` where a subclass
+        computes them otherwise."""
+        own = all(getattr(type(self), name) is getattr(CommandedPlate, name)
+                  for name in ('state', 'forcing_piece', 'plan_flight'))
+        return self.piece_arrays if own else None
 
     def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
         """In vacuum the touch time comes from compiled code (``flights.commanded_flight``),
@@ -92,12 +103,7 @@ class CommandedPlate(PlateMotion):
         return max(bisect.bisect_right(starts, t) - 1, 0)
 
     def state(self, t):
-        starts, pos, vel, acc = self._pieces
-        if t < starts[0]:
-            return pos[0] + vel[0] * (t - starts[0]), vel[0], 0.0
-        i = self._piece(t)
-        dt = t - starts[i]
-        return pos[i] + vel[i] * dt + 0.5 * acc[i] * dt * dt, vel[i] + acc[i] * dt, acc[i]
+        return piece_state(*self._pieces, self._piece(t), t)
 
     def jerk(self, t):
         """d p̈ / dt (m/s³): zero inside every piece."""
@@ -141,11 +147,8 @@ class CommandedPlate(PlateMotion):
         starts, acc = self._pieces[0], self._pieces[3]
         if t < starts[0]:
             return constant_forcing(0.0), starts[0]
-        i = j = self._piece(t)
-        while j + 1 < len(starts) and abs(acc[j + 1] - acc[i]) <= 1e-12 * abs(acc[i]):
-            # knots that change nothing (up to the rounding of the interpolant's coefficients)
-            j += 1
-        return constant_forcing(acc[i]), (starts[j + 1] if j + 1 < len(starts) else math.inf)
+        i = self._piece(t)
+        return constant_forcing(acc[i]), forcing_end(starts, acc, i)
 
     def next_acceleration_below(self, t, level):
         starts, acc = self._pieces[0], self._pieces[3]

@@ -21,11 +21,13 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
+from contact_sim.drop.plate.pieces import piece_state
 from contact_sim.drop.plate.roots import EPS, power, quadratic_positive
 from contact_sim.phase import brent_evaluated, brent_next, brent_start
 
 _KW = dict(cache=True, nogil=True, error_model='numpy')
 _power, _quadratic_positive = njit(**_KW)(power), njit(**_KW)(quadratic_positive)
+_piece_state = njit(**_KW)(piece_state)
 _brent_start, _brent_next, _brent_evaluated = (njit(**_KW)(f) for f in (brent_start, brent_next,
                                                                      brent_evaluated))
 TWO_PI = 2.0 * math.pi
@@ -68,7 +70,7 @@ def _sinusoid_acceleration_range(t0, t1, tb):
     return lo, hi
 
 
-# -- the commanded plate, ``pc`` = (starts, pos, vel, acc): ``CommandedPlate._pieces`` as arrays -
+# -- the commanded plate, ``pc`` = (starts, pos, vel, acc): ``CommandedPlate.piece_arrays``'s rows
 
 @njit(**_KW)
 def _piece(starts, t):
@@ -77,19 +79,18 @@ def _piece(starts, t):
 
 
 @njit(**_KW)
+def commanded_state(t, pc):
+    """(p m, ṗ m/s, p̈ m/s²) of the commanded plate at t (s): ``pieces.piece_state``, as
+    ``CommandedPlate.state`` (constant velocity before the first piece, the last piece running
+    to +inf)."""
+    return _piece_state(pc[0], pc[1], pc[2], pc[3], _piece(pc[0], t), t)
+
+
+@njit(**_KW)
 def _commanded_gap(t, fl, pc):
-    """(G, G', scale) of the gap y - p at t over the commanded plate (``CommandedPlate.state``:
-    constant velocity before the first piece, the last piece running to +inf)."""
+    """(G, G', scale) of the gap y - p at t over the commanded plate."""
     y, v = _flight(t, fl)
-    starts, pos, vel, acc = pc
-    if t < starts[0]:
-        p = pos[0] + vel[0] * (t - starts[0])
-        pv = vel[0]
-    else:
-        i = _piece(starts, t)
-        dt = t - starts[i]
-        p = pos[i] + vel[i] * dt + 0.5 * acc[i] * dt * dt
-        pv = vel[i] + acc[i] * dt
+    p, pv, _ = commanded_state(t, pc)
     return y - p, v - pv, abs(y) + abs(p)
 
 
@@ -284,7 +285,7 @@ def commanded_touch_time(t0, y0, v0, g, z0, zdot0, starts, pos, vel, acc, k, lam
                          spring_exponent, q, bound):
     """``sinusoid_touch_time`` over a ``CommandedPlate``: its pieces' start times (s,
     increasing), positions (m), velocities (m/s) and accelerations (m/s², the last piece's 0)
-    as contiguous float64 arrays (``CommandedPlate.piece_arrays``)."""
+    as contiguous float64 arrays (the rows of ``CommandedPlate.piece_arrays``)."""
     return _touch_time(t0, y0, v0, g, z0, zdot0, (starts, pos, vel, acc),
                        (k, lam, spring_exponent, q), bound)
 

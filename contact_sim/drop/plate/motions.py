@@ -75,6 +75,7 @@ class PlateMotion:
         raise NotImplementedError
 
     table = None   # (a m, ω rad/s, ϕ rad) of a plate a sin(ω t + ϕ) for ever (``SinusoidalPlate``)
+    pieces = None  # the (4, n) pieces of a plate through set-points (``CommandedPlate``)
 
     def forcing_piece(self, t):
         raise NotImplementedError

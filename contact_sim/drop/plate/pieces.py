@@ -1,0 +1,48 @@
+"""A commanded plate's pieces: its state at a time and where its forcing ends, written once as
+plain Python over indexable sequences, which ``CommandedPlate`` calls on its tuples and numba
+compiles as it stands for the compiled flights (``compiled_flight``) and bounces
+(``drop.compiled_train``) on its arrays.
+
+The pieces are four sequences of one length: start times (s, increasing), positions (m),
+velocities (m/s) and accelerations (m/s²) at each start; the last piece runs to +inf, and
+before the first the plate moves at the first velocity with no acceleration.  ``i`` is the
+piece at t: the last one starting at or before t (the first before it), which the caller finds
+(``bisect`` on tuples, ``np.searchsorted`` in numba).
+"""
+import math
+
+KNOT_TOLERANCE = 1e-12      # a knot whose acceleration differs by less (relative) changes nothing
+
+
+def piece_state(starts, positions, velocities, accelerations, i, t):
+    """(p m, ṗ m/s, p̈ m/s²) of the plate at t (s) on piece ``i`` (module docstring).
+
+    Examples
+    --------
+    >>> piece_state((0.0, 1.0), (0.0, 0.5), (0.0, 1.0), (1.0, 0.0), 0, 0.5)
+    (0.125, 0.5, 1.0)
+    """
+    if t < starts[0]:
+        return positions[0] + velocities[0] * (t - starts[0]), velocities[0], 0.0
+    dt = t - starts[i]
+    return (positions[i] + velocities[i] * dt + 0.5 * accelerations[i] * dt * dt,
+            velocities[i] + accelerations[i] * dt, accelerations[i])
+
+
+def forcing_end(starts, accelerations, i):
+    """The time (s) at which the forcing that starts on piece ``i`` ends: the start of the first
+    later piece whose acceleration differs from piece ``i``'s by more than ``KNOT_TOLERANCE`` of
+    it (knots that change nothing, up to the rounding of the interpolant's coefficients, are
+    passed); inf after the last.
+
+    Examples
+    --------
+    >>> forcing_end((0.0, 1.0, 2.0), (3.0, 3.0, 0.0), 0)
+    2.0
+    """
+    j = i
+    while (j + 1 < len(starts)
+           and abs(accelerations[j + 1] - accelerations[i]) <= KNOT_TOLERANCE
+           * abs(accelerations[i])):
+        j += 1
+    return starts[j + 1] if j + 1 < len(starts) else math.inf
