@@ -1,8 +1,10 @@
 """The compiled bounces (``mode_train.Bouncing``) against the Python modes they string together:
-the same drops, stepping, changes from outside and hand-overs, with the trains switched off as
-the reference (``trains_enabled(False)``)."""
+the same drops, stepping, changes from outside and hand-overs, on the fixed plate, vibrating
+tables and commanded plates, with the trains switched off as the reference
+(``trains_enabled(False)``)."""
 import contextlib
 import dataclasses
+import doctest
 import math
 import random
 
@@ -14,8 +16,8 @@ from contact_sim.drop import mode_train
 from contact_sim.drop.engine import DropSimulation
 from contact_sim.drop.mode_contact import Contact
 from contact_sim.drop.mode_train import Bouncing
-from contact_sim.drop.plate import SinusoidalPlate
-from contact_sim.phase import phase_scales, use_engine
+from contact_sim.drop.plate import CommandedPlate, SinusoidalPlate, pieces
+from contact_sim.phase import lift_off, phase_scales, use_engine
 from contact_sim.phase.reference import PhaseIntegrator
 
 M = 0.066
@@ -232,3 +234,104 @@ def test_stepping_a_table_train_gives_the_python_modes_points_and_states():
         for x, y in zip(a, b):
             assert_close(x, y)
     assert_same_impacts(ref_sim.impacts, new_sim.impacts)
+
+
+def sampled_table(amplitude, frequency, phase, duration, per_period):
+    """A ``CommandedPlate`` through the table a sin(2π f t + ϕ) sampled ``per_period`` times a
+    period (its p and ṗ at each point)."""
+    w = 2.0 * math.pi * frequency
+    t = np.arange(int(duration * frequency * per_period) + 1) / (frequency * per_period)
+    return CommandedPlate(tuple(t), tuple(amplitude * np.sin(w * t + phase)),
+                          tuple(amplitude * w * np.cos(w * t + phase)))
+
+
+COMMANDED = {
+    'bouncing': sampled_table(0.002, 20.0, 0.0, 4.0, 20),      # Γ = 3.2: knots inside contacts
+    'carried': sampled_table(0.0005, 10.0, 0.0, 4.0, 8),       # Γ = 0.2: carried, released
+    'lifted': CommandedPlate((0.2, 0.5, 0.8, 1.2), (0.0, 0.004, 0.004, 0.0),
+                             (0.0, 0.0, 0.0, 0.0)),             # still, up 4 mm, still, down
+}
+
+
+def knots_inside(plate, impacts):
+    """How many of the plate's knots fall inside the impacts' contacts."""
+    starts = plate.piece_arrays[0]
+    return sum(int(np.sum((starts > i.time)
+                          & (starts < i.time + i.contact_duration))) for i in impacts)
+
+
+@pytest.mark.parametrize('law', ['azad_featherstone', 'linear'])
+@pytest.mark.parametrize('name', sorted(COMMANDED))
+def test_a_commanded_plate_train_is_the_python_modes_bounces_knots_and_carried_state(name, law):
+    contact, _ = CONTACTS[law]
+    plate = COMMANDED[name]
+
+    def run():
+        sim = DropSimulation(contact, M, 0.02, plate=plate)
+        was_train = isinstance(sim._mode, Bouncing)
+        advance = sim.advance(3.0)
+        return was_train, sim, advance
+
+    (ref_train, ref, ref_adv), (new_train, new, new_adv) = both(run)
+    assert new_train and not ref_train
+    assert len(ref.impacts) > 15
+    assert_same_impacts(ref.impacts, new.impacts)
+    assert_close(ref.apex_heights, new.apex_heights)
+    for field in ('time', 'penetration', 'force'):
+        assert_close(getattr(ref_adv.samples, field), getattr(new_adv.samples, field))
+    assert new.carried == ref.carried
+    assert_close([ref.state.penetration, ref.permanent_contact_time],
+                 [new.state.penetration, new.permanent_contact_time])
+    if name == 'bouncing':          # the restarts at knots inside a contact were met
+        assert knots_inside(plate, ref.impacts) > 0
+    if law == 'azad_featherstone' and name != 'bouncing':   # carried (the soft linear
+        assert ref.permanent_contact_time is not None          # contact keeps bouncing)
+
+
+def test_stepping_a_commanded_plate_train_gives_the_python_modes_points_and_states():
+    contact, _ = CONTACTS['linear']
+    plate = COMMANDED['bouncing']
+
+    def run():
+        rng = random.Random(5)
+        sim = DropSimulation(contact, M, 0.02, plate=plate)
+        out = []
+        for _ in range(300):
+            t = sim.time + rng.choice([0.0, 1e-5, 3e-4, 1e-3, 0.01])
+            adv = sim.advance(t, max_steps=rng.choice([None, None, 0, 1, 7, 60]))
+            out.append((adv.samples.time, adv.samples.force, sim.time,
+                        sim.state.penetration, sim.in_contact))
+        return out, sim
+
+    (ref, ref_sim), (new, new_sim) = both(run)
+    for a, b in zip(ref, new):
+        for x, y in zip(a, b):
+            assert_close(x, y)
+    assert knots_inside(plate, ref_sim.impacts) > 0
+    assert_same_impacts(ref_sim.impacts, new_sim.impacts)
+
+
+def test_a_stiff_phase_after_a_knot_goes_to_the_python_path():
+    # the plate accelerates down at 5 m/s² until 0.2 s, then moves on at constant velocity: the
+    # forced phase is compiled, the unforced one after the knot too damped for DOP853
+    contact = cs.Contact(cs.HUNT_CROSSLEY, 1e9, 1e15)
+    plate = CommandedPlate((0.0, 0.2), (0.0, -0.1), (0.0, -1.0))
+
+    def run():
+        sim = DropSimulation(contact, M, 0.005, plate=plate)
+        sim.run_to(0.19)
+        in_train = isinstance(sim._mode, Bouncing) and sim.in_contact
+        sim.run_to(0.3)
+        return in_train, sim
+
+    (_, ref), (in_train, new) = both(run)
+    assert in_train
+    assert isinstance(new._mode, Contact) and isinstance(new._mode.integrator, PhaseIntegrator)
+    assert_close([ref.time, ref.state.penetration, ref.state.penetration_rate],
+                 [new.time, new.state.penetration, new.state.penetration_rate])
+    assert_same_impacts(ref.impacts, new.impacts)
+
+
+def test_the_pieces_examples_run():
+    for module in (pieces, lift_off):
+        assert doctest.testmod(module).failed == 0
