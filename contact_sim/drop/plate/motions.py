@@ -163,8 +163,11 @@ class FixedPlate(PlateMotion):
 FIXED = FixedPlate()
 
 
+@functools.lru_cache(maxsize=4096)
 def constant_forcing(acceleration):
-    """A constant acceleration as a ``phase.Forcing``: A sin(0·t + π/2) = A."""
+    """A constant acceleration as a ``phase.Forcing``: A sin(0·t + π/2) = A (made once for each
+    value: a commanded plate asks for its pieces' at every contact and test for the carried
+    state; a ``Forcing`` is frozen)."""
     return Forcing(acceleration_amplitude=acceleration, angular_frequency=0.0, phase=math.pi / 2)
 
 

@@ -22,11 +22,11 @@ def piece_state(starts, positions, velocities, accelerations, i, t):
     >>> piece_state((0.0, 1.0), (0.0, 0.5), (0.0, 1.0), (1.0, 0.0), 0, 0.5)
     (0.125, 0.5, 1.0)
     """
-    if t < starts[0]:
-        return positions[0] + velocities[0] * (t - starts[0]), velocities[0], 0.0
+    a = accelerations[i]
+    if t < starts[0]:       # before the first piece: its velocity, no acceleration
+        i, a = 0, 0.0
     dt = t - starts[i]
-    return (positions[i] + velocities[i] * dt + 0.5 * accelerations[i] * dt * dt,
-            velocities[i] + accelerations[i] * dt, accelerations[i])
+    return positions[i] + velocities[i] * dt + 0.5 * a * dt * dt, velocities[i] + a * dt, a
 
 
 def forcing_end(starts, accelerations, i):
