@@ -1,7 +1,7 @@
 """Bouncing: flights and contact phases on the fixed plate, a vibrating table (a
 ``SinusoidalPlate``, ``PlateMotion.table``) or a plate through set-points (a ``CommandedPlate``,
-``PlateMotion.pieces``) in vacuum, many bounces a call, in compiled code
-(``compiled_train.run_train``).
+``PlateMotion.pieces``), or a switch to either once it is passed (``PlateMotion.motion_from``),
+in vacuum, many bounces a call, in compiled code (``compiled_train.run_train``).
 
 The same motion as the modes it strings together (``Flight`` -> ``touch`` -> ``Contact`` ->
 ``lift_off`` -> ``Flight`` ..., and ``Contact`` -> ``knot`` -> ``Contact`` where a commanded
@@ -48,12 +48,15 @@ def trains_enabled(flag=None):
 
 
 def takes(sim, flight):
-    """True if ``flight`` of ``sim`` can go on as a train: the fixed plate, a table for ever
-    (``PlateMotion.table``) or a plate through set-points (``PlateMotion.pieces``), vacuum,
-    g > 0, the compiled engine, no contact waiting, a touch ahead."""
+    """True if ``flight`` of ``sim`` can go on as a train: the fixed plate, or a plate whose
+    motion from the flight's start on (``PlateMotion.motion_from``: a switch to a table passed)
+    is a table for ever (``PlateMotion.table``) or a plate through set-points
+    (``PlateMotion.pieces``); vacuum, g > 0, the compiled engine, no contact waiting, a touch
+    ahead."""
     plate = sim.plate_motion
-    return (_enabled and (not plate.moving or plate.table is not None
-                          or plate.pieces is not None)
+    motion = plate.motion_from(flight.start)
+    return (_enabled and (not plate.moving or motion.table is not None
+                          or motion.pieces is not None)
             and sim.drag_rates is None
             and sim.gravity > 0.0 and sim.pending_contact is None
             and get_engine() == 'compiled' and math.isfinite(flight.contact_time))
@@ -88,14 +91,15 @@ class Bouncing(Mode):
         tr[ct.TR_N], tr[ct.TR_P], tr[ct.TR_Q] = law.n, law.p, law.q
         self.pc = _NO_PIECES
         if plate.moving:
-            if plate.table is not None:
+            motion = plate.motion_from(flight.start)      # its flights' own plate and bound
+            if motion.table is not None:
                 tr[ct.TR_MOVING] = ct.TABLE
-                tr[ct.TR_AMP], tr[ct.TR_OMEGA], tr[ct.TR_PHASE] = plate.table
+                tr[ct.TR_AMP], tr[ct.TR_OMEGA], tr[ct.TR_PHASE] = motion.table
                 tr[ct.TR_FORCE_AMP] = forcing.acceleration_amplitude
             else:
                 tr[ct.TR_MOVING] = ct.COMMANDED
-                self.pc = plate.pieces
-            tr[ct.TR_BOUND] = sim.gravity + plate.acceleration_bound()
+                self.pc = motion.pieces
+            tr[ct.TR_BOUND] = sim.gravity + motion.acceleration_bound()
             tr[ct.TR_CHUNK] = CHUNK
         tr[ct.TR_VANISHES] = float(law.force_vanishes_inside)
         self.pts = np.empty((POINT_ROWS, 4))

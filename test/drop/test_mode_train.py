@@ -16,7 +16,8 @@ from contact_sim.drop import mode_train
 from contact_sim.drop.engine import DropSimulation
 from contact_sim.drop.mode_contact import Contact
 from contact_sim.drop.mode_train import Bouncing
-from contact_sim.drop.plate import CommandedPlate, SinusoidalPlate, pieces
+from contact_sim.drop.plate import (CommandedPlate, SinusoidalPlate, SwitchedPlate, command_motion,
+                                    pieces, table_transition)
 from contact_sim.phase import lift_off, phase_scales, use_engine
 from contact_sim.phase.reference import PhaseIntegrator
 
@@ -335,3 +336,28 @@ def test_a_stiff_phase_after_a_knot_goes_to_the_python_path():
 def test_the_pieces_examples_run():
     for module in (pieces, lift_off):
         assert doctest.testmod(module).failed == 0
+
+
+@pytest.mark.parametrize('after', ['table', 'commanded', 'stopped'])
+def test_a_switch_runs_as_a_train_once_passed_where_its_new_motion_moves(after):
+    contact, _ = CONTACTS['azad_featherstone']
+    table = SinusoidalPlate(0.001, 10.0, 1.0)
+    plate = {'table': table_transition(0.3, None, SinusoidalPlate(0.002, 20.0, 0.0)),
+             'commanded': SwitchedPlate(table, command_motion(
+                 0.5, *table.state(0.5)[:2], [0.7, 0.9, 1.4], [0.0, 0.004, -0.002]).motion, 0.5),
+             'stopped': table_transition(0.3, table, None, 10.0)}[after]
+
+    def run():
+        sim = DropSimulation(contact, M, 0.02, plate=plate)
+        modes = []
+        for t in np.arange(0.05, 3.0, 0.05):
+            sim.run_to(t)
+            modes.append(isinstance(sim._mode, Bouncing) and sim.time >= plate.switch_time)
+        return any(modes), sim
+
+    (ref_train, ref), (new_train, new) = both(run)
+    assert not ref_train and new_train == (after != 'stopped')
+    assert len(ref.impacts) > 10
+    assert_same_impacts(ref.impacts, new.impacts)
+    assert_close(ref.apex_heights, new.apex_heights)
+    assert_close([ref.time, ref.state.penetration], [new.time, new.state.penetration])

@@ -104,6 +104,13 @@ class PlateMotion:
         ``None``."""
         return gap_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off)
 
+    def motion_from(self, t):
+        """The motion that is this plate's from t (s) on, with its own flights, forcing and
+        bounds: itself (a ``SwitchedPlate`` past its switch: its ``after``'s, where that moves).
+        The compiled bounces (``drop.mode_train``) take a plate's ``table`` or ``pieces`` from
+        it."""
+        return self
+
     def samples(self, t):
         """(p, ṗ, p̈) (m, m/s, m/s²) at the times t (s, an array), one ``state`` call each."""
         return tuple(np.array(v) for v in zip(*(self.state(float(ti)) for ti in t)))
@@ -411,6 +418,13 @@ class SwitchedPlate(PlateMotion):
         if flight.start >= self.switch_time and self.after.moving:
             return self.after.plan_flight(flight, z, zdot, contact, drag_rates, after_lift_off)
         return gap_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off)
+
+    def motion_from(self, t):
+        """``after``'s motion from t on once t is past the switch and ``after`` moves (as
+        ``plan_flight`` then hands its flights to ``after``); itself otherwise."""
+        if t >= self.switch_time and self.after.moving:
+            return self.after.motion_from(t)
+        return self
 
     def forcing_piece(self, t):
         if t < self.switch_time:
