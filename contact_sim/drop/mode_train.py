@@ -104,7 +104,7 @@ class Bouncing(Mode):
         tr[ct.TR_VANISHES] = float(law.force_vanishes_inside)
         self.pts = np.empty((POINT_ROWS, 4))
         self.imp = np.empty((RECORD_ROWS, ct.NREC))
-        self._view = None           # the Contact over the running phase, until the next call
+        self._view = None           # the Contact over the running phase (``_contact``)
         self._handed = False
 
     # -- what the engine asks of a mode ----------------------------------------------------
@@ -166,7 +166,6 @@ class Bouncing(Mode):
             reason, taken = ct.run_train(tr, self.st, self.K, self.F, self.par, self.pts,
                                          self.imp, self.pc, float(t_end), steps)
             budget -= taken
-            self._view = None
             self._report(sim, points, t_end)
             if reason == ct.BUFFER_FULL:
                 self._make_room()
@@ -244,18 +243,24 @@ class Bouncing(Mode):
             tr[slot] = max(tr[slot] - keep, 0.0)
 
     def _contact(self):
-        """The ``Contact`` over the running phase (its storage shared until the next call)."""
-        if self._view is None:
-            tr = self.tr
-            first, used = int(tr.item(ct.TR_PHASE_ROW)), int(tr.item(ct.TR_NPTS))
+        """The ``Contact`` over the running phase, its storage shared: made once a phase, then
+        brought up to date (the points the kernel added since, the phase's results), so that a
+        test for the carried state every ``CHUNK`` steps costs what those steps added."""
+        tr, pts = self.tr, self.pts
+        first, used = int(tr.item(ct.TR_PHASE_ROW)), int(tr.item(ct.TR_NPTS))
+        view = self._view
+        if view is None or view.integrator.start_time != pts.item(first, 0):
             phase = CompiledPhase.adopt(self.contact, self.mass, self.par, self.st, self.K,
                                         self.F, [tuple(row) for row in
-                                                 self.pts[first:used].tolist()])
-            contact = Contact(self._sim, phase.start_time, 0.0, 0.0, record=self._record(),
-                              integrator=phase)
-            contact.emitted = int(tr.item(ct.TR_EMITTED)) - first
-            self._view = contact
-        return self._view
+                                                 pts[first:used].tolist()])
+            view = self._view = Contact(self._sim, phase.start_time, 0.0, 0.0,
+                                        record=self._record(), integrator=phase)
+        else:
+            phase = view.integrator
+            phase.caught_up([tuple(row) for row in
+                             pts[first + len(phase.points):used].tolist()])
+        view.emitted = int(tr.item(ct.TR_EMITTED)) - first
+        return view
 
     def _record(self):
         """The running contact's record (``Contact``'s: its first point (t, z, ż, F), the peak

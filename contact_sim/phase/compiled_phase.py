@@ -57,6 +57,12 @@ class CompiledPhase:
         phase._read_state()
         return phase
 
+    def caught_up(self, points):
+        """An adopted phase (``adopt``) after the kernel that drives it took more steps: its
+        new ``points`` (rows (t, z, ż, F)) appended, its results read again from the storage."""
+        self.points.extend(points)
+        self._read_state()
+
     def _adopt(self, contact, mass, scales, par, st, k, f, keep_points, points):
         self.contact, self.mass, self.scales = contact, mass, scales
         self.start_time = points[0][0]

@@ -2,6 +2,7 @@
 the same drops, stepping, changes from outside and hand-overs, on the fixed plate, vibrating
 tables and commanded plates, with the trains switched off as the reference
 (``trains_enabled(False)``)."""
+import collections
 import contextlib
 import dataclasses
 import doctest
@@ -18,7 +19,7 @@ from contact_sim.drop.mode_contact import Contact
 from contact_sim.drop.mode_train import Bouncing
 from contact_sim.drop.plate import (CommandedPlate, SinusoidalPlate, SwitchedPlate, command_motion,
                                     pieces, table_transition)
-from contact_sim.phase import lift_off, phase_scales, use_engine
+from contact_sim.phase import CompiledPhase, lift_off, phase_scales, use_engine
 from contact_sim.phase.reference import PhaseIntegrator
 
 M = 0.066
@@ -361,3 +362,35 @@ def test_a_switch_runs_as_a_train_once_passed_where_its_new_motion_moves(after):
     assert_same_impacts(ref.impacts, new.impacts)
     assert_close(ref.apex_heights, new.apex_heights)
     assert_close([ref.time, ref.state.penetration], [new.time, new.state.penetration])
+
+
+def test_a_phase_tested_for_the_carried_state_is_viewed_from_python_once(monkeypatch):
+    # each test (every CHUNK steps) asks the running phase's Contact of Python: made once a
+    # phase and brought up to date, not rebuilt with all its points (quadratic in a long phase)
+    counts = collections.Counter()
+    adopt, run = CompiledPhase.adopt.__func__, mode_train.ct.run_train
+
+    def counted_adopt(cls, *args, **kwargs):
+        counts['views'] += 1
+        return adopt(cls, *args, **kwargs)
+
+    def counted_run(*args):
+        reason, taken = run(*args)
+        counts['carry tests'] += reason == mode_train.ct.CARRY_TEST
+        return reason, taken
+
+    monkeypatch.setattr(CompiledPhase, 'adopt', classmethod(counted_adopt))
+    monkeypatch.setattr(mode_train.ct, 'run_train', counted_run)
+    contact = cs.Contact(cs.HUNT_CROSSLEY, 1e9, 1e13)
+    plate = CommandedPlate((0.0, 0.2), (0.0, 0.1), (0.0, 1.0))     # up at 5 m/s²: carried
+
+    def run_drop():
+        sim = DropSimulation(contact, M, 0.005, plate=plate)
+        sim.run_to(0.15)
+        return sim
+
+    ref, new = both(run_drop)
+    assert counts['carry tests'] > 20 and counts['views'] == 1
+    assert new.carried and ref.carried
+    assert_close([ref.time, ref.state.penetration, ref.permanent_contact_time],
+                 [new.time, new.state.penetration, new.permanent_contact_time])
