@@ -15,11 +15,12 @@ is the figure to compare; the load average is printed beside it):
   1 m, 5 s); both drops also with every bounce through the Python modes
   (``mode_train.trains_enabled(False)``, the reference the compiled bounces replace);
 * a bounce on a vibrating table (``VibratingTable.run`` at Γ = 2, 400 impacts), µs per bounce and
-  its ratio to ``simulate_impact``; and the same orbit (40 s) with the compiled flights beside the
+  its ratio to ``simulate_impact``; and the same orbit (40 s) with the compiled bounces beside the
   Python reference path they replace (``flights.gap_flight``);
 * the same 40 s on a commanded plate following the table as set-points (its (p, ṗ) sampled 20
   times a period, ``CommandedPlate``'s C¹ piecewise quadratic between them; the plate built
-  before the clock starts), compiled flights beside the reference flights; and one flight's plan
+  before the clock starts): a row of the table above (the compiled bounces), and beside it the
+  Python modes with compiled flights and with the reference flights; and one flight's plan
   over it alone (``mode_flight.Flight``, 400 flights from random states above the plate).
 
     python bench/bench_bounce.py [--repeat 5]
@@ -167,14 +168,22 @@ def main():
         sim = DropSimulation(contact, MASS, 0.0, velocity=-math.pi * g / w, gravity=g,
                              plate=plate)
         sim.advance(40.0)
-        return len(sim.impacts)
+        return sim.impacts
 
-    wall_fast, n_fast = best_of(lambda: table_drop(SinusoidalPlate(*table_args)), args.repeat)
-    wall_ref, n_ref = best_of(lambda: table_drop(ReferenceTable(*table_args)), args.repeat)
+    wall_fast, n_fast = best_of(lambda: len(table_drop(SinusoidalPlate(*table_args))),
+                                args.repeat)
+    wall_ref, n_ref = best_of(lambda: len(table_drop(ReferenceTable(*table_args))), args.repeat)
     points = sampled_table(*table_args, duration=41.0)     # the plates built once, untimed
     commanded, commanded_ref = CommandedPlate(*points), ReferenceCommandedPlate(*points)
-    wall_cmd, n_cmd = best_of(lambda: table_drop(commanded), args.repeat)
-    wall_cmd_ref, n_cmd_ref = best_of(lambda: table_drop(commanded_ref), args.repeat)
+    wall_cmd, cmd_impacts = best_of(lambda: table_drop(commanded), args.repeat)
+    n_cmd = len(cmd_impacts)
+    speed_cmd = float(np.mean([i.impact_speed for i in cmd_impacts]))
+    previous = mode_train.trains_enabled(False)     # its compiled flights, the Python modes
+    try:
+        wall_cmd_modes, n_cmd_modes = best_of(lambda: len(table_drop(commanded)), args.repeat)
+    finally:
+        mode_train.trains_enabled(previous)
+    wall_cmd_ref, n_cmd_ref = best_of(lambda: len(table_drop(commanded_ref)), args.repeat)
     rng = np.random.default_rng(0)
     starts = list(zip(rng.uniform(0.0, 40.0, 400), -rng.uniform(1e-4, 1e-2, 400),
                       rng.uniform(-1.0, 0.5, 400)))
@@ -195,7 +204,9 @@ def main():
              n_drop),
             (f'fixed, peers\' HC 1 m ({n_hc} bnc)', hc, hc_mass, speed_hc, wall_hc, n_hc),
             (f'table 10 Hz, G = 2 ({n_table} bnc)', contact, MASS, speed_table, wall_table,
-             n_table)):
+             n_table),
+            (f'commanded, table as pts ({n_cmd} bnc)', contact, MASS, speed_cmd, wall_cmd,
+             n_cmd)):
         kernel, steps = kernel_time(c, mass, speed, g, args.repeat)
         impact, _ = impact_time(c, mass, speed, g, args.repeat)
         bounce = wall / count
@@ -210,12 +221,13 @@ def main():
           f'the compiled bounces, {wall_hc_ref * 1e3:.3f} ms ({len(hc_ref.impacts)}) with the '
           f'Python modes')
     print(f'table G = 2, 40 s: {wall_fast / n_fast * 1e6:.1f} us a bounce ({n_fast} bounces) '
-          f'with the compiled flights, {wall_ref / n_ref * 1e6:.1f} us ({n_ref}) with the '
-          f'Python reference flights (flights.gap_flight)')
+          f'with the compiled bounces, {wall_ref / n_ref * 1e6:.1f} us ({n_ref}) with the '
+          f'Python modes and reference flights (flights.gap_flight)')
     print(f'commanded plate (the table as {len(points[0])} set-points), 40 s: '
           f'{wall_cmd / n_cmd * 1e6:.1f} us a bounce ({n_cmd} bounces) with the compiled '
-          f'flights, {wall_cmd_ref / n_cmd_ref * 1e6:.1f} us ({n_cmd_ref}) with the Python '
-          f'reference flights (flights.gap_flight)')
+          f'bounces, {wall_cmd_modes / n_cmd_modes * 1e6:.1f} us ({n_cmd_modes}) with the '
+          f'Python modes and compiled flights, {wall_cmd_ref / n_cmd_ref * 1e6:.1f} us '
+          f'({n_cmd_ref}) with the Python modes and reference flights (flights.gap_flight)')
     print(f'one flight planned over it: {wall_plan / len(starts) * 1e6:.1f} us compiled, '
           f'{wall_plan_ref / len(starts) * 1e6:.1f} us Python ({len(starts)} flights, touch '
           f'times within {worst:.1e} relative)')
