@@ -9,10 +9,11 @@ plate's forcing changes: the same functions, in the same order), without returni
 between bounces.  It ends with one of its own events: ``landed`` (the running phase became
 permanent: a ``Contact`` over it goes on, ``event.after``), ``touch`` or ``knot`` (the next phase
 is too stiff for the compiled integrator: ``transitions.impact`` or ``go_on`` starts it on the
-Python path), ``carried`` (``CarryWatch`` found the sphere carried) or ``handed_over`` (the default engine is no longer the compiled one: its current flight or phase
-goes on as a ``Flight`` or ``Contact``, ``event.after``).  A
-change from outside (``set_plate``, ``set_contact``) first takes the train's current flight or
-phase as a ``Flight`` or ``Contact`` (``Mode.handed_over``), whose transitions then apply.
+Python path), ``carried`` (``CarryWatch`` found the sphere carried) or ``handed_over`` (the
+default engine is no longer the compiled one: its current flight or phase goes on as a
+``Flight`` or ``Contact``, ``event.after``).  A change from outside (``set_plate``,
+``set_contact``) first takes the train's current flight or phase as a ``Flight`` or ``Contact``
+(``Mode.handed_over``), whose transitions then apply.
 """
 import math
 

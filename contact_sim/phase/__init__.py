@@ -57,4 +57,5 @@ __all__ = ['COMPILED_STIFF_DAMPING', 'DEFAULT_ATOL', 'DEFAULT_RTOL', 'ENGINES', 
            'energy_stop', 'force_can_vanish_inside', 'get_engine', 'lift_off_energy',
            'lift_off_of', 'phase_scales', 'phase_state_at', 'phase_storage', 'phase_time',
            'potential_at', 'potential_of', 'pulls_out', 'results_of', 'run_phase',
-           'set_constant_forcing', 'set_engine', 'set_plate_forcing', 'start_phase', 'step_too_small', 'use_engine']
+           'set_constant_forcing', 'set_engine', 'set_plate_forcing', 'start_phase',
+           'step_too_small', 'use_engine']
