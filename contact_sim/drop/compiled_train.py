@@ -4,7 +4,7 @@ touch, contact phase, lift-off, flight, ... for as many bounces as fit before th
 
 Each piece is the one the Python modes use, called from here: the flight's touch time and apex
 (``plate.compiled_ballistic``, ``plate.compiled_flight``), the plate's state (``sinusoid_state``,
-``compiled_flight.commanded_state``) and its forcing pieces (``pieces.forcing_end``), the phase's
+``compiled_flight.commanded_state``) and its forcing pieces (``pieces.piece_forcing``), the phase's
 scales, start, run and dense output (``phase.compiled_scales``, ``phase.start_phase``,
 ``phase.run_phase``, ``phase.phase_state_at``), and the energy bound of the rebound
 (``bounded_rate``, which ``mode_contact`` uses too).  What the loop adds is the sequence: the
@@ -22,16 +22,16 @@ to the Python path), or full buffers.  Units: SI; z > 0 penetration, ż > 0 appr
 """
 import math
 
-import numpy as np
 from numba import njit
 
 from contact_sim.drop.plate.compiled_ballistic import apex_height
 from contact_sim.drop.plate.compiled_ballistic import touch_time as ballistic_touch_time
 from contact_sim.drop.plate.compiled_flight import (NO_EXIT, commanded_state,
-                                                   commanded_touch_time, sinusoid_touch_time)
+                                                   commanded_touch_time, piece_index,
+                                                   sinusoid_touch_time)
 from contact_sim.drop.plate.flights import rise_apex
 from contact_sim.drop.plate.motions import sinusoid_state
-from contact_sim.drop.plate.pieces import forcing_end
+from contact_sim.drop.plate.pieces import piece_forcing
 from contact_sim.phase import (RUN_REASONS, compiled_scales, energy_stop, lift_off_of,
                                phase_state_at, phase_time, potential_of, pulls_out, results_of,
                                run_phase, set_constant_forcing, set_plate_forcing, start_phase)
@@ -76,7 +76,7 @@ _potential = njit('float64(float64, float64, float64, float64, float64)', **_KW)
 _sinusoid = njit('UniTuple(float64, 3)(float64, float64, float64, float64)',
                  **_KW)(sinusoid_state)
 _rise_apex = njit('float64(float64, float64, float64)', **_KW)(rise_apex)
-_forcing_end = njit(**_KW)(forcing_end)
+_piece_forcing = njit(**_KW)(piece_forcing)
 _pulls_out = njit('boolean(float64, float64)', **_KW)(pulls_out)
 
 
@@ -116,11 +116,7 @@ def _forcing_at(tr, pc, t):
     if tr[TR_MOVING] == TABLE:
         return tr[TR_FORCE_AMP], math.inf
     if tr[TR_MOVING] == COMMANDED:
-        starts, acc = pc[0], pc[3]
-        if t < starts[0]:
-            return 0.0, starts[0]
-        i = max(np.searchsorted(starts, t, side='right') - 1, 0)
-        return acc[i], _forcing_end(starts, acc, i)
+        return _piece_forcing(pc[0], pc[3], piece_index(pc[0], t), t)
     return 0.0, math.inf
 
 
@@ -300,9 +296,9 @@ def run_train(tr, st, K, F, par, pts, imp, pc, t_stop, max_steps):
     the phase reached ``t_stop`` or lifts off after it), BUDGET_SPENT, ENERGY_BELOW, BUFFER_FULL
     (``pts`` or ``imp``: make room and call again), STEP_TOO_SMALL, STIFF_PHASE or STIFF_KNOT
     (the touch or knot at ``tr[TR_TIME]``, (z, ż) in ``tr``, is the Python path's); the time
-    reached in ``tr[TR_TIME]``, and in
-    ``tr[TR_RAN]`` whether the phase's steps ran last (``Contact.advance`` tests the phase for
-    permanence after each run, not at a stop before one)."""
+    reached in ``tr[TR_TIME]``, and in ``tr[TR_RAN]`` whether the phase's steps ran last
+    (``Contact.advance`` tests the phase for permanence after each run, not at a stop before
+    one)."""
     taken = 0
     cap = pts.shape[0] - 4
     tr[TR_RAN] = 0.0

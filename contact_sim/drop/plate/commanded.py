@@ -9,7 +9,7 @@ import numpy as np
 
 from contact_sim.drop.plate.flights import commanded_flight, gap_flight
 from contact_sim.drop.plate.motions import PlateMotion, constant_forcing
-from contact_sim.drop.plate.pieces import forcing_end, piece_state
+from contact_sim.drop.plate.pieces import piece_forcing, piece_state
 from contact_sim.validation import InputError
 
 
@@ -150,11 +150,8 @@ class CommandedPlate(PlateMotion):
         return min(values), max(values)
 
     def forcing_piece(self, t):
-        starts, acc = self._pieces[0], self._pieces[3]
-        if t < starts[0]:
-            return constant_forcing(0.0), starts[0]
-        i = self._piece(t)
-        return constant_forcing(acc[i]), forcing_end(starts, acc, i)
+        acceleration, until = piece_forcing(self._pieces[0], self._pieces[3], self._piece(t), t)
+        return constant_forcing(acceleration), until
 
     def next_acceleration_below(self, t, level):
         starts, acc = self._pieces[0], self._pieces[3]

@@ -76,7 +76,7 @@ def _sinusoid_acceleration_range(t0, t1, tb):
 # -- the commanded plate, ``pc`` = (starts, pos, vel, acc): ``CommandedPlate.piece_arrays``'s rows
 
 @njit(**_KW)
-def _piece(starts, t):
+def piece_index(starts, t):
     """``CommandedPlate._piece``: the last piece starting at or before t (the first before), by
     bisection as ``bisect.bisect_right`` (a third of ``np.searchsorted``'s time here)."""
     lo, hi = 0, starts.size
@@ -94,7 +94,7 @@ def commanded_state(t, pc):
     """(p m, ṗ m/s, p̈ m/s²) of the commanded plate at t (s): ``pieces.piece_state``, as
     ``CommandedPlate.state`` (constant velocity before the first piece, the last piece running
     to +inf)."""
-    return _piece_state(pc[0], pc[1], pc[2], pc[3], _piece(pc[0], t), t)
+    return _piece_state(pc[0], pc[1], pc[2], pc[3], piece_index(pc[0], t), t)
 
 
 @njit(**_INLINE)
@@ -114,7 +114,7 @@ def _commanded_acceleration_range(t0, t1, pc):
     if t0 < starts[0]:
         lo, hi = 0.0, 0.0
     if t1 >= starts[0]:
-        for i in range(_piece(starts, max(t0, starts[0])), _piece(starts, t1) + 1):
+        for i in range(piece_index(starts, max(t0, starts[0])), piece_index(starts, t1) + 1):
             lo, hi = min(lo, acc[i]), max(hi, acc[i])
     return lo, hi
 
