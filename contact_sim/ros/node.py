@@ -25,6 +25,7 @@ and ``main``; ``loop`` the tick loop (``TickLoop``: pacing, budgets, a recorder'
 sets; ``view`` ~/markers and /diagnostics; ``plate_command`` the translation of ~/plate_command
 (``read_plate_command``).
 """
+import signal
 import sys
 from dataclasses import replace
 
@@ -50,7 +51,8 @@ from .params import DEFAULTS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, build_mode
     check_running, descriptor, make_simulation, refusal, table_motion
 from .plate_command import COMMAND_FIELDS, read_plate_command
 from .query import MAX_NAMES, answer_queries
-from .refusals import REFUSAL_PERIOD, RefusalLog
+from .parameter_services import ParameterServices
+from .refusals import REFUSAL_PERIOD, RefusalLog, guarded, shorten
 from .startup import ArgumentError, node_arguments, print_usage, publication_mode, \
     spin_until_signal
 from .view import View
@@ -115,7 +117,8 @@ class ContactSimNode(TickLoop, Node):
     """
 
     def __init__(self, **kwargs):
-        super().__init__(NODE_NAME, **kwargs)
+        # the parameter services are the node's own (parameter_services: no request stops it)
+        super().__init__(NODE_NAME, **{**kwargs, 'start_parameter_services': False})
         try:
             for spec in PARAMETERS:
                 self.declare_parameter(spec.name, spec.default, descriptor(spec))
@@ -130,14 +133,22 @@ class ContactSimNode(TickLoop, Node):
         # frame_id and publish_clock are read-only
         self._out = Outbox(self, self._model.frame_id, self._model.publish_clock)
         self._view = View(self)   # ~/markers and /diagnostics
-        self.create_service(GetParameters, '~/query_restitution', self._on_query)
-        self.create_service(Trigger, '~/reset', self._on_reset)
-        self._commanded = False   # the plate follows ~/plate_command (until ~/reset or a table)
-        self.create_subscription(JointTrajectory, '~/plate_command', self._on_plate_command, 10)
         # one log a kind of refusal, each at most once a second, the rest counted
         self._refusals = {kind: RefusalLog(self.get_logger(), what) for kind, what in (
             ('field', '~/plate_command'), ('command', '~/plate_command'),
-            ('drop', '~/plate_command'), ('query', '~/query_restitution'))}
+            ('drop', '~/plate_command'), ('query', '~/query_restitution'),
+            ('parameters', 'parameter requests'), ('reset', '~/reset'))}
+        ParameterServices(self, self._refusals['parameters'])
+        # every callback a client reaches is guarded: what it raises is refused, never the node
+        self.create_service(GetParameters, '~/query_restitution', guarded(
+            self._on_query, self._refusals['query'], '~/query_restitution',
+            lambda request, response: GetParameters.Response()))
+        self.create_service(Trigger, '~/reset', guarded(
+            self._on_reset, self._refusals['reset'], '~/reset',
+            lambda request, response: Trigger.Response(success=False, message='reset failed')))
+        self._commanded = False   # the plate follows ~/plate_command (until ~/reset or a table)
+        self.create_subscription(JointTrajectory, '~/plate_command', guarded(
+            self._on_plate_command, self._refusals['command'], '~/plate_command'), 10)
         self.create_timer(REFUSAL_PERIOD, self._flush_refusals, clock=self._steady)
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.add_post_set_parameters_callback(self._on_parameters_set)
@@ -316,7 +327,8 @@ class ContactSimNode(TickLoop, Node):
         values = []
         for name, (value, reason) in zip(request.names, answers):
             if value is None:
-                self.get_logger().warning(f'query_restitution: cannot answer {name!r}: {reason}')
+                self._refusals['query'].refused(
+                    f'~/query_restitution: cannot answer {shorten(repr(name))}: {shorten(reason)}')
                 values.append(ParameterValue(type=ParameterType.PARAMETER_NOT_SET))
             else:
                 values.append(ParameterValue(type=ParameterType.PARAMETER_DOUBLE,
@@ -380,29 +392,40 @@ def main(args=None):
     """
     argv = sys.argv if args is None else list(args)
     log = rclpy.logging.get_logger(NODE_NAME)
+    # SIGINT and SIGTERM stop the start at any stage, quietly (spin_until_signal takes them over
+    # once the node spins, and puts these back)
+    previous = {sig: signal.signal(sig, _interrupt) for sig in (signal.SIGINT, signal.SIGTERM)}
+    node = None
     try:
         if node_arguments(argv) == 'help':
             print_usage(sys.stdout)
             return 0
         publication_mode()
         rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
-    except ArgumentError as error:
-        log.fatal(str(error))
-        return 2
-    node = None
-    try:
         node = ContactSimNode()
         spin_until_signal(node, drain=node.drain)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
+    except ArgumentError as error:
+        log.fatal(str(error))
+        return 2
     except StartupError as error:
         log.fatal(f'invalid parameters: {error}')
         return 2
     finally:
-        if node is not None:
-            node.destroy_node()
-        rclpy.try_shutdown()
+        try:
+            if node is not None:
+                node.destroy_node()
+            rclpy.try_shutdown()
+        finally:
+            for sig, handler in previous.items():
+                signal.signal(sig, handler)
     return 0
+
+
+def _interrupt(signum, frame):
+    """SIGINT or SIGTERM during the start: stop it (``main`` exits with code 0)."""
+    raise KeyboardInterrupt
 
 
 if __name__ == '__main__':

@@ -3,6 +3,8 @@ core's plate command: the node only translates the message here; the rules (time
 velocities given or estimated, the motion's limits) are ``plate.command_motion``'s.
 """
 
+from .refusals import shorten
+
 PLATE_JOINT = 'plate_z'  # the one joint of ~/plate_command: prismatic, m, up
 MAX_POINTS = 1000        # points a trajectory: more would stall the node's ticks (100,000: 2.3 s)
 # the core's fields of a plate command (plate.command_motion) as the message spells them
@@ -17,8 +19,8 @@ def read_plate_command(msg, now, offset):
     efforts are ignored.  ValueError naming the field for a wrong joint or a malformed point."""
     names = list(msg.joint_names)
     if names != [PLATE_JOINT]:
-        raise ValueError(f'joint_names = {names!r} is invalid: allowed [{PLATE_JOINT!r}] (one '
-                         'prismatic joint, m, up)')
+        raise ValueError(f'joint_names = {shorten(repr(names))} is invalid: allowed '
+                         f'[{PLATE_JOINT!r}] (one prismatic joint, m, up)')
     if len(msg.points) > MAX_POINTS:
         raise ValueError(f'points has {len(msg.points)} points: allowed at most {MAX_POINTS} '
                          'a message (send a longer motion in pieces)')

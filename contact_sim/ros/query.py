@@ -6,6 +6,8 @@ import numpy as np
 import contact_sim as cs
 from contact_sim.validation import require_positive
 
+from .refusals import shorten
+
 QUERY_QUANTITIES = ('restitution', 'contact_duration', 'peak_force', 'max_penetration')
 MAX_NAMES = 1000   # names a request: more would stall the node's ticks (100,000: 1.9 s)
 
@@ -17,12 +19,13 @@ def parse_query(name):
     prefix, colon, text = name.rpartition(':')
     quantity = prefix.strip() if colon else 'restitution'
     if quantity not in QUERY_QUANTITIES:
-        raise ValueError(f'prefix {quantity!r} is unknown: allowed none or one of '
+        raise ValueError(f'prefix {shorten(repr(quantity))} is unknown: allowed none or one of '
                          f'{", ".join(q + ":" for q in QUERY_QUANTITIES)}')
     try:
         speed = float(text)
     except ValueError:
-        raise ValueError(f'impact speed {text.strip()!r} is not a number (m/s, e.g. 2.5)') from None
+        raise ValueError(f'impact speed {shorten(repr(text.strip()))} is not a number (m/s, '
+                         'e.g. 2.5)') from None
     return quantity, require_positive('impact speed', speed)
 
 

@@ -3,6 +3,60 @@ gives one warning and then "3 more refused in the last second", never silence.""
 import time
 
 REFUSAL_PERIOD = 1.0   # s of wall time between two refusal warnings of one kind
+SHORT = 200            # characters of a client's text quoted in a refusal
+
+
+def shorten(text, limit=SHORT):
+    """``text`` cut to ``limit`` characters, saying how long it was (a client's text in a log).
+
+    Examples
+    --------
+    >>> from contact_sim.ros.refusals import shorten
+    >>> shorten('abc')
+    'abc'
+    >>> shorten('x' * 1000, 10)
+    'xxxxxxxxxx... (1000 characters)'
+    """
+    text = str(text)
+    return text if len(text) <= limit else f'{text[:limit]}... ({len(text)} characters)'
+
+
+def guarded(callback, refusals, what, fallback=None):
+    """``callback`` made safe for input from other processes: an exception it raises is refused
+    (``refusals.refused``, naming ``what`` and the error) instead of ending the node's spin.
+
+    Parameters
+    ----------
+    callback : callable
+        A subscription's or service's callback.
+    refusals : RefusalLog
+        Where a refusal is logged.
+    what : str
+        What is refused (``'~/plate_command'``).
+    fallback : callable, optional
+        Called with the callback's arguments after a refusal; its result is returned (a
+        service's response). Default: None is returned.
+
+    Returns
+    -------
+    callable
+
+    Examples
+    --------
+    >>> from contact_sim.ros.refusals import RefusalLog, guarded
+    >>> class Out:
+    ...     def warning(self, text): print(text)
+    >>> safe = guarded(lambda msg: 1 / msg, RefusalLog(Out(), 'x'), 'x')
+    >>> safe(0)
+    x refused: ZeroDivisionError: division by zero
+    """
+    def safe(*args):
+        try:
+            return callback(*args)
+        except Exception as error:  # noqa: BLE001 - nothing a client sends may stop the node
+            refusals.refused(f'{what} refused: {shorten(f"{type(error).__name__}: {error}")}')
+            return None if fallback is None else fallback(*args)
+    return safe
 
 
 class RefusalLog:

@@ -91,8 +91,21 @@ def params_files(argv):
     return files
 
 
+MAX_PARAMS_FILE_BYTES = 262_144  # 256 KiB: a dump of this node is about 1.5 KB
+MAX_PARAMS_FILE_DEPTH = 32       # nested mappings and lists: a node's section needs 3 to 5
+MAX_PARAMS_FILE_VALUES = 10_000  # scalars: rcl's parser slows down with their square
+# PyYAML's C loader when built with libyaml (it reads as yaml.safe_load does, faster)
+_LOADER = getattr(yaml, 'CSafeLoader', yaml.SafeLoader)
+
+
 def check_params_file(path):
     """Refuse a parameter file rclpy could not read, with one line naming the file and why.
+
+    The file is bounded before it is parsed: at most ``MAX_PARAMS_FILE_BYTES`` bytes are read
+    (rcl's parser took 5.6 s for 1.2 MB of 60,000 parameters, and would take minutes for
+    10 MB, deaf to SIGINT), and its nesting and number of values are counted on YAML's event
+    stream (no recursion) before it is composed (PyYAML's composer recurses, a RecursionError
+    at about 1,000 levels).
 
     Parameters
     ----------
@@ -102,15 +115,24 @@ def check_params_file(path):
     Raises
     ------
     ArgumentError
-        If the file cannot be read, is not UTF-8 YAML, or is not a mapping of node names
-        (``/**`` for any node) to mappings with a ``ros__parameters`` mapping.
+        If the file cannot be read, is larger than ``MAX_PARAMS_FILE_BYTES``, is not UTF-8
+        YAML, nests deeper than ``MAX_PARAMS_FILE_DEPTH`` or holds more than
+        ``MAX_PARAMS_FILE_VALUES`` values, or is not a mapping of node names (``/**`` for any
+        node) to mappings with a ``ros__parameters`` mapping.
     """
     where = f'--params-file {path}'
     try:
-        with open(path, encoding='utf-8') as file:
-            data = yaml.safe_load(file)
+        with open(path, 'rb') as file:
+            data = file.read(MAX_PARAMS_FILE_BYTES + 1)
     except OSError as error:
         raise ArgumentError(f'{where}: cannot be read ({error.strerror})') from None
+    if len(data) > MAX_PARAMS_FILE_BYTES:
+        raise ArgumentError(f'{where}: is larger than {MAX_PARAMS_FILE_BYTES} bytes: allowed at '
+                            f'most {MAX_PARAMS_FILE_BYTES} bytes (256 KiB) a parameter file')
+    try:
+        text = data.decode('utf-8')
+        _check_shape(text, where)
+        data = yaml.load(text, Loader=_LOADER)
     except UnicodeDecodeError:
         raise ArgumentError(f'{where}: is not a text (UTF-8 YAML) file') from None
     except yaml.YAMLError as error:
@@ -125,6 +147,31 @@ def check_params_file(path):
     for name, section in data.items():
         if not _holds_parameters(section):
             raise ArgumentError(f'{where}: {name!s} has no ros__parameters mapping: {expected}')
+
+
+def _check_shape(text, where):
+    """Count the nesting and the values of a YAML text on its event stream (iterative, no
+    composition); ArgumentError past ``MAX_PARAMS_FILE_DEPTH`` or ``MAX_PARAMS_FILE_VALUES``,
+    or for an alias (a few anchors used ten times each over nine levels are a billion values
+    to walk)."""
+    depth = values = 0
+    for event in yaml.parse(text, Loader=_LOADER):
+        if isinstance(event, yaml.CollectionStartEvent):
+            depth += 1
+            if depth > MAX_PARAMS_FILE_DEPTH:
+                raise ArgumentError(f'{where}: nests deeper than {MAX_PARAMS_FILE_DEPTH} levels: '
+                                    f'allowed at most {MAX_PARAMS_FILE_DEPTH} nested mappings '
+                                    'and lists')
+        elif isinstance(event, yaml.CollectionEndEvent):
+            depth -= 1
+        elif isinstance(event, yaml.AliasEvent):   # each use would count its anchor's again
+            raise ArgumentError(f'{where}: uses a YAML alias (*{event.anchor}): allowed none in '
+                                'a parameter file')
+        elif isinstance(event, yaml.ScalarEvent):
+            values += 1
+            if values > MAX_PARAMS_FILE_VALUES:
+                raise ArgumentError(f'{where}: holds more than {MAX_PARAMS_FILE_VALUES} values: '
+                                    f'allowed at most {MAX_PARAMS_FILE_VALUES} a parameter file')
 
 
 def _holds_parameters(section):

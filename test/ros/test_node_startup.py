@@ -9,6 +9,7 @@ processes while the package's node runs spins the client meanwhile (see test_nod
 import os
 import signal
 import subprocess
+import time
 
 import pytest
 
@@ -74,6 +75,55 @@ def test_an_unreadable_parameter_file_is_one_fatal_line_naming_it(ros_env, workd
                  for name, (args, _) in cases.items()}
     for name, process in processes.items():
         assert_one_fatal_line(*finished(process), *cases[name][1])
+
+
+def test_parameter_files_past_the_bounds_are_one_fatal_line_before_parsing(ros_env, workdir):
+    # reproduced: a 10 MB file hung the node for 240 s and more (rcl's parser, deaf to SIGINT),
+    # and 5,000 nested levels gave a RecursionError traceback (PyYAML's composer)
+    from contact_sim.ros.startup import (MAX_PARAMS_FILE_BYTES, MAX_PARAMS_FILE_DEPTH,
+                                         MAX_PARAMS_FILE_VALUES)
+    files = {name: workdir / f'{name}.yaml' for name in ('huge', 'deep', 'many', 'alias')}
+    line = '    p{}: 1.5\n'
+    files['huge'].write_text('/**:\n  ros__parameters:\n' + ''.join(
+        line.format(i) for i in range(10_000_000 // len(line.format(0)))))
+    files['deep'].write_text('/**:\n  ros__parameters:\n    a: ' + '[' * 5000 + ']' * 5000)
+    files['many'].write_text('/**:\n  ros__parameters:\n    a: [' + '1,' * 20_000 + '1]\n')
+    files['alias'].write_text('/**:\n  ros__parameters:\n    a: &x [1, 2]\n    b: *x\n')
+    assert files['huge'].stat().st_size >= 10_000_000 - 20
+    reasons = {'huge': f'is larger than {MAX_PARAMS_FILE_BYTES} bytes',
+               'deep': f'nests deeper than {MAX_PARAMS_FILE_DEPTH} levels',
+               'many': f'holds more than {MAX_PARAMS_FILE_VALUES} values',
+               'alias': 'uses a YAML alias (*x)'}
+    processes = {name: Process('contact_sim_node', ['--ros-args', '--params-file', str(path)],
+                               ros_env, workdir) for name, path in files.items()}
+    for name, process in processes.items():
+        assert_one_fatal_line(*finished(process), str(files[name]), reasons[name])
+
+
+def test_sigint_while_the_node_reads_its_parameter_file_stops_it_quietly(ros_env, workdir):
+    # a FIFO holds the node in the file check (main's first stage) until SIGINT comes;
+    # before, SIGINT there gave a KeyboardInterrupt traceback
+    fifo = workdir / 'params.fifo'
+    os.mkfifo(fifo)
+    process = Process('contact_sim_node', ['--ros-args', '--params-file', str(fifo)], ros_env,
+                      workdir)
+    writer = None
+    try:
+        deadline = time.monotonic() + TIMEOUT
+        while writer is None and process.popen.poll() is None and time.monotonic() < deadline:
+            try:   # succeeds once the node has opened the FIFO to read it
+                writer = os.open(fifo, os.O_WRONLY | os.O_NONBLOCK)
+            except OSError:
+                time.sleep(0.01)   # polling for the reader: not a wait for a fixed time
+        assert writer is not None, process.output()
+        process.popen.send_signal(signal.SIGINT)
+        code, output = finished(process)
+    finally:
+        if writer is not None:
+            os.close(writer)
+        process.stop()
+    assert code == 0, output
+    assert 'Traceback' not in output and '[FATAL]' not in output, output
 
 
 def test_numbers_past_the_bounds_stop_the_start_with_the_field_and_the_range(ros_env, workdir):
