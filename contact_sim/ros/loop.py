@@ -41,6 +41,7 @@ import numpy as np
 import rclpy
 
 from .pacing import RecorderPace
+from .view import View
 
 TURN_STEP_BUDGET = 20    # integrator steps per engine call (~10 ms); then the wall budget is checked
 BATCH_TICKS = 256        # ticks per batched engine call (advance_ticks), then the budgets are checked
@@ -59,58 +60,86 @@ WATCH_PERIOD = 0.5       # s: a paused node checks this often whether its record
 
 
 class TickLoop:
-    """The tick loop of ``ContactSimNode`` (a mixin of that ``rclpy.node.Node``).
+    """The tick loop of ``ContactSimNode``: it advances the drop it is given and publishes it.
 
-    It reads the node's ``_model`` (``params.Model``: publish_rate, real_time_factor, fast,
-    radius), ``_sim`` (``DropSimulation``), ``_offset`` (s: the stamp of the drop's time 0) and
-    ``_out`` (``outbox.Outbox``), and owns the anchor (``_anchor_wall``, ``_anchor_sim``), the
-    ticks published since it (``_tick``), their length ``_dt`` (s), the loop timer and the pause
-    for a recorder. ``_start_loop`` re-anchors (at ~/reset or a change of real_time_factor).
+    Everything it reads is given to it: the node (for timers, the logger and the recorder's
+    acknowledgements), the ``outbox.Outbox``, the steady clock, and at each
+    ``start`` the drop (``DropSimulation``), the ``params.LoopSettings`` (publish_rate,
+    real_time_factor), the ``params.Model`` (the sphere's radius) and the stamp offset (s: the
+    stamp of the drop's time 0). It owns the anchor (``_anchor_wall``, ``_anchor_sim``), the
+    ticks published since it (``_tick``), their length ``_dt`` (s), the loop timer and the
+    pause for a recorder (``pacing.RecorderPace``), and its ``view`` (``view.View``: ~/markers
+    and /diagnostics, which reads this loop's public attributes).
+
+    Parameters
+    ----------
+    node : rclpy.node.Node
+        Creates the timers and the recorder's subscription; its logger is used.
+    out : outbox.Outbox
+        The publishers of the recorded topics.
+    clock : rclpy.clock.Clock
+        The steady clock of the timers (pacing ignores use_sim_time).
     """
 
-    def _init_loop(self):
-        """Listen for a recorder's acknowledgements and start the loop."""
-        self._pace = RecorderPace(self, lambda: self._out.sent, self._resume_if_free)
+    def __init__(self, node, out, clock):
+        self._node, self._out, self._steady = node, out, clock
+        self.view = View(node, clock, self)   # ~/markers and /diagnostics, of this loop
+        self._view = self.view
+        self._pace = RecorderPace(node, lambda: self._out.sent, self._resume_if_free)
         self._paused = False
         self._stopping = False
-        self.create_timer(WATCH_PERIOD, self._watch, clock=self._steady)
+        node.create_timer(WATCH_PERIOD, self._watch, clock=clock)
         self._lag_logged = False
         self._timer = None
-        self._start_loop()
+        self.sim = self.settings = self.model = None
+        self.offset = 0.0
 
-    def _start_loop(self):
-        """(Re)start the loop timer and anchor tick 0 at the current simulated and wall time."""
-        model = self._model
-        self._anchor_wall, self._anchor_sim, self._tick = time.monotonic(), self._sim.time, 0
-        self._dt = 1.0 / model.publish_rate if model.fast \
-            else model.real_time_factor / model.publish_rate
+    def start(self, sim, settings, model, offset):
+        """(Re)start the loop on the drop ``sim`` (its time 0 stamped ``offset`` s) with
+        ``settings`` (``params.LoopSettings``) and ``model`` (``params.Model``), anchoring
+        tick 0 at the drop's current time and the wall time now (at the start, ~/reset or a
+        change of real_time_factor)."""
+        self.sim, self.settings, self.model, self.offset = sim, settings, model, offset
+        self._anchor_wall, self._anchor_sim, self._tick = time.monotonic(), sim.time, 0
+        self._dt = settings.dt
         if self._timer is not None:
-            self.destroy_timer(self._timer)
+            self._node.destroy_timer(self._timer)
         self._paused = False
-        period = 0.0 if model.fast else max(1.0 / model.publish_rate, WAKE_PERIOD)
-        self._period = period
-        self._timer = self.create_timer(period, self._on_timer, clock=self._steady)
+        self._period = 0.0 if settings.fast else max(1.0 / settings.publish_rate, WAKE_PERIOD)
+        self._timer = self._node.create_timer(self._period, self._on_timer, clock=self._steady)
+        self.view.begin()
 
-    def _reached_on_grid(self):
+    def lag(self):
+        """s of simulated time a real-time run is behind its schedule (0 as fast as possible)."""
+        if self.settings.fast:
+            return 0.0
+        due = (time.monotonic() - self._anchor_wall) * self.settings.real_time_factor
+        return max(0.0, due - (self.sim.time - self._anchor_sim))
+
+    def paced(self):
+        """A recorder paces the loop (``contact_sim_record`` is there)."""
+        return self._pace.recorders() > 0
+
+    def reached_on_grid(self):
         """The drop's time (s) reached, where a new drop (~/reset) starts: if a tick is half done
         (its turn ran out of wall time inside it), that tick's end, so that the new drop's ticks
         stay on the grid."""
-        reached = self._sim.time
+        reached = self.sim.time
         if reached > self._anchor_sim + self._tick * self._dt:
             reached = max(reached, self._anchor_sim + (self._tick + 1) * self._dt)
         return reached
 
     def _ticks_due(self, now):
         """Ticks (since the anchor) whose wall time has come; every one when running flat out."""
-        if self._model.fast:
+        if self.settings.fast:
             return math.inf
-        return int((now - self._anchor_wall) * self._model.publish_rate)
+        return int((now - self._anchor_wall) * self.settings.publish_rate)
 
     def _on_timer(self):
         try:
             self._turn()
         except Exception:
-            if rclpy.ok(context=self.context):
+            if rclpy.ok(context=self._node.context):
                 raise
             # Ctrl-C shut the context down during the turn (rclpy's handler runs in its own
             # thread): the publishers are gone; spin() returns next
@@ -119,7 +148,7 @@ class TickLoop:
         if self._out.pending and not self._out.send_pending():
             return   # a reliable reader still has no room: the next turn tries again
         start = time.monotonic()
-        fast = self._model.fast
+        fast = self.settings.fast
         due = self._ticks_due(start)
         deadline = start + (FAST_TURN if fast else min(
             REAL_TURN * self._period, TURN_BASE + TURN_PER_TICK * max(due - self._tick, 0)))
@@ -133,7 +162,7 @@ class TickLoop:
                 # end is what it acknowledges)
                 self._pause()
                 return
-        elif due - self._tick > MAX_LAG * self._model.publish_rate:
+        elif due - self._tick > MAX_LAG * self.settings.publish_rate:
             self._skip_ahead(due, start)
         while self._tick < due:
             if not self._run_ticks(self._calls_ticks(min(due, self._tick + BATCH_TICKS)),
@@ -144,7 +173,7 @@ class TickLoop:
 
     def _mid_tick(self):
         """A tick is begun and not finished (its turn ran out inside it)."""
-        return self._sim.time > self._anchor_sim + self._tick * self._dt
+        return self.sim.time > self._anchor_sim + self._tick * self._dt
 
     def _pause(self):
         self._timer.cancel()
@@ -161,7 +190,7 @@ class TickLoop:
 
     def _calls_ticks(self, upto):
         """``upto`` cut to what a recorder has room for (at least one tick)."""
-        if not self._model.fast:
+        if not self.settings.fast:
             return upto
         room = self._pace.room()
         if room == math.inf:
@@ -184,7 +213,7 @@ class TickLoop:
                 return False
             self._out.wait_for_readers('impact', IMPACT_WAIT)
             if self._pace.recorded_ns is not None:
-                self.get_logger().info(
+                self._node.get_logger().info(
                     f'stopping: the recorder has every tick published, to t = '
                     f'{self._out.tick_ns * 1e-9:.3f} s')
             return True
@@ -195,9 +224,9 @@ class TickLoop:
         if not self._lag_logged:
             self._lag_logged = True
             achieved = self._tick / max(now - self._anchor_wall, 1e-9)
-            self.get_logger().warning(
-                f'publish_rate {self._model.publish_rate:g} Hz at real_time_factor '
-                f'{self._model.real_time_factor:g} cannot be held: {achieved:.0f} ticks/s achieved;'
+            self._node.get_logger().warning(
+                f'publish_rate {self.settings.publish_rate:g} Hz at real_time_factor '
+                f'{self.settings.real_time_factor:g} cannot be held: {achieved:.0f} ticks/s achieved;'
                 f' skipping ahead (the states of skipped ticks are not published; logged once)')
         self._tick = due - 1
 
@@ -207,7 +236,7 @@ class TickLoop:
         publish them; False if the wall budget ran out first, or after one call if
         ``one_call`` (what was integrated so far is published; the rest goes on at the next
         turn)."""
-        sim = self._sim
+        sim = self.sim
         times = self._anchor_sim + np.arange(self._tick + 1, upto + 1) * self._dt
         done = 0
         while done < times.size:
@@ -215,12 +244,12 @@ class TickLoop:
                 batch = sim.advance_ticks(times[done:], max_steps=TURN_STEP_BUDGET)
             except Exception as error:  # keep the node alive and the last good state
                 target = float(times[done])
-                self.get_logger().error(f'simulation step to t = {target:.9f} s failed: {error}',
+                self._node.get_logger().error(f'simulation step to t = {target:.9f} s failed: {error}',
                                         throttle_duration_sec=5.0)
                 self._tick += 1
                 return True
-            self._out.publish_batch(batch, self._offset, self._model.radius)
-            self._view.publish_batch(batch, self._offset)
+            self._out.publish_batch(batch, self.offset, self.model.radius)
+            self._view.publish_batch(batch, self.offset, self.model, self.settings)
             self._view.ticks += batch.ticks
             self._pace.mark(self._out.tick_ns)
             done += batch.ticks

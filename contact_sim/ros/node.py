@@ -3,8 +3,14 @@ and impacts, stamped with simulated time.
 
 Data flows one way:
 
-    parameters --params.build_model--> Model --make_simulation--> cs.DropSimulation
-        --advance--> samples and impact records --messages.TOPICS encoders--> topics
+    parameters --params.build--> Model and its drop (cs.DropSimulation), once a change
+        --loop.TickLoop: advance--> samples and impact records --messages.TOPICS encoders-->
+        topics
+
+A change of parameters is validated once (``_on_set_parameters``); what the validation built is
+applied (``_on_parameters_set``): the model at once, its fresh drop from the next ~/reset. The
+loop's settings (``params.LoopSettings``: publish_rate, real_time_factor) are apart from the
+physics: a change of real_time_factor builds no model.
 
 Frames and signs (REP 103, SI units): the plate frame (``frame_id``, default ``plate``) has z up
 and the plate's surface (the top of the lower sphere, for two spheres) at z = 0. The sphere moves
@@ -20,7 +26,9 @@ both go to the engine through ``DropSimulation.set_plate``. ~/pose and ~/twist a
 every contact sample) show the plate.
 
 The node's jobs are split by module: this one holds the node (parameters, the plate, services)
-and ``main``; ``loop`` the tick loop (``TickLoop``: pacing, budgets, a recorder's pace);
+and ``main``; ``parameter_services`` the parameter services (no request stops the node);
+``loop`` the tick loop (``TickLoop``: pacing, budgets, a recorder's pace), given the drop, the
+settings, the model and the stamp offset it runs;
 ``outbox`` the publishers and the wait for readers (``Outbox``); ``pacing`` the pace a recorder
 sets; ``view`` ~/markers and /diagnostics; ``plate_command`` the translation of ~/plate_command
 (``read_plate_command``).
@@ -47,15 +55,16 @@ from contact_sim.validation import InputError
 from .clock import CHECK_PERIOD, clock_to_yield_to
 from .loop import TickLoop
 from .outbox import Outbox
-from .params import DEFAULTS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, build_model, \
-    check_running, descriptor, make_simulation, refusal, table_motion
+from .params import DEFAULTS, LOOP_PARAMETERS, NODE_NAME, PARAMETER_NAMES, PARAMETERS, \
+    awaiting_stiffness, build, check_running, descriptor, loop_settings, make_simulation, \
+    refusal, table_motion
 from .plate_command import COMMAND_FIELDS, read_plate_command
 from .query import MAX_NAMES, answer_queries
+from .rclpy_private import parameter_overrides
 from .parameter_services import ParameterServices
 from .refusals import REFUSAL_PERIOD, RefusalLog, guarded, shorten
 from .startup import ArgumentError, node_arguments, print_usage, publication_mode, \
     spin_until_signal
-from .view import View
 
 
 class StartupError(Exception):
@@ -66,7 +75,7 @@ class StartupError(Exception):
     """
 
 
-class ContactSimNode(TickLoop, Node):
+class ContactSimNode(Node):
     """Simulates a sphere dropped on a plate and publishes its contact wrench, state and impacts.
 
     The node ``contact_sim`` declares the parameters of ``params.PARAMETERS`` (materials,
@@ -122,21 +131,24 @@ class ContactSimNode(TickLoop, Node):
         try:
             for spec in PARAMETERS:
                 self.declare_parameter(spec.name, spec.default, descriptor(spec))
-            self._model = build_model(self._values())
+            values = self._values()
+            self._settings = loop_settings(values)   # publish_rate, real_time_factor
+            self._model, self._sim = build(values)   # one model; its drop runs from now
         except (ParameterException, ValueError) as error:
             self.destroy_node()   # the node rcl made: nothing of it is left for the exit
             raise StartupError(str(error)) from None
         self._warn_unknown_overrides()
-        self._sim = make_simulation(self._model)
+        self._fresh = None        # the drop a change's validation built, for the next ~/reset
+        self._pending = None      # the change validated last: (values, model, drop, settings)
         self._offset = 0.0        # s: stamp = offset + simulator time; grows at each ~/reset
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)  # pacing ignores use_sim_time
         # frame_id and publish_clock are read-only
         self._out = Outbox(self, self._model.frame_id, self._model.publish_clock)
-        self._view = View(self)   # ~/markers and /diagnostics
         # one log a kind of refusal, each at most once a second, the rest counted
         self._refusals = {kind: RefusalLog(self.get_logger(), what) for kind, what in (
             ('field', '~/plate_command'), ('command', '~/plate_command'),
             ('drop', '~/plate_command'), ('query', '~/query_restitution'),
+            ('answers', '~/query_restitution'),
             ('parameters', 'parameter requests'), ('reset', '~/reset'))}
         ParameterServices(self, self._refusals['parameters'])
         # every callback a client reaches is guarded: what it raises is refused, never the node
@@ -156,8 +168,20 @@ class ContactSimNode(TickLoop, Node):
         if self._out.publishes_clock:
             self._clock_check = self.create_timer(CHECK_PERIOD, self._check_clock,
                                                   clock=self._steady)
-        self._init_loop()
+        self._loop = TickLoop(self, self._out, self._steady)   # with ~/markers, /diagnostics
+        self._loop.start(self._sim, self._settings, self._model, self._offset)
         self.get_logger().info(self._model.summary())
+
+    def drain(self):
+        """At a stop: tick no more and wait for what was published (``loop.TickLoop.drain``,
+        ``startup.spin_until_signal``'s ``drain``).
+
+        Returns
+        -------
+        callable
+            A predicate that holds once everything published is out and a recorder has it.
+        """
+        return self._loop.drain()
 
     def _check_clock(self):
         """Yield /clock to another publisher of it (``clock.clock_to_yield_to``), once."""
@@ -181,57 +205,82 @@ class ContactSimNode(TickLoop, Node):
         return values
 
     def _warn_unknown_overrides(self):
-        unknown = sorted(name for name in getattr(self, '_parameter_overrides', {})
+        unknown = sorted(name for name in parameter_overrides(self)
                          if not self.has_parameter(name))
         if unknown:
             self.get_logger().warning(f'ignoring unknown parameters: {", ".join(unknown)} '
                                       f'(known: {", ".join(PARAMETER_NAMES)})')
 
     def _on_set_parameters(self, parameters):
-        """Validate a parameter change as a whole; nothing changes unless all of it is valid."""
+        """Validate a parameter change as a whole, once; nothing changes unless all of it is
+        valid. What the validation built (the model and its fresh drop, the loop's settings) is
+        kept for ``_on_parameters_set`` to apply; a change of the loop's settings alone
+        (``real_time_factor``) builds no model."""
+        self._pending = None
         ours = [p for p in parameters if p.name in DEFAULTS]
         if not ours:
             return SetParametersResult(successful=True)
         try:
             values = self._values(ours)
-            model = build_model(values)
-            # a new contact acts from the next contact phase of the running drop; one the running
-            # drop refuses waits for the next ~/reset (set one by one, as `ros2 param load` does,
-            # a dump's stiffness comes before the drop it suits), unless a changed table needs it
-            try:
-                check_running(self._sim, model, values, self._model)
-            except ValueError:
-                check_running(self._sim, replace(model, contact=self._sim.contact), values,
-                              self._model)
+            settings = loop_settings(values)
+            model = drop = note = None
+            if any(p.name not in LOOP_PARAMETERS for p in ours):
+                checked, note = awaiting_stiffness(values, self._model)
+                model, drop = build(checked)
+                # a new contact acts from the next contact phase of the running drop; one the
+                # running drop refuses waits for the next ~/reset (set one by one, as `ros2
+                # param load` does, a dump's stiffness comes before the drop it suits), unless
+                # a changed table needs it
+                try:
+                    check_running(self._sim, model, values, self._model)
+                except ValueError:
+                    check_running(self._sim, replace(model, contact=self._sim.contact), values,
+                                  self._model)
         except Exception as error:  # any failure rejects the change, never the node
             names = ', '.join(p.name for p in ours)
             return SetParametersResult(successful=False, reason=f'rejected {names}: {error}')
-        return SetParametersResult(successful=True)
+        self._pending = (values, model, drop, settings, note)
+        return SetParametersResult(successful=True, reason=note or '')
 
     def _on_parameters_set(self, parameters):
-        """Apply an accepted change: the contact at once (engine: from the next contact)."""
+        """Apply an accepted change with what its validation built: the contact at once
+        (engine: from the next contact phase), the drop at the next ~/reset, the loop's
+        settings at once."""
         if not any(p.name in DEFAULTS for p in parameters):
             return
-        old = self._model
-        try:
-            new = build_model(self._values())
-        except Exception as error:  # validated already: should not happen; keep running
-            self.get_logger().error(f'could not apply the accepted parameters: {error}')
-            return
-        self._model = new
-        log = self.get_logger()
+        values, pending, self._pending = self._values(), self._pending, None
+        if pending is not None and pending[0] == values:
+            _, model, drop, settings, note = pending
+        else:   # not the change validated last (should not happen): validate it again
+            try:
+                checked, note = awaiting_stiffness(values, self._model)
+                settings, (model, drop) = loop_settings(values), build(checked)
+            except Exception as error:  # noqa: BLE001 - keep running
+                self.get_logger().error(f'could not apply the accepted parameters: {error}')
+                return
+        if note is not None:
+            self.get_logger().warning(note)
+        if model is not None:
+            self._apply_model(model, drop)
+        if settings != self._settings:
+            self._settings = settings
+            self._loop.start(self._sim, settings, self._model, self._offset)
+            self.get_logger().info(f'real_time_factor = {settings.real_time_factor:g}'
+                                   + (' (as fast as possible)' if settings.fast else ''))
+
+    def _apply_model(self, new, drop):
+        """The physics changed: the new model from now (the table and the contact at once, the
+        rest from the next ~/reset, which runs ``drop``)."""
+        old, self._model, self._fresh = self._model, new, drop
+        self._loop.model = new
         if new.table != old.table:
             self._set_table(old.table, new.table)
         if new.contact != old.contact:
             self._set_contact(new)
         if (new.mass, new.gravity, new.height, new.velocity, new.drag) != \
                 (old.mass, old.gravity, old.height, old.velocity, old.drag):
-            log.info(f'mass, gravity, drag or initial conditions changed, from the next ~/reset: '
-                     f'{new.summary()}')
-        if new.real_time_factor != old.real_time_factor:
-            self._start_loop()
-            log.info(f'real_time_factor = {new.real_time_factor:g}'
-                     + (' (as fast as possible)' if new.fast else ''))
+            self.get_logger().info(f'mass, gravity, drag or initial conditions changed, from '
+                                   f'the next ~/reset: {new.summary()}')
 
     def _set_contact(self, model):
         """The contact changed: from the next contact phase, or, if the running drop refuses it
@@ -324,31 +373,37 @@ class ContactSimNode(TickLoop, Node):
             response.values = []
             return response
         answers = answer_queries(list(request.names), model.contact, model.mass)
-        values = []
+        values, unanswered = [], []
         for name, (value, reason) in zip(request.names, answers):
             if value is None:
-                self._refusals['query'].refused(
-                    f'~/query_restitution: cannot answer {shorten(repr(name))}: {shorten(reason)}')
+                unanswered.append(f'{shorten(repr(name), 40)}: {shorten(reason, 80)}')
                 values.append(ParameterValue(type=ParameterType.PARAMETER_NOT_SET))
             else:
                 values.append(ParameterValue(type=ParameterType.PARAMETER_DOUBLE,
                                              double_value=value))
+        if unanswered:   # one warning a request (at most one a second), naming 10 at most
+            more = f'; and {len(unanswered) - 10} more' if len(unanswered) > 10 else ''
+            self._refusals['answers'].refused(
+                f'~/query_restitution: cannot answer {len(unanswered)} of {len(values)} names: '
+                + '; '.join(unanswered[:10]) + more)
         response.values = values
         return response
 
     def _on_reset(self, request, response):
         model = self._model
-        try:
-            sim = make_simulation(model)
-        except Exception as error:
-            response.success = False
-            response.message = f'reset failed: {error}'
-            return response
-        self._offset += self._reached_on_grid()
-        self._view.reset(self._sim)
+        sim, self._fresh = self._fresh, None   # the drop the last change built, if unused
+        if sim is None:
+            try:
+                sim = make_simulation(model)
+            except Exception as error:  # noqa: BLE001 - validated already: keep running
+                response.success = False
+                response.message = f'reset failed: {error}'
+                return response
+        self._offset += self._loop.reached_on_grid()
+        self._loop.view.reset(self._sim)
         self._sim = sim
         self._commanded = False     # the new drop's plate: the table's, or fixed
-        self._start_loop()
+        self._loop.start(sim, self._settings, model, self._offset)
         response.success = True
         response.message = f'drop restarted at t = {self._offset:.9f} s: {model.summary()}'
         self.get_logger().info(response.message)

@@ -38,6 +38,18 @@ RADIUS_MAX = 10.0             # m, the sphere
 PLATE_RADIUS_MAX = 1e6        # m, the struck sphere (0 = flat)
 STIFFNESS_MAX = 1e20          # N/m^n
 REAL_TIME_FACTOR_MAX = 1000.0  # above it, 0 or .inf: as fast as possible
+# The node's floors: the smallest magnitude other than 0 it takes (issue 34: 5e-324 stopped the
+# simulated clock, or was refused in the engine's words, "speed ... Z and T", "math domain
+# error"). Below them a tick, an impact speed or a table's period is no longer a number the
+# engine or the stamps (int32 seconds, ns) can hold; 0 keeps its own meaning (flat out, no
+# gravity, at rest on the plate, Hertz, the fixed plate).
+REAL_TIME_FACTOR_MIN = 1e-4   # a tick of 10 ns at 10 kHz: stamps (ns) still apart
+GRAVITY_MIN = 1e-6            # m/s^2
+HEIGHT_MIN = 1e-9             # m, with VELOCITY_MIN: an impact speed of at least ~1e-8 m/s
+VELOCITY_MIN = 1e-9           # m/s
+STIFFNESS_MIN = 1e-300        # N/m^n: below it the depth check itself underflows
+RADIUS_MIN = 1e-12            # m, either sphere
+FREQUENCY_MIN = 1e-6          # Hz: a period of 11.6 days (the bridge lasts one period)
 
 
 @dataclass(frozen=True)
@@ -83,7 +95,7 @@ PARAMETERS = (
     Spec('sphere_radius', 0.0127,
          f'Sphere radius R1 [m]; the Hertz stiffness {_CONTACT_NOTE}, a density-derived mass at '
          'the next ~/reset', (0.0, RADIUS_MAX),
-         constraints=f'0 < sphere_radius <= {RADIUS_MAX:g}'),
+         constraints=f'{RADIUS_MIN:g} <= sphere_radius <= {RADIUS_MAX:g}'),
     Spec('sphere_mass', 0.0,
          f'Sphere mass [kg]; 0 = from sphere density and radius, (4/3) pi R1^3 rho; {_RESET_NOTE}',
          (0.0, INF), constraints='0 <= sphere_mass < inf'),
@@ -94,11 +106,13 @@ PARAMETERS = (
     Spec('plate_radius', 0.0,
          f'Radius R2 of the body struck [m]: 0 = flat plate (R2 = inf), > 0 = a fixed second '
          f'sphere (1/R = 1/R1 + 1/R2, eq. 10); {_CONTACT_NOTE}', (0.0, PLATE_RADIUS_MAX),
-         constraints=f'0 < plate_radius <= {PLATE_RADIUS_MAX:g}'),
+         constraints=f'plate_radius = 0 (flat), or {RADIUS_MIN:g} <= plate_radius <= '
+                     f'{PLATE_RADIUS_MAX:g}'),
     Spec('stiffness', 0.0,
          f'Stiffness override k [N/m^n]; 0 = Hertz, k = (4/3) E* sqrt(R) (eqs. 5, 6); '
          f'{_CONTACT_NOTE}', (0.0, STIFFNESS_MAX),
-         constraints=f'0 <= stiffness <= {STIFFNESS_MAX:g}'),
+         constraints=f'stiffness = 0 (Hertz), or {STIFFNESS_MIN:g} <= stiffness <= '
+                     f'{STIFFNESS_MAX:g}'),
     Spec('damping', 0.0,
          f'Damping override lambda [N s^q/m^(p+q)]; 0 = lambda* sqrt(R) (eq. 9); '
          f'{_CONTACT_NOTE}', (0.0, INF), constraints='0 <= damping < inf'),
@@ -106,14 +120,17 @@ PARAMETERS = (
          f'Damping factor lambda* [N s/m^(p+q+1/2)], N s/m^2 for azad_featherstone; used when '
          f'damping is 0; {_CONTACT_NOTE}', (0.0, INF), constraints='0 <= damping_factor < inf'),
     Spec('gravity', 9.81, f'Gravitational acceleration g, pulling the sphere down [m/s^2]; '
-         f'{_RESET_NOTE}', (0.0, GRAVITY_MAX), constraints=f'0 <= gravity <= {GRAVITY_MAX:g}'),
+         f'{_RESET_NOTE}', (0.0, GRAVITY_MAX), constraints=f'gravity = 0, or {GRAVITY_MIN:g} <= gravity <= '
+                                           f'{GRAVITY_MAX:g}'),
     Spec('initial_height', 1.0,
          f'Initial height of the sphere\'s lowest point above the plate [m]; {_RESET_NOTE}',
-         (0.0, HEIGHT_MAX), constraints=f'0 <= initial_height <= {HEIGHT_MAX:g}'),
+         (0.0, HEIGHT_MAX), constraints=f'initial_height = 0, or {HEIGHT_MIN:g} <= '
+                                        f'initial_height <= {HEIGHT_MAX:g}'),
     Spec('initial_velocity', 0.0,
          f'Initial downward velocity [m/s] (> 0 = towards the plate); {_RESET_NOTE}',
          (-VELOCITY_MAX, VELOCITY_MAX),
-         constraints=f'-{VELOCITY_MAX:g} <= initial_velocity <= {VELOCITY_MAX:g}'),
+         constraints=f'initial_velocity = 0, or {VELOCITY_MIN:g} <= |initial_velocity| <= '
+                     f'{VELOCITY_MAX:g}'),
     Spec('air_density', AIR_DENSITY,
          f'Air density rho_air [kg/m^3] for the drag in flight (used when drag_coefficient > 0); '
          f'{_RESET_NOTE}', (0.0, 100.0), constraints='0 <= air_density <= 100'),
@@ -132,7 +149,8 @@ PARAMETERS = (
     Spec('plate_frequency', 0.0, 'Frequency f of the vibrating table [Hz]; 0 = the fixed '
          'plate (as plate_amplitude 0); takes effect at once',
          (0.0, TABLE_FREQUENCY_MAX),
-         constraints=f'0 <= plate_frequency <= {TABLE_FREQUENCY_MAX:g}'),
+         constraints=f'plate_frequency = 0, or {FREQUENCY_MIN:g} <= plate_frequency <= '
+                     f'{TABLE_FREQUENCY_MAX:g}'),
     Spec('plate_phase', 0.0, 'Phase phi of the vibrating table [rad]; takes effect at once',
          (-TABLE_PHASE_MAX, TABLE_PHASE_MAX),
          constraints='-2 pi <= plate_phase <= 2 pi'),
@@ -143,7 +161,9 @@ PARAMETERS = (
     Spec('real_time_factor', 1.0,
          'Simulated seconds per wall-clock second [-]; 0 (or .inf) = as fast as possible (each '
          'tick advances 1/publish_rate simulated seconds); takes effect at once',
-         (0.0, INF), constraints=f'0 <= real_time_factor <= {REAL_TIME_FACTOR_MAX:g}, or .inf'),
+         (0.0, INF), constraints=f'real_time_factor = 0 or .inf (as fast as possible), or '
+                                 f'{REAL_TIME_FACTOR_MIN:g} <= real_time_factor <= '
+                                 f'{REAL_TIME_FACTOR_MAX:g}'),
     Spec('frame_id', 'plate', 'frame_id of every stamped message: the plate frame, z up, the '
          'plate surface at z = 0', read_only=True, constraints='non-empty'),
     Spec('publish_clock', True, 'Publish the simulated time on /clock (rosgraph_msgs/Clock)',
@@ -154,6 +174,21 @@ PARAMETER_NAMES = tuple(spec.name for spec in PARAMETERS)
 # start-up rclpy checks only the declared default)
 _CAPS = (MODULUS_MAX, DENSITY_MAX, RADIUS_MAX, PLATE_RADIUS_MAX, STIFFNESS_MAX)
 _CAPPED = tuple(spec for spec in PARAMETERS if spec.range is not None and spec.range[1] in _CAPS)
+
+
+_FLOORS = {'gravity': GRAVITY_MIN, 'initial_height': HEIGHT_MIN, 'initial_velocity': VELOCITY_MIN,
+           'stiffness': STIFFNESS_MIN, 'sphere_radius': RADIUS_MIN, 'plate_radius': RADIUS_MIN,
+           'plate_frequency': FREQUENCY_MIN}
+_FLOORED = tuple(spec for spec in PARAMETERS if spec.name in _FLOORS)
+
+
+def _require_floor(spec, value):
+    """Refuse a number other than 0 below the node's floor of ``spec`` (``_FLOORS``), naming
+    the parameter's whole range (the core checks the rest)."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool) \
+            and 0.0 < abs(value) < _FLOORS[spec.name]:
+        raise InputError(spec.name, value, '{n[%s]} = {value} is out of range: allowed %s'
+                         % (spec.name, spec.constraints), value=repr(value))
 
 
 def _require_cap(spec, value):
@@ -191,8 +226,6 @@ class Model:
     gravity: float        # m/s^2
     height: float         # m, initial height of the lowest point
     velocity: float       # m/s, initial downward velocity
-    real_time_factor: float
-    publish_rate: float   # Hz
     frame_id: str
     publish_clock: bool
     sphere: cs.Material
@@ -200,11 +233,6 @@ class Model:
     plate_radius: float   # m, inf = flat
     drag: cs.AirDrag = None   # None = vacuum
     table: object = None      # the vibrating table (plate.SinusoidalPlate), None = fixed plate
-
-    @property
-    def fast(self):
-        """True when the simulation runs as fast as possible (real_time_factor 0 or inf)."""
-        return self.real_time_factor == 0.0 or math.isinf(self.real_time_factor)
 
     def summary(self):
         plate = 'flat plate' if math.isinf(self.plate_radius) \
@@ -220,6 +248,40 @@ class Model:
                 f'k = {self.contact.stiffness:.4g} N/m^{self.contact.law.n:g}, '
                 f'lambda = {self.contact.damping:.4g}; drop from {self.height:g} m at '
                 f'{self.velocity:g} m/s, g = {self.gravity:g} m/s^2{drag}')
+
+
+@dataclass(frozen=True)
+class LoopSettings:
+    """How the node's loop runs, apart from the physics: ``publish_rate`` (Hz) and
+    ``real_time_factor`` (0 or inf: as fast as possible), validated by ``loop_settings``."""
+
+    publish_rate: float
+    real_time_factor: float
+
+    @property
+    def fast(self):
+        """True when the simulation runs as fast as possible (real_time_factor 0 or inf)."""
+        return self.real_time_factor == 0.0 or math.isinf(self.real_time_factor)
+
+    @property
+    def dt(self):
+        """s of simulated time a tick: real_time_factor / publish_rate (1 / publish_rate when
+        running as fast as possible)."""
+        return (1.0 if self.fast else self.real_time_factor) / self.publish_rate
+
+
+LOOP_PARAMETERS = ('publish_rate', 'real_time_factor')
+
+
+def loop_settings(values):
+    """The ``LoopSettings`` of parameter values (a dict name -> value); a refusal is a
+    ValueError naming the parameter and its range, as ``build_model``'s."""
+    try:
+        return LoopSettings(
+            publish_rate=require_range('publish_rate', values['publish_rate'], 0.1, 10000.0),
+            real_time_factor=real_time_factor(values['real_time_factor']))
+    except InputError as error:
+        raise ValueError(refusal(error, values)) from None
 
 
 # The core's field keys (cs.InputError.field) as this node's parameters spell them; keys that are
@@ -284,6 +346,8 @@ def _build_model(values):
     the core's field names on a refusal)."""
     for spec in _CAPPED:
         _require_cap(spec, values[spec.name])
+    for spec in _FLOORED:
+        _require_floor(spec, values[spec.name])
     radius = require_positive('radius', values['sphere_radius'])
     plate_radius = flat_or_radius(values['plate_radius'])
     sphere = _material(values, 'sphere')
@@ -300,26 +364,26 @@ def _build_model(values):
     model = Model(
         contact=contact, mass=cs.build_mass(values['sphere_mass'] or None, sphere, radius),
         radius=radius, gravity=values['gravity'], height=values['initial_height'],
-        velocity=values['initial_velocity'],
-        real_time_factor=real_time_factor(values['real_time_factor']),
-        publish_rate=require_range('publish_rate', values['publish_rate'], 0.1, 10000.0),
-        frame_id=frame_id, publish_clock=bool(values['publish_clock']),
+        velocity=values['initial_velocity'], frame_id=frame_id, publish_clock=bool(values['publish_clock']),
         sphere=sphere, plate=plate, plate_radius=plate_radius, drag=_drag(values, radius),
         table=vibrating_table(values['plate_amplitude'], values['plate_frequency'],
                               values['plate_phase']))
-    make_simulation(model)  # the engine's checks: ranges of the drop, and the depth check
-    return model
+    # the engine's checks (ranges of the drop, the depth check) build the drop: it is kept, to
+    # run from the next ~/reset (or at once, at the start)
+    return model, make_simulation(model)
 
 
 def real_time_factor(value):
-    """``real_time_factor``: 0 <= value <= REAL_TIME_FACTOR_MAX, or inf (as fast as possible)."""
-    if isinstance(value, float) and value == INF:
+    """``real_time_factor``: 0 or inf (as fast as possible), or REAL_TIME_FACTOR_MIN <= value
+    <= REAL_TIME_FACTOR_MAX."""
+    if isinstance(value, float) and value in (0.0, INF):
         return value
     if isinstance(value, (int, float)) and not isinstance(value, bool) \
-            and REAL_TIME_FACTOR_MAX < value < INF:
+            and (REAL_TIME_FACTOR_MAX < value < INF or 0.0 < value < REAL_TIME_FACTOR_MIN):
         raise InputError('real_time_factor', value, '{n[real_time_factor]} = {value} is out of '
-                         f'range: allowed 0 <= real_time_factor <= {REAL_TIME_FACTOR_MAX:g} '
-                         '(0 or .inf: as fast as possible)', value=repr(value))
+                         f'range: allowed {REAL_TIME_FACTOR_MIN:g} <= real_time_factor <= '
+                         f'{REAL_TIME_FACTOR_MAX:g}, or 0 or .inf (as fast as possible)',
+                         value=repr(value))
     return require_range('real_time_factor', value, 0.0, REAL_TIME_FACTOR_MAX)
 
 
@@ -331,8 +395,16 @@ def flat_or_radius(value):
 
 
 def build_model(values):
-    """``_build_model``; a refusal is a ValueError naming the parameter, its value and the
-    allowed range (the core's message, see ``refusal``)."""
+    """The validated ``Model`` of parameter values (``build``'s, without its drop)."""
+    return build(values)[0]
+
+
+def build(values):
+    """Validate parameter values (a dict name -> value) once and build what they make: the
+    ``Model`` and a fresh drop from it (``make_simulation``: the engine's own checks), which the
+    node keeps to run from its next ~/reset (at the start, at once). A refusal is a ValueError
+    naming the parameter, its value and the allowed range (the core's message, see
+    ``refusal``). The loop's settings (``LOOP_PARAMETERS``) are ``loop_settings``'."""
     try:
         return _build_model(values)
     except InputError as error:
@@ -347,6 +419,27 @@ def build_model(values):
         name = max(DEFAULTS, key=departure)
         raise ValueError(f'{name} = {values[name]!r} overflows the model ({error}): allowed '
                          f'physically sensible magnitudes') from None
+
+
+def awaiting_stiffness(values, running):
+    """A law without a Hertz stiffness (``linear``, n = 1) set while ``stiffness`` is 0: the
+    values to validate (the law of ``running``, the ``Model`` running, in its place) and the
+    note saying so; else ``(values, None)``.
+
+    ``ros2 param load`` sets a dump's parameters one at a time in alphabetical order, so a
+    linear contact's ``contact_law`` comes before its ``stiffness``: taken alone it is refused
+    ("stiffness is missing"), and the load went on with the wrong law. The law is accepted
+    and waits for its stiffness; every other parameter is checked meanwhile with the law
+    running.
+    """
+    law = cs.LAWS.get(values['contact_law']) if isinstance(values['contact_law'], str) else None
+    if law is None or law.hertz or values['stiffness'] != 0.0 \
+            or law == running.contact.law:
+        return values, None
+    note = (f'contact_law = {law.name!r} waits for its stiffness (n = {law.n:g} has no Hertz '
+            f'stiffness; stiffness = 0): the contact stays {running.contact.law.name} until '
+            'stiffness is set')
+    return {**values, 'contact_law': running.contact.law.name}, note
 
 
 def check_running(sim, model, values, previous):

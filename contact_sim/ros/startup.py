@@ -50,8 +50,9 @@ def node_arguments(argv):
         For an argument outside ``--ros-args ... [--]`` (the node takes none), or a
         ``--params-file`` that does not hold ROS parameters (see ``check_params_file``).
     """
-    from rclpy._rclpy_pybind11 import RCLError
     from rclpy.utilities import remove_ros_args
+
+    from .rclpy_private import RCLError
     if any(arg in ('-h', '--help') for arg in _before_ros_args(argv)):
         return 'help'
     for path in params_files(argv):

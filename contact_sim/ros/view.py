@@ -14,13 +14,13 @@ import math
 import time
 
 import rclpy
-from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 
 from contact_sim.drop import sphere_motion
 
 from .diagnostics import PERIOD, Progress, diagnostics_msg, mode_of, rates
 from .markers import markers_msg
 from .messages import VIEW_TOPICS, to_ns
+from .rclpy_private import RCLError
 
 
 class View:
@@ -28,36 +28,43 @@ class View:
 
     Parameters
     ----------
-    node : ContactSimNode
-        Its ``_model``, ``_sim``, ``_offset`` and the loop's counters are read.
+    node : rclpy.node.Node
+        Creates the publishers and the diagnostics timer; its name is the status's.
+    clock : rclpy.clock.Clock
+        The steady clock of the diagnostics timer.
+    loop : loop.TickLoop
+        What the diagnostics report, read through its public attributes: ``sim`` (the running
+        ``DropSimulation``), ``offset`` (s), ``settings`` (``params.LoopSettings``), ``lag()``
+        and ``paced()``.
     """
 
-    def __init__(self, node):
-        self._node = node
+    def __init__(self, node, clock, loop):
+        self._node, self._loop = node, loop
         self._pub = {topic.key: node.create_publisher(topic.msg_type, topic.name, topic.qos)
                      for topic in VIEW_TOPICS}
         self._last_wall = -math.inf
         self.ticks = 0        # ticks published since the start
         self.steps = 0        # integrator steps of the drops before the running one
-        self._before = self._progress()
-        node.create_timer(PERIOD, self.publish_diagnostics, clock=node._steady)
+        self._before = None   # the progress at the last diagnostics (None: before the start)
+        node.create_timer(PERIOD, self.publish_diagnostics, clock=clock)
 
     def _publish(self, key, msg):
         try:
             self._pub[key].publish(msg)
-        except _rclpy.RCLError:
+        except RCLError:
             if not rclpy.ok(context=self._node.context):
                 raise
 
-    def publish_batch(self, batch, offset):
-        """The markers of an engine call's ticks (``DropSimulation.advance_ticks``)."""
+    def publish_batch(self, batch, offset, model, settings):
+        """The markers of an engine call's ticks (``DropSimulation.advance_ticks``), stamped
+        ``offset`` + the drop's time, drawn from ``model`` (``params.Model``: frame_id, the
+        radii, the weight) at the pace of ``settings`` (``params.LoopSettings``)."""
         n = batch.ticks
         if not n:
             return
-        model = self._node._model
-        if model.fast:
+        if settings.fast:
             now = time.monotonic()
-            if now - self._last_wall < 1.0 / model.publish_rate:
+            if now - self._last_wall < 1.0 / settings.publish_rate:
                 return
             self._last_wall = now
             ticks = [n - 1]
@@ -76,32 +83,30 @@ class View:
             self._publish('markers', markers_msg(to_ns(offset + t), model.frame_id, model.radius,
                                                  height, p, model.plate_radius, force, weight))
 
+    def begin(self):
+        """The loop has started: the diagnostics count from now (called once, by the loop)."""
+        if self._before is None:
+            self._before = self._progress()
+
     def reset(self, old_sim):
         """A new drop (~/reset): its integrator steps count on from the old one's."""
         self.steps += old_sim.total_steps
 
     def _progress(self):
-        node = self._node
-        return Progress(time.monotonic(), node._offset + node._sim.time,
-                        self.steps + node._sim.total_steps, self.ticks)
-
-    def lag(self):
-        """s of simulated time a real-time run is behind its schedule (0 as fast as possible)."""
-        node = self._node
-        model = node._model
-        if model.fast:
-            return 0.0
-        due = (time.monotonic() - node._anchor_wall) * model.real_time_factor
-        return max(0.0, due - (node._sim.time - node._anchor_sim))
+        loop = self._loop
+        return Progress(time.monotonic(), loop.offset + loop.sim.time,
+                        self.steps + loop.sim.total_steps, self.ticks)
 
     def publish_diagnostics(self):
         """/diagnostics over the wall time since the last one."""
-        node = self._node
+        loop = self._loop
+        if self._before is None:
+            return    # the loop has not started
         after = self._progress()
         achieved, steps, ticks = rates(self._before, after)
         self._before = after
-        model = node._model
-        target = math.inf if model.fast else model.real_time_factor
+        settings = loop.settings
+        target = math.inf if settings.fast else settings.real_time_factor
         self._publish('diagnostics', diagnostics_msg(
-            to_ns(after.simulated), node.get_fully_qualified_name(), target, achieved,
-            self.lag(), steps, ticks, mode_of(node._sim), node._pace.recorders() > 0))
+            to_ns(after.simulated), self._node.get_fully_qualified_name(), target, achieved,
+            loop.lag(), steps, ticks, mode_of(loop.sim), loop.paced()))

@@ -128,7 +128,7 @@ def test_sigint_while_the_node_reads_its_parameter_file_stops_it_quietly(ros_env
 
 def test_numbers_past_the_bounds_stop_the_start_with_the_field_and_the_range(ros_env, workdir):
     cases = {'real_time_factor:=1000000000.0': 'real_time_factor = 1000000000.0 is out of range: '
-                                               'allowed 0 <= real_time_factor <= 1000',
+                                               'allowed 0.0001 <= real_time_factor <= 1000',
              'real_time_factor:=1.0e+300': 'real_time_factor = 1e+300 is out of range',
              'stiffness:=1.0e+308': 'stiffness out of range Min: 0.0, Max: 1e+20',
              'sphere_youngs_modulus:=1.0e+308': 'sphere_youngs_modulus out of range'}
@@ -181,8 +181,8 @@ def test_a_signal_stops_a_flat_out_node_cleanly(client, ros_env, workdir, signum
 
 
 def test_numbers_past_the_bounds_are_refused_at_run_time_for_their_true_reason(sim, client):
-    cases = [(dict(real_time_factor=1e9), 'allowed 0 <= real_time_factor <= 1000'),
-             (dict(real_time_factor=1e308), 'allowed 0 <= real_time_factor <= 1000'),
+    cases = [(dict(real_time_factor=1e9), 'allowed 0.0001 <= real_time_factor <= 1000'),
+             (dict(real_time_factor=1e308), 'allowed 0.0001 <= real_time_factor <= 1000'),
              (dict(stiffness=1e308), 'stiffness out of range Min: 0.0, Max: 1e+20'),
              (dict(damping=1e308), 'damping = 1e+308 is too large for this drop')]
     for values, reason in cases:

@@ -52,9 +52,12 @@ class Pace:
 
 class Loop(loop.TickLoop):
     def __init__(self, recorder=True):
-        self._model = SimpleNamespace(fast=True, publish_rate=1 / DT, radius=0.01)
-        self._sim, self._out, self._offset = Sim(), Outbox(), 0.0
-        self._view = SimpleNamespace(publish_batch=lambda batch, offset: None, ticks=0)
+        # what TickLoop.start is given: the settings, the model, the drop, the offset
+        self.settings = SimpleNamespace(fast=True, publish_rate=1 / DT, real_time_factor=0.0)
+        self.model = SimpleNamespace(radius=0.01)
+        self.sim, self._out, self.offset = Sim(), Outbox(), 0.0
+        self._view = SimpleNamespace(publish_batch=lambda batch, offset, model, settings: None,
+                                     ticks=0)
         self._pace = Pace(self._out, recorder)
         self._anchor_wall, self._anchor_sim, self._tick, self._dt = 0.0, 0.0, 0, DT
         self._stopping, self._paused = False, False
@@ -70,16 +73,16 @@ def test_a_paced_turn_is_one_engine_call_of_half_the_lead_in_ticks(frozen, monke
         monkeypatch.setattr(loop.time, 'monotonic', lambda: 1000.0)
     node = Loop()
     node._turn()
-    assert node._sim.calls == [pacing.CALL_MESSAGES // loop.TICK_MESSAGES]
+    assert node.sim.calls == [pacing.CALL_MESSAGES // loop.TICK_MESSAGES]
     assert node._out.sent <= pacing.CALL_MESSAGES < pacing.LEAD_MESSAGES
     node._turn()                      # no acknowledgement yet: the rest of the lead
     assert node._out.sent <= pacing.LEAD_MESSAGES and not node._paused
     node._turn()                      # the lead is used up: the node waits
-    assert node._paused and len(node._sim.calls) == 2
+    assert node._paused and len(node.sim.calls) == 2
     node._pace.acked = node._out.sent  # everything acknowledged: room again
     node._paused = False
     node._turn()
-    assert len(node._sim.calls) == 3
+    assert len(node.sim.calls) == 3
 
 
 def test_an_unpaced_turn_runs_many_ticks():

@@ -185,3 +185,37 @@ def test_a_contact_and_a_table_changed_together_are_checked_together():
     bouncing.set_plate(plate.command_motion(bouncing.time, 0.0, 0.0, [bouncing.time + 1.0],
                                             [0.0], [0.0]).motion)
     assert bouncing.contact == stiff and bouncing.in_contact
+
+
+@pytest.mark.parametrize('name, tiny, extra', [
+    ('real_time_factor', 5e-324, {}), ('real_time_factor', 1e-5, {}),
+    ('plate_frequency', 5e-324, {'plate_amplitude': 0.001}), ('gravity', 5e-324, {}),
+    ('initial_height', 5e-324, {}), ('stiffness', 5e-324, {}),
+    ('initial_velocity', -5e-324, {'gravity': 0.0}), ('sphere_radius', 5e-324, {}),
+    ('plate_radius', 5e-324, {})])
+def test_values_in_the_declared_range_that_do_not_work_are_refused_naming_the_range(
+        name, tiny, extra):
+    # issue 34: real_time_factor 5e-324 stopped the simulated clock; plate_frequency 5e-324 was
+    # refused with "math domain error"; subnormal gravity, initial_height and stiffness with a
+    # message about speeds and Z and T; plate_radius 5e-324 was reported as sphere_radius
+    values = {**cs_params.DEFAULTS, **extra, name: tiny}
+    (spec,) = [s for s in cs_params.PARAMETERS if s.name == name]
+    lo, hi = spec.range
+    assert lo <= tiny <= hi or name == 'initial_velocity'   # rclpy's own check lets it through
+    with pytest.raises(ValueError) as refused:
+        cs_params.build(values)
+        cs_params.loop_settings(values)
+    text = str(refused.value)
+    assert text.startswith(f'{name} = {tiny!r} is out of range: allowed'), text
+    assert ('<= real_time_factor <= 1000' if name == 'real_time_factor'
+            else spec.constraints) in text, text
+    # 0 keeps its meaning, and the floor itself works (the softest stiffness without gravity:
+    # with it, the depth check refuses 1e-300 in its own words, naming stiffness)
+    floor = {'real_time_factor': cs_params.REAL_TIME_FACTOR_MIN, **cs_params._FLOORS}[name]
+    if name == 'stiffness':
+        values['gravity'] = 0.0
+    for works in (0.0, math.copysign(floor, tiny)):
+        if name == 'real_time_factor':
+            assert cs_params.loop_settings({**values, name: works}).real_time_factor == works
+        elif name != 'sphere_radius':   # (1 pm: a mass the core refuses, in its own words)
+            cs_params.build({**values, name: works})
