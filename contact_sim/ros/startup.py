@@ -92,7 +92,7 @@ def params_files(argv):
     return files
 
 
-MAX_PARAMS_FILE_BYTES = 262_144  # 256 KiB: a dump of this node is about 1.5 KB
+MAX_PARAMS_FILE_BYTES = 262_144  # 256 KiB: a dump of this node is about 0.8 KB
 MAX_PARAMS_FILE_DEPTH = 32       # nested mappings and lists: a node's section needs 3 to 5
 MAX_PARAMS_FILE_VALUES = 10_000  # scalars: rcl's parser slows down with their square
 # PyYAML's C loader when built with libyaml (it reads as yaml.safe_load does, faster)
