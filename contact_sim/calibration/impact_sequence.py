@@ -1,0 +1,190 @@
+"""Which detected clicks are the impacts of a bounce sequence, and why the others are not.
+
+A recording of bounces holds many more sharp, loud sounds than impacts: the echo of each impact
+from a nearby surface, the ringing of a hollow ball or of the plate (a new "click" every few ms
+for as long as it rings), the filter's and the microphone's response just before a loud crack,
+a hand or a voice before the drop.  The onset detector (``audio``) hears them all.  The impacts
+are found as the bounce sequence those clicks hold, by three rules argued from the physics of
+a bounce, none fitted to one ball, room or microphone:
+
+1. **an impact is the loudest sound for about a flight** (its *isolation*, the time to the
+   nearest louder click, is at least ``share`` = 1/2 of the flights beside it).  Its loudness
+   follows its impact speed, which changes by the restitution e from one bounce to the next,
+   while its echo, its ringing or a rattle follow it at a lag shorter than the flight and are
+   weaker: their isolation is at most that lag.  Loudness is the strength of the click's crack
+   (``audio``'s innovation energy).
+2. **flights shrink by the restitution**: each flight is between ``low`` (1/4) and ``high``
+   (1.1: timing jitter) times the one before it, or up to ``missed`` (2.1) times, e(1 + e), when
+   a bounce between was too quiet to be heard (a missed bounce costs ``penalty`` = 1.5 clicks:
+   a chain that leaves a click out is preferred to one that needs a missed bounce).
+3. **the sequence is the longest chain of clicks obeying 1 and 2** (dynamic programming over
+   the clicks' pairs; ties go to the louder clicks).  A click the chain leaves out is named: an
+   **echo or ringing** (its isolation, to a louder click just before it, is under ``share`` of
+   the flight there), a **precursor** (the same, to a louder click just after it), **before the
+   sequence** or **after the sequence** (outside the chain's span), or **off the sequence**
+   (loud enough, but it would break rule 2, as a spurious click between impacts does).
+
+Then a click far quieter (below ``quiet`` = 1/10 of the strength) than the impact after it at
+the start of the chain is **before the sequence** too (the first impacts are the fastest and
+loudest).  Each rejected click is returned with its kind and reason (``Rejected``).
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+SHARE = 0.5      # an impact is the loudest click within this share of the flights beside it
+LOW, HIGH, MISSED = 0.25, 1.1, 2.1     # a flight over the one before: shrinking, or one missed
+PENALTY = 1.5    # a missed bounce costs this many clicks
+QUIET = 0.1      # a first click below this share of the next one's strength: before the sequence
+KINDS = ('echo or ringing', 'precursor', 'before the sequence', 'after the sequence',
+         'off the sequence')
+
+
+@dataclass(frozen=True)
+class Rejected:
+    """A click that is not an impact: its onset ``time`` (s), ``kind`` (one of ``KINDS``) and
+    the ``reason`` in words."""
+
+    time: float
+    kind: str
+    reason: str
+
+
+def isolation(times, strength):
+    """Time (s) from each click to the nearest strictly louder one (inf if none), and the index
+    of that click (-1 if none)."""
+    n = times.size
+    iso, near = np.full(n, np.inf), np.full(n, -1)
+    for order in (range(n), range(n - 1, -1, -1)):      # previous, then next, louder click
+        stack = []
+        for i in order:
+            while stack and strength[stack[-1]] <= strength[i]:
+                stack.pop()
+            if stack and abs(times[i] - times[stack[-1]]) < iso[i]:
+                iso[i], near[i] = abs(times[i] - times[stack[-1]]), stack[-1]
+            stack.append(i)
+    return iso, near
+
+
+def _chain(times, strength, iso, share):
+    """The longest chain of clicks obeying rules 1 and 2 (module doc), as sorted indices."""
+    n = times.size
+    reach = np.minimum(iso / share, times[-1] - times[0] + 1.0)   # the longest flight beside
+    tie = 1e-3 * np.log(strength / strength.max() + 1e-300) / max(math.log(1e300), 1.0)
+    # pairs (i, j), i < j: best[(i, j)] = (score, h) of the best chain ending ..., h, i, j
+    incoming = [[] for _ in range(n)]      # per j: (t_j - t_i, score, i)
+    best = {}
+    for j in range(n):
+        lo = np.searchsorted(times, times[j] - reach[j], side='left')
+        for i in range(lo, j):
+            d = times[j] - times[i]
+            if d <= 0 or d > reach[i]:
+                continue
+            score, back = 2.0 + tie[i] + tie[j], -1
+            for d0, s0, h in incoming[i]:
+                r = d / d0
+                if r < LOW or r > MISSED or max(d0, d) > reach[i]:
+                    continue
+                s = s0 + 1.0 + tie[j] - (PENALTY if r > HIGH else 0.0)
+                if s > score:
+                    score, back = s, h
+            best[(i, j)] = (score, back)
+            incoming[j].append((d, score, i))
+    if not best:
+        return [int(np.argmax(strength))] if n else []
+    (i, j), _ = max(best.items(), key=lambda item: item[1][0])
+    chain = [j, i]
+    while True:
+        h = best[(i, j)][1]
+        if h < 0:
+            break
+        chain.append(h)
+        i, j = h, i
+    return sorted(chain)
+
+
+def _reason(k, times, iso, near, chain, share):
+    """Why click ``k`` is not in the chain (sorted indices): (kind, reason)."""
+    t = times[k]
+    c = np.asarray(chain)
+    if t < times[c[0]] or t > times[c[-1]]:
+        first = t < times[c[0]]
+        edge = times[c[0]] if first else times[c[-1]]
+        kind = 'before the sequence' if first else 'after the sequence'
+        if near[k] >= 0 and iso[k] < share * _flight(times, c, t):
+            return _echo(k, times, iso, near, share, _flight(times, c, t))
+        which = 'before the first' if first else 'after the last'
+        return kind, f'{abs(t - edge) * 1e3:.1f} ms {which} impact of the sequence ({edge:.4f} s)'
+    flight = _flight(times, c, t)
+    if iso[k] < share * flight:
+        return _echo(k, times, iso, near, share, flight)
+    return 'off the sequence', (f'the loudest click within {iso[k] * 1e3:.1f} ms, but taking it '
+                                f'would break the shrinking flights (about {flight * 1e3:.1f} ms '
+                                'here)')
+
+
+def _flight(times, chain, t):
+    """The chain's flight at time ``t``: the interval of the chain that holds ``t``, or the one
+    nearest."""
+    k = int(np.clip(np.searchsorted(times[chain], t), 1, len(chain) - 1))
+    return float(times[chain[k]] - times[chain[k - 1]])
+
+
+def _echo(k, times, iso, near, share, flight):
+    after = times[near[k]] < times[k]
+    kind = 'echo or ringing' if after else 'precursor'
+    return kind, (f'{iso[k] * 1e3:.1f} ms {"after" if after else "before"} a louder click '
+                  f'({times[near[k]]:.4f} s), less than {share:g} of the flight there '
+                  f'({flight * 1e3:.1f} ms)')
+
+
+def select_impacts(times, strength, share=SHARE, quiet=QUIET):
+    """The impacts among detected clicks (module doc).
+
+    Parameters
+    ----------
+    times : array_like
+        Onsets of the detected clicks in s, increasing.
+    strength : array_like
+        Their loudness, > 0 (any scale: the ratios matter), as many.
+    share : float
+        An impact is the loudest click within this share of the flights beside it, 0 < share.
+    quiet : float
+        A first click below this share of the next one's strength is before the sequence,
+        0 <= quiet < 1.
+
+    Returns
+    -------
+    (numpy.ndarray, list of Rejected)
+        The indices of the impacts (increasing) and the clicks rejected, in time order.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from contact_sim.calibration.impact_sequence import select_impacts
+    >>> t = np.array([0.5, 0.9, 0.907, 1.26, 1.584, 1.876])    # an echo 7 ms after an impact
+    >>> kept, rejected = select_impacts(t, np.array([1.0, 0.9, 0.6, 0.8, 0.7, 0.6]))
+    >>> t[kept].tolist(), [r.kind for r in rejected]
+    ([0.5, 0.9, 1.26, 1.584, 1.876], ['echo or ringing'])
+    """
+    times = np.asarray(times, dtype=float)
+    strength = np.maximum(np.asarray(strength, dtype=float), 1e-300)
+    if times.size < 3:
+        return np.arange(times.size), []
+    iso, near = isolation(times, strength)
+    chain = _chain(times, strength, iso, share)
+    while len(chain) > 2 and strength[chain[0]] < quiet * strength[chain[1]]:
+        chain = chain[1:]        # a quiet click before the loud first impacts
+    inside = set(chain)
+    rejected = [Rejected(float(times[k]), *_reason(k, times, iso, near, chain, share))
+                for k in range(times.size) if k not in inside]
+    return np.array(chain, dtype=int), rejected
+
+
+def summary(found, kept, rejected):
+    """One line: how many onsets were found, kept and rejected, and why (counts per kind)."""
+    counts = [(kind, sum(r.kind == kind for r in rejected)) for kind in KINDS]
+    why = ', '.join(f'{n} {kind}' for kind, n in counts if n)
+    return f'{found} onset(s) found, {kept} kept as impacts, {len(rejected)} rejected' + \
+           (f' ({why})' if why else '')
