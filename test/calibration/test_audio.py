@@ -60,6 +60,10 @@ def test_wav_into_the_bounce_fit(tmp_path, capsys):
     out = capsys.readouterr().out
     assert code == 0
     assert 'released from 0.8 m' in out           # the height from the file name
+    # the onsets found, kept and rejected are said before the fit
+    summary = next(ln for ln in out.splitlines() if ln.startswith('# audio'))
+    assert out.index(summary) < out.index('# bounce fit')
+    assert f'{len(times) - 1} kept as impacts' in summary and 'onset(s) found' in summary
     assert 'missed bounce' in out                 # the quiet tenth bounce
     line = next(ln for ln in out.splitlines() if ln.startswith('azad_featherstone: lambda'))
     assert float(line.split()[3]) == pytest.approx(4500.0, rel=0.01)
