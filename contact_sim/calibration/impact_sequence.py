@@ -24,6 +24,15 @@ a bounce, none fitted to one ball, room or microphone:
    sequence** or **after the sequence** (outside the chain's span), or **off the sequence**
    (loud enough, but it would break rule 2, as a spurious click between impacts does).
 
+4. **an echo comes back at a nearly fixed lag**.  Where the flights are long, the clicks that
+   follow the impacts are told from them by rule 1; the lags at which a weaker click follows
+   at least half of those impacts (within ``ECHO_JITTER``, 1 ms) are the room's echo lags.
+   Where the flights shrink towards those lags, rule 1 can no longer tell an echo from the
+   next impact; there a click at an echo lag after a louder impact is an **echo or ringing**
+   unless the sequence needs it: the chain is found again with such clicks counting
+   ``ECHO_WEIGHT`` (1/4) of a click (an impact whose flight equals the echo lag coincides with
+   the echo, and is kept rather than taken for a missed bounce).
+
 Then a click far quieter (below ``quiet`` = 1/10 of the strength) than the impact after it at
 the start of the chain is **before the sequence** too (the first impacts are the fastest and
 loudest).  Each rejected click is returned with its kind and reason (``Rejected``).
@@ -36,6 +45,9 @@ import numpy as np
 SHARE = 0.5      # an impact is the loudest click within this share of the flights beside it
 LOW, HIGH, MISSED = 0.25, 1.1, 2.1     # a flight over the one before: shrinking, or one missed
 PENALTY = 1.5    # a missed bounce costs this many clicks
+ECHO_JITTER = 1e-3   # s: an echo's lag varies this little from impact to impact
+ECHO_SHARE = 0.5     # an echo lag: a weaker click follows at least this share of the impacts
+ECHO_WEIGHT = 0.25   # a click at an echo lag counts this much in the chain (1: any other)
 QUIET = 0.1      # a first click below this share of the next one's strength: before the sequence
 KINDS = ('echo or ringing', 'precursor', 'before the sequence', 'after the sequence',
          'off the sequence')
@@ -67,9 +79,11 @@ def isolation(times, strength):
     return iso, near
 
 
-def _chain(times, strength, iso, share):
-    """The longest chain of clicks obeying rules 1 and 2 (module doc), as sorted indices."""
+def _chain(times, strength, iso, share, weight=None):
+    """The longest chain of clicks obeying rules 1 and 2 (module doc), as sorted indices; a
+    click counts ``weight`` (default 1) in its length."""
     n = times.size
+    weight = np.ones(n) if weight is None else weight
     reach = np.minimum(iso / share, times[-1] - times[0] + 1.0)   # the longest flight beside
     tie = 1e-3 * np.log(strength / strength.max() + 1e-300) / max(math.log(1e300), 1.0)
     # pairs (i, j), i < j: best[(i, j)] = (score, h) of the best chain ending ..., h, i, j
@@ -81,12 +95,12 @@ def _chain(times, strength, iso, share):
             d = times[j] - times[i]
             if d <= 0 or d > reach[i]:
                 continue
-            score, back = 2.0 + tie[i] + tie[j], -1
+            score, back = weight[i] + weight[j] + tie[i] + tie[j], -1
             for d0, s0, h in incoming[i]:
                 r = d / d0
                 if r < LOW or r > MISSED or max(d0, d) > reach[i]:
                     continue
-                s = s0 + 1.0 + tie[j] - (PENALTY if r > HIGH else 0.0)
+                s = s0 + weight[j] + tie[j] - (PENALTY if r > HIGH else 0.0)
                 if s > score:
                     score, back = s, h
             best[(i, j)] = (score, back)
@@ -122,6 +136,38 @@ def _reason(k, times, iso, near, chain, share):
     return 'off the sequence', (f'the loudest click within {iso[k] * 1e3:.1f} ms, but taking it '
                                 f'would break the shrinking flights (about {flight * 1e3:.1f} ms '
                                 'here)')
+
+
+def _echo_lags(times, strength, chain):
+    """Rule 4: the echo lags (s) of the recording, from the impacts of ``chain`` whose flight
+    after them is at least 4 jitters long (the lag of the loudest weaker click in the first
+    half of that flight, where at least half of them agree), and the clicks at those lags after
+    a louder impact of the chain ({index: (kind, reason)})."""
+    loudest = []            # per impact: the lag of the loudest weaker click in its half-flight
+    for a, b in zip(chain[:-1], chain[1:]):
+        half = 0.5 * (times[b] - times[a])
+        j = np.arange(a + 1, np.searchsorted(times, times[a] + half))
+        j = j[strength[j] < strength[a]]
+        if half >= 4 * ECHO_JITTER and j.size:
+            loudest.append(times[j[np.argmax(strength[j])]] - times[a])
+    loudest = np.sort(np.array(loudest))
+    if loudest.size < 3:
+        return [], {}
+    agree = np.array([np.sum(np.abs(loudest - lag) <= ECHO_JITTER) for lag in loudest])
+    if agree.max() < ECHO_SHARE * loudest.size:
+        return [], {}
+    lag = float(np.median(loudest[np.abs(loudest - loudest[np.argmax(agree)]) <= ECHO_JITTER]))
+    echoes = {}
+    for p in chain:
+        lo = np.searchsorted(times, times[p] + lag - ECHO_JITTER)
+        hi = np.searchsorted(times, times[p] + lag + ECHO_JITTER, side='right')
+        for k in range(lo, hi):
+            if strength[k] < strength[p]:
+                echoes[k] = ('echo or ringing', f'{(times[k] - times[p]) * 1e3:.1f} ms after the '
+                             f'impact at {times[p]:.4f} s, at the echo lag of the recording '
+                             f'({lag * 1e3:.1f} ms, the loudest click after '
+                             f'{int(agree.max())} of {loudest.size} impacts)')
+    return [lag], echoes
 
 
 def _flight(times, chain, t):
@@ -174,10 +220,16 @@ def select_impacts(times, strength, share=SHARE, quiet=QUIET):
         return np.arange(times.size), []
     iso, near = isolation(times, strength)
     chain = _chain(times, strength, iso, share)
+    lags, echoes = _echo_lags(times, strength, chain)
+    if echoes:
+        weight = np.ones(times.size)
+        weight[list(echoes)] = ECHO_WEIGHT
+        chain = _chain(times, strength, iso, share, weight)
     while len(chain) > 2 and strength[chain[0]] < quiet * strength[chain[1]]:
         chain = chain[1:]        # a quiet click before the loud first impacts
     inside = set(chain)
-    rejected = [Rejected(float(times[k]), *_reason(k, times, iso, near, chain, share))
+    rejected = [Rejected(float(times[k]), *(echoes[k] if k in echoes else
+                                            _reason(k, times, iso, near, chain, share)))
                 for k in range(times.size) if k not in inside]
     return np.array(chain, dtype=int), rejected
 
