@@ -43,7 +43,7 @@ from scipy.signal import butter, hilbert, sosfiltfilt
 
 from contact_sim.calibration.impact_sequence import select_impacts, summary
 from contact_sim.calibration.synthetic_audio import impact_click, synthesize_recording
-from contact_sim.calibration.wav import open_wav, read_wav, write_wav
+from contact_sim.calibration.wav import MAX_CHANNELS, open_wav, read_wav, write_wav
 from contact_sim.validation import (InputError, require_positive, require_range,
                                    require_real_array)
 
@@ -57,7 +57,6 @@ RIDGE = 1e-2              # the predictor's ridge, relative to the signal's powe
 REACH = 6e-4              # s: an impact's crack peaks within this time of its onset
 WEAK_WINDOW = 1.0         # s: a click this close after a louder one is compared with it
 FRAME, FIT = 1e-3, 16e-3  # s: the predictor is refitted every FRAME to the FIT before it
-MAX_CHANNELS = 64         # channels of a recording, at most
 MAX_SAMPLES = 1 << 28     # values of samples passed in memory, at most (2 GB of doubles)
 
 
@@ -120,8 +119,9 @@ def bounce_times_from_audio(path, block=BLOCK, sequence=True, **settings):
 
     Raises
     ------
-    ValueError
-        The file cannot be read as WAV (named), or a setting is out of range (named).
+    InputError
+        The file cannot be read as WAV or holds a non-finite sample (``audio``), or a setting
+        is out of range (named).
 
     Examples
     --------
@@ -201,12 +201,6 @@ def detect_onsets(samples, rate, highpass=2000.0, threshold=4.0, rise=1.5, lookb
 
 def _samples(samples):
     """``samples`` as an (n, channels) float array, or an ``InputError`` on ``samples``."""
-    shape = np.shape(samples) if isinstance(samples, np.ndarray) else None
-    if shape is not None and (len(shape) not in (1, 2) or (len(shape) == 2 and not
-                                                            1 <= shape[1] <= MAX_CHANNELS)):
-        raise InputError('samples', None, '{n[samples]} has shape %s: allowed (n,) or (n, '
-                         'channels) with 1 to %d channels (a (channels, n) array: pass its '
-                         'transpose)' % (shape, MAX_CHANNELS))
     x = require_real_array('samples', samples, max_size=MAX_SAMPLES)
     if x.ndim == 1:
         x = x[:, None]

@@ -30,8 +30,8 @@ a bounce, none fitted to one ball, room or microphone:
    Where the flights shrink towards those lags, rule 1 can no longer tell an echo from the
    next impact; there a click at an echo lag after a louder impact is an **echo or ringing**
    unless the sequence needs it: the chain is found again with such clicks counting
-   ``ECHO_WEIGHT`` (1/4) of a click (an impact whose flight equals the echo lag coincides with
-   the echo, and is kept rather than taken for a missed bounce).
+   ``ECHO_WEIGHT`` (-1/4) of a click, so that one is kept only where leaving it out would cost a
+   missed bounce (an impact whose flight equals the echo lag coincides with the echo).
 
 Then a click far quieter (below ``quiet`` = 1/10 of the strength) than the impact after it at
 the start of the chain is **before the sequence** too (the first impacts are the fastest and
@@ -47,7 +47,7 @@ LOW, HIGH, MISSED = 0.25, 1.1, 2.1     # a flight over the one before: shrinking
 PENALTY = 1.5    # a missed bounce costs this many clicks
 ECHO_JITTER = 1e-3   # s: an echo's lag varies this little from impact to impact
 ECHO_SHARE = 0.5     # an echo lag: a weaker click follows at least this share of the impacts
-ECHO_WEIGHT = 0.25   # a click at an echo lag counts this much in the chain (1: any other)
+ECHO_WEIGHT = -0.25  # a click at an echo lag counts this much in the chain (1: any other)
 QUIET = 0.1      # a first click below this share of the next one's strength: before the sequence
 KINDS = ('echo or ringing', 'precursor', 'before the sequence', 'after the sequence',
          'off the sequence')
@@ -86,35 +86,44 @@ def _chain(times, strength, iso, share, weight=None):
     weight = np.ones(n) if weight is None else weight
     reach = np.minimum(iso / share, times[-1] - times[0] + 1.0)   # the longest flight beside
     tie = 1e-3 * np.log(strength / strength.max() + 1e-300) / max(math.log(1e300), 1.0)
-    # pairs (i, j), i < j: best[(i, j)] = (score, h) of the best chain ending ..., h, i, j
-    incoming = [[] for _ in range(n)]      # per j: (t_j - t_i, score, i)
+    # states (i, j, m), i < j: the best chain ending ..., h, i, j, with m = 1 when a bounce was
+    # missed between i and j (the flight is then half the interval), else 0;
+    # best[(i, j, m)] = (score, (h, m of (h, i)))
+    incoming = [[] for _ in range(n)]      # per j: (flight from i to j, score, i, m)
     best = {}
     for j in range(n):
-        lo = np.searchsorted(times, times[j] - reach[j], side='left')
+        lo = np.searchsorted(times, times[j] - 2.0 * reach[j], side='left')
         for i in range(lo, j):
             d = times[j] - times[i]
-            if d <= 0 or d > reach[i]:
+            if d <= 0 or d > 2.0 * reach[i]:
                 continue
-            score, back = weight[i] + weight[j] + tie[i] + tie[j], -1
-            for d0, s0, h in incoming[i]:
-                r = d / d0
-                if r < LOW or r > MISSED or max(d0, d) > reach[i]:
+            found = [[-math.inf, None], [-math.inf, None]]
+            if d <= min(reach[i], reach[j]):
+                found[0] = [weight[i] + weight[j] + tie[i] + tie[j], None]
+            for f0, s0, h, m0 in incoming[i]:
+                r = d / f0
+                if r < LOW or r > MISSED:
                     continue
-                s = s0 + weight[j] + tie[j] - (PENALTY if r > HIGH else 0.0)
-                if s > score:
-                    score, back = s, h
-            best[(i, j)] = (score, back)
-            incoming[j].append((d, score, i))
+                m = int(r > HIGH)
+                f = 0.5 * d if m else d
+                if max(f0, f) > reach[i] or f > reach[j]:
+                    continue
+                score = s0 + weight[j] + tie[j] - PENALTY * m
+                if score > found[m][0]:
+                    found[m] = [score, (h, m0)]
+            for m, (score, back) in enumerate(found):
+                if score > -math.inf:
+                    best[(i, j, m)] = (score, back)
+                    incoming[j].append((0.5 * d if m else d, score, i, m))
     if not best:
         return [int(np.argmax(strength))] if n else []
-    (i, j), _ = max(best.items(), key=lambda item: item[1][0])
+    state = max(best, key=lambda key: best[key][0])
+    i, j, m = state
     chain = [j, i]
-    while True:
-        h = best[(i, j)][1]
-        if h < 0:
-            break
+    while best[(i, j, m)][1] is not None:
+        h, m0 = best[(i, j, m)][1]
         chain.append(h)
-        i, j = h, i
+        i, j, m = h, i, m0
     return sorted(chain)
 
 

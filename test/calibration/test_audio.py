@@ -87,3 +87,39 @@ def test_a_wav_cut_off_inside_its_header_is_refused_by_name(tmp_path):
     path.write_bytes(b'RIFF\x24\x00\x00\x00WAVEfmt \x10\x00')
     with pytest.raises(ValueError, match="audio = '.*cut.wav' cannot be read as WAV"):
         bounce_times_from_audio(path)
+
+
+@pytest.mark.parametrize('samples, says', [
+    (np.full(5000, np.nan), r'samples\[0\] = nan is not finite'),
+    (np.concatenate([np.zeros(4000), [np.inf], np.zeros(999)]), r'samples\[4000\] = inf'),
+    (np.zeros(0), 'samples holds 0 frames: allowed a recording of at least 16 frames'),
+    (np.zeros(5000, dtype=complex), 'samples holds complex numbers'),
+    (np.zeros((2, 5000)), r'samples has shape \(2, 5000\): allowed \(n,\) or \(n, channels\) '
+                          'with 1 to 64 channels'),
+    (np.zeros((100, 2, 2)), r'samples has shape \(100, 2, 2\)'),
+    ('0.1 0.2', 'samples = .* is not a real number'),
+])
+def test_samples_that_are_not_a_recording_are_refused_by_name(samples, says):
+    # found (issue 34): LinAlgError from NaN samples, NaN noise from 2-D ones, an empty min()
+    with pytest.raises(cs.InputError, match=says) as error:
+        audio.detect_onsets(samples, 48000)
+    assert error.value.field == 'samples'
+
+
+def test_a_wav_with_non_finite_samples_or_too_many_channels_is_refused_by_name(tmp_path):
+    x = audio.synthesize_recording([0.1, 0.4], [0.5, 0.4])
+    x[3000] = np.nan
+    path = tmp_path / 'nan.wav'
+    audio.write_wav(path, x, 48000, 'float')
+    with pytest.raises(cs.InputError, match='audio holds a non-finite sample at frame 3000') \
+            as error:
+        audio.bounce_times_from_audio(path)
+    assert error.value.field == 'audio'
+    # a header claiming 1000 channels (found: a MemoryError reading one block)
+    path = tmp_path / 'wide.wav'
+    audio.write_wav(path, np.zeros(1000), 48000, 16)
+    raw = bytearray(path.read_bytes())
+    raw[22:24] = (1000).to_bytes(2, 'little')
+    path.write_bytes(bytes(raw))
+    with pytest.raises(cs.InputError, match='1000 channels at 48000 Hz: allowed 1 to 64'):
+        audio.bounce_times_from_audio(path)
