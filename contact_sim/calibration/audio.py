@@ -25,13 +25,17 @@ the clicks come a few ms apart, each on the ringing tail of the one before:
 6. the onset: from the click's peak (in the innovation when it stands well above the noise, else
    in the sharp Hilbert envelope of the high-passed signal) back to the last sample below
    ``onset_fraction`` of the rise from the level before, interpolated linearly.
+7. the impacts: of the clicks heard, those that form a bounce sequence (``impact_sequence``:
+   each the loudest sound for half the flights beside it, the flights shrinking by the
+   restitution, the recording's echo lag); the others are returned with their reasons
+   (``sequence=False``: every click heard).
 
 Memory: the file is read and processed in blocks of ``block`` frames (2^19 by default, 11 s at
 48 kHz), each with ``noise_window`` / 2 + 10 ms of neighbouring samples: about 25 float arrays
 of one block, some 120 MB for mono, whatever the recording's length.
 
-Returns ``AudioOnsets``: times (s from the start of the file), peak amplitudes (full scale = 1)
-and a confidence in [0, 1] per onset (from its signal-to-noise ratio and, for clicks that came
+Returns ``AudioOnsets``: times (s from the start of the file), peak amplitudes (full scale = 1),
+the clicks heard and those rejected (``summary()`` says how many, and why) and a confidence in [0, 1] per onset (from its signal-to-noise ratio and, for clicks that came
 close to the echo gate, its margin above it).  A bounce below the noise is simply not found: the
 bounce fit then names it a missed bounce.
 """
