@@ -64,8 +64,28 @@ class Rejected:
 
 
 def isolation(times, strength):
-    """Time (s) from each click to the nearest strictly louder one (inf if none), and the index
-    of that click (-1 if none)."""
+    """Time from each click to the nearest strictly louder one.
+
+    Parameters
+    ----------
+    times : numpy.ndarray
+        Click onsets in s, increasing.
+    strength : numpy.ndarray
+        Their loudness, as many.
+
+    Returns
+    -------
+    (numpy.ndarray, numpy.ndarray)
+        The time (s) to the nearest louder click (inf if none) and that click's index (-1 if
+        none).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> iso, near = isolation(np.array([0.0, 0.1, 0.15]), np.array([1.0, 0.5, 0.7]))
+    >>> np.round(iso, 3).tolist(), near.tolist()
+    ([inf, 0.05, 0.15], [-1, 2, 0])
+    """
     n = times.size
     iso, near = np.full(n, np.inf), np.full(n, -1)
     for order in (range(n), range(n - 1, -1, -1)):      # previous, then next, louder click
@@ -244,7 +264,26 @@ def select_impacts(times, strength, share=SHARE, quiet=QUIET):
 
 
 def summary(found, kept, rejected):
-    """One line: how many onsets were found, kept and rejected, and why (counts per kind)."""
+    """One line: how many onsets were found, kept and rejected, and why (counts per kind).
+
+    Parameters
+    ----------
+    found : int
+        The clicks heard.
+    kept : int
+        The impacts kept.
+    rejected : list of Rejected
+        The clicks rejected.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> summary(3, 2, [Rejected(0.507, 'echo or ringing', '7 ms after the impact at 0.5 s')])
+    '3 onset(s) found, 2 kept as impacts, 1 rejected (1 echo or ringing)'
+    """
     counts = [(kind, sum(r.kind == kind for r in rejected)) for kind in KINDS]
     why = ', '.join(f'{n} {kind}' for kind, n in counts if n)
     return f'{found} onset(s) found, {kept} kept as impacts, {len(rejected)} rejected' + \
