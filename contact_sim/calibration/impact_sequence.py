@@ -48,6 +48,8 @@ PENALTY = 1.5    # a missed bounce costs this many clicks
 ECHO_JITTER = 1e-3   # s: an echo's lag varies this little from impact to impact
 ECHO_SHARE = 0.5     # an echo lag: a weaker click follows at least this share of the impacts
 ECHO_WEIGHT = -0.25  # a click at an echo lag counts this much in the chain (1: any other)
+PREDECESSORS = 32   # the nearest clicks a click may follow in the chain (bounds the work),
+CONTINUED = 8       # and the best chains ending at a click that are continued from it
 QUIET = 0.1      # a first click below this share of the next one's strength: before the sequence
 KINDS = ('echo or ringing', 'precursor', 'before the sequence', 'after the sequence',
          'off the sequence')
@@ -113,10 +115,11 @@ def _chain(times, strength, iso, share, weight=None):
     best = {}
     for j in range(n):
         lo = np.searchsorted(times, times[j] - 2.0 * reach[j], side='left')
-        for i in range(lo, j):
+        before = np.arange(lo, j)
+        d_all = times[j] - times[before]
+        before = before[(d_all > 0) & (d_all <= 2.0 * reach[before])][-PREDECESSORS:]
+        for i in before:
             d = times[j] - times[i]
-            if d <= 0 or d > 2.0 * reach[i]:
-                continue
             found = [[-math.inf, None], [-math.inf, None]]
             if d <= min(reach[i], reach[j]):
                 found[0] = [weight[i] + weight[j] + tie[i] + tie[j], None]
@@ -135,6 +138,7 @@ def _chain(times, strength, iso, share, weight=None):
                 if score > -math.inf:
                     best[(i, j, m)] = (score, back)
                     incoming[j].append((0.5 * d if m else d, score, i, m))
+        incoming[j] = sorted(incoming[j], key=lambda entry: -entry[1])[:CONTINUED]
     if not best:
         return [int(np.argmax(strength))] if n else []
     state = max(best, key=lambda key: best[key][0])

@@ -83,3 +83,12 @@ def test_the_summary_counts_each_kind():
     assert line == (f'{len(clicks)} onset(s) found, {t.size} kept as impacts, {t.size + 1} '
                     f'rejected ({t.size} echo or ringing, 1 before the sequence)')
     assert set(KINDS) >= {r.kind for r in rejected.values()}
+
+
+def test_the_work_is_bounded_on_clicks_that_all_sound_alike():
+    # every click as loud as the others: no isolation tells them apart, and every click could
+    # follow any other; the chain still visits each click's 32 nearest only (a regular train
+    # of equal clicks is a sequence of restitution 1)
+    t = np.arange(3000) * 0.01
+    kept, rejected = select_impacts(t, np.ones(t.size))
+    assert kept.size == t.size and not rejected
