@@ -47,7 +47,7 @@ from scipy.signal import butter, hilbert, sosfiltfilt
 
 from contact_sim.calibration.impact_sequence import select_impacts, summary
 from contact_sim.calibration.synthetic_audio import impact_click, synthesize_recording
-from contact_sim.calibration.wav import MAX_CHANNELS, open_wav, read_wav, write_wav
+from contact_sim.calibration.wav import MAX_CHANNELS, MAX_RATE, open_wav, read_wav, write_wav
 from contact_sim.validation import (InputError, require_positive, require_range,
                                    require_real_array)
 
@@ -62,6 +62,8 @@ REACH = 6e-4              # s: an impact's crack peaks within this time of its o
 WEAK_WINDOW = 1.0         # s: a click this close after a louder one is compared with it
 FRAME, FIT = 1e-3, 16e-3  # s: the predictor is refitted every FRAME to the FIT before it
 MAX_SAMPLES = 1 << 28     # values of samples passed in memory, at most (2 GB of doubles)
+HIGHPASS = 2000.0         # Hz, the high-pass corner by default
+MAX_LEVEL = 1e6           # |sample| at most, full scale 1 (float recordings may exceed 1)
 
 
 @dataclass(frozen=True)
@@ -152,7 +154,7 @@ def detect_onsets(samples, rate, highpass=2000.0, threshold=4.0, rise=1.5, lookb
         (n,) or (n, channels) finite real samples, full scale 1: at least 16 frames, 1 to
         ``MAX_CHANNELS`` (64) channels.
     rate : float
-        Sample rate in Hz, > 0.
+        Sample rate in Hz, 0 < rate <= 1e7 (``MAX_RATE``), above twice ``highpass``.
     highpass : float
         High-pass corner in Hz, 0 < highpass < rate / 2.
     threshold : float
@@ -215,13 +217,31 @@ def _samples(samples):
     if x.shape[0] < 16:
         raise InputError('samples', x.shape[0], '{n[samples]} holds {value} frames: allowed a '
                          'recording of at least 16 frames')
+    _level(x, 'samples', 0)
     return x
+
+
+def _level(x, name, offset):
+    """Refuse samples beyond ``MAX_LEVEL`` (their powers would overflow)."""
+    big = np.abs(x) > MAX_LEVEL
+    if big.any():
+        at = offset + int(np.flatnonzero(big.any(axis=1))[0])
+        raise InputError(name, None, '{n[%s]} holds a sample of %.3g at frame %d: allowed '
+                         '|sample| <= %g (full scale 1)' % (name, float(np.abs(x).max()), at,
+                                                           MAX_LEVEL))
 
 
 def _settings(rate, highpass=2000.0, threshold=4.0, rise=1.5, lookback=2e-3, refractory=1.5e-3,
               gate=0.03, gate_ratio=0.5, weak=0.25, onset_fraction=0.2, smooth=2e-4,
               noise_window=1.0, order=16):
-    rate = require_positive('sample_rate', rate)
+    if isinstance(rate, (str, bytes)):
+        raise InputError('sample_rate', rate, '{n[sample_rate]} = {value} is text: allowed a '
+                         'number, 0 < {n[sample_rate]} <= %g Hz' % MAX_RATE)
+    rate = require_range('sample_rate', rate, 0.0, MAX_RATE, low_open=True)
+    if highpass == HIGHPASS and rate <= 2.0 * HIGHPASS:     # the caller gave the rate only
+        raise InputError('sample_rate', rate, '{n[sample_rate]} = {value} Hz is too low for the '
+                         'high-pass at %g Hz: allowed %g < {n[sample_rate]} <= %g Hz (or a '
+                         'lower highpass)' % (HIGHPASS, 2.0 * HIGHPASS, MAX_RATE))
     order = require_range('order', order, 1, 64)
     return _Settings(
         rate, require_range('highpass', highpass, 0.0, rate / 2.0, low_open=True, high_open=True),
@@ -246,6 +266,7 @@ def _detect(read, frames, rate, block, s, sequence=True, name='samples'):
             at = a + int(np.flatnonzero(~np.isfinite(x).all(axis=1))[0])
             raise InputError(name, None, '{n[%s]} holds a non-finite sample at frame %d: '
                              'allowed finite samples (full scale 1)' % (name, at))
+        _level(x, name, a)
         cands, floor = _candidates(x, s)
         keep = (cands[:, 0] + a >= start) & (cands[:, 0] + a < start + block)
         cands = cands[keep]
@@ -281,7 +302,10 @@ def _lpc_residual(y, order, frame, fit):
         r[:, k] = prod[starts] - prod[np.minimum(lo + k, starts)]
     r[:, 0] = r[:, 0] * (1.0 + RIDGE) + 1e-30
     lags = np.abs(np.arange(order)[:, None] - np.arange(order)[None, :])
-    a = np.linalg.solve(r[:, lags], r[:, 1:, None])[:, :, 0]       # (count, order)
+    try:
+        a = np.linalg.solve(r[:, lags], r[:, 1:, None])[:, :, 0]       # (count, order)
+    except np.linalg.LinAlgError:       # a degenerate signal: no prediction
+        return y
     a[starts < fit] = 0.0                    # no tail before: no prediction
     which = np.minimum(np.arange(n) // frame, count - 1)
     e = y.copy()
@@ -327,14 +351,14 @@ def _candidates(x, s):
     sos = butter(4, s.highpass, btype='highpass', fs=rate, output='sos')
     hp = sosfiltfilt(sos, x, axis=0)
     width = max(int(round(s.smooth * rate)), 1)
-    env = np.sqrt(uniform_filter1d((hp * hp).mean(axis=1), width))
+    env = np.sqrt(np.maximum(uniform_filter1d((hp * hp).mean(axis=1), width), 0.0))
     frame, fit = max(int(FRAME * rate), 1), max(int(FIT * rate), 4 * s.order + 1)
     res2 = np.mean([_lpc_residual(hp[:, c], s.order, frame, fit) ** 2
                     for c in range(hp.shape[1])], axis=0)
-    res = np.sqrt(uniform_filter1d(res2, max(width // 3, 1)))   # the innovation is a spike
+    res = np.sqrt(np.maximum(uniform_filter1d(res2, max(width // 3, 1)), 0.0))   # a spike
     look, gap = max(int(s.lookback * rate), 2), max(2 * width, 2)
     floors, scores = [], []
-    tail_rms = np.sqrt(_mean_before(res2, look, gap))
+    tail_rms = np.sqrt(np.maximum(_mean_before(res2, look, gap), 0.0))
     env_before = _before(env, look, gap)
     for e, tail in ((env, env_before), (res, tail_rms)):
         floor = _floor(e, rate, s.noise_window)

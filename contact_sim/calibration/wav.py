@@ -15,6 +15,7 @@ from contact_sim.validation import InputError
 
 PCM, IEEE_FLOAT, EXTENSIBLE = 1, 3, 0xFFFE
 MAX_CHANNELS = 64        # channels of a recording, at most (a block of 2^19 frames: 268 MB)
+MAX_RATE = 1e7           # Hz: a sample rate, at most
 
 
 @dataclass(frozen=True)
@@ -107,9 +108,9 @@ def open_wav(path):
     if not ((tag == PCM and bits in (8, 16, 24, 32)) or (floating and bits in (32, 64))):
         _refuse(path, f'encoding {tag} with {bits} bits: allowed integer PCM of 8, 16, 24 or '
                       '32 bits or IEEE float of 32 or 64 bits')
-    if not 1 <= channels <= MAX_CHANNELS or rate < 1:
+    if not 1 <= channels <= MAX_CHANNELS or not 1 <= rate <= MAX_RATE:
         _refuse(path, f'{channels} channels at {rate} Hz: allowed 1 to {MAX_CHANNELS} channels '
-                      'at 1 Hz or more')
+                      f'at 1 Hz to {MAX_RATE:g} Hz')
     frames = size // (channels * bits // 8)
     if frames < 16:
         raise InputError('audio', str(path), '{n[audio]} = {value} holds %d samples: allowed a '

@@ -123,3 +123,25 @@ def test_a_wav_with_non_finite_samples_or_too_many_channels_is_refused_by_name(t
     path.write_bytes(bytes(raw))
     with pytest.raises(cs.InputError, match='1000 channels at 48000 Hz: allowed 1 to 64'):
         audio.bounce_times_from_audio(path)
+
+
+@pytest.mark.parametrize('samples, rate, field, says', [
+    (np.full(5000, 1e300), 48000, 'samples', r'a sample of 1e\+300 at frame 0: allowed '
+                                             r'\|sample\| <= 1e\+06'),
+    (np.zeros(5000), 1e300, 'sample_rate', r'allowed 0 < sample_rate <= 1e\+07'),
+    (np.zeros(5000), '48000', 'sample_rate', 'is text'),
+    (np.zeros(5000), 1.0, 'sample_rate', 'too low for the high-pass at 2000 Hz'),
+])
+def test_levels_and_rates_out_of_range_are_refused_by_name(samples, rate, field, says):
+    # found (issue 34): a LinAlgError at 1e300 Hz, overflow at 1e300 full scale, text taken as a
+    # rate, and a too-low rate reported as highpass
+    with pytest.raises(cs.InputError, match=says) as error:
+        audio.detect_onsets(samples, rate)
+    assert error.value.field == field
+
+
+def test_a_lone_spike_gives_finite_onsets():
+    x = np.zeros(6001)
+    x[3000] = 1.0                     # found: the square root of a rounding error below zero
+    onsets = audio.detect_onsets(x, 48000)
+    assert np.all(np.isfinite(onsets.times)) and np.isfinite(onsets.noise)
