@@ -42,6 +42,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contact_sim.validation import InputError, require_range, require_real_array
+
 SHARE = 0.5      # an impact is the loudest click within this share of the flights beside it
 LOW, HIGH, MISSED = 0.25, 1.1, 2.1     # a flight over the one before: shrinking, or one missed
 PENALTY = 1.5    # a missed bounce costs this many clicks
@@ -228,7 +230,7 @@ def select_impacts(times, strength, share=SHARE, quiet=QUIET):
     strength : array_like
         Their loudness, > 0 (any scale: the ratios matter), as many.
     share : float
-        An impact is the loudest click within this share of the flights beside it, 0 < share.
+        An impact is the loudest click within this share of the flights beside it, > 0.
     quiet : float
         A first click below this share of the next one's strength is before the sequence,
         0 <= quiet < 1.
@@ -237,6 +239,12 @@ def select_impacts(times, strength, share=SHARE, quiet=QUIET):
     -------
     (numpy.ndarray, list of Rejected)
         The indices of the impacts (increasing) and the clicks rejected, in time order.
+
+    Raises
+    ------
+    InputError
+        Times or strengths not finite, not as many, times not increasing, a strength below 0,
+        or ``share`` or ``quiet`` out of range (named).
 
     Examples
     --------
@@ -247,8 +255,15 @@ def select_impacts(times, strength, share=SHARE, quiet=QUIET):
     >>> t[kept].tolist(), [r.kind for r in rejected]
     ([0.5, 0.9, 1.26, 1.584, 1.876], ['echo or ringing'])
     """
-    times = np.asarray(times, dtype=float)
-    strength = np.maximum(np.asarray(strength, dtype=float), 1e-300)
+    times = require_real_array('times', times).ravel()
+    strength = require_real_array('strength', strength).ravel()
+    if strength.size != times.size or np.any(np.diff(times) < 0) or np.any(strength < 0):
+        raise InputError('times', None, '{n[times]} and {n[strength]} hold %d and %d values: '
+                         'allowed as many, times increasing, strengths >= 0'
+                         % (times.size, strength.size))
+    share = require_range('share', share, 0.0, low_open=True)
+    quiet = require_range('quiet', quiet, 0.0, 1.0, high_open=True)
+    strength = np.maximum(strength, 1e-300)
     if times.size < 3:
         return np.arange(times.size), []
     iso, near = isolation(times, strength)

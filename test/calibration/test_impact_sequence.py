@@ -92,3 +92,16 @@ def test_the_work_is_bounded_on_clicks_that_all_sound_alike():
     t = np.arange(3000) * 0.01
     kept, rejected = select_impacts(t, np.ones(t.size))
     assert kept.size == t.size and not rejected
+
+
+def test_bad_click_lists_are_refused_by_name():
+    import contact_sim as cs
+    with pytest.raises(cs.InputError, match=r'times\[1\] = nan is not finite'):
+        select_impacts([0.0, np.nan, 1.0], [1.0, 1.0, 1.0])
+    with pytest.raises(cs.InputError, match='hold 3 and 2 values: allowed as many, times '
+                                            'increasing'):
+        select_impacts([0.0, 0.5, 1.0], [1.0, 1.0])
+    with pytest.raises(cs.InputError, match='allowed as many, times increasing'):
+        select_impacts([0.0, 1.0, 0.5], [1.0, 1.0, 1.0])
+    with pytest.raises(cs.InputError, match='share = 0.0 is out of range'):
+        select_impacts([0.0, 0.5, 1.0], [1.0, 1.0, 1.0], share=0.0)
