@@ -25,13 +25,17 @@ the clicks come a few ms apart, each on the ringing tail of the one before:
 6. the onset: from the click's peak (in the innovation when it stands well above the noise, else
    in the sharp Hilbert envelope of the high-passed signal) back to the last sample below
    ``onset_fraction`` of the rise from the level before, interpolated linearly.
+7. the impacts: of the clicks heard, those that form a bounce sequence (``impact_sequence``:
+   each the loudest sound for half the flights beside it, the flights shrinking by the
+   restitution, the recording's echo lag); the others are returned with their reasons
+   (``sequence=False``: every click heard).
 
 Memory: the file is read and processed in blocks of ``block`` frames (2^19 by default, 11 s at
 48 kHz), each with ``noise_window`` / 2 + 10 ms of neighbouring samples: about 25 float arrays
 of one block, some 120 MB for mono, whatever the recording's length.
 
-Returns ``AudioOnsets``: times (s from the start of the file), peak amplitudes (full scale = 1)
-and a confidence in [0, 1] per onset (from its signal-to-noise ratio and, for clicks that came
+Returns ``AudioOnsets``: times (s from the start of the file), peak amplitudes (full scale = 1),
+the clicks heard and those rejected (``summary()`` says how many, and why) and a confidence in [0, 1] per onset (from its signal-to-noise ratio and, for clicks that came
 close to the echo gate, its margin above it).  A bounce below the noise is simply not found: the
 bounce fit then names it a missed bounce.
 """
@@ -41,9 +45,11 @@ import numpy as np
 from scipy.ndimage import maximum_filter1d, percentile_filter, uniform_filter1d
 from scipy.signal import butter, hilbert, sosfiltfilt
 
+from contact_sim.calibration.impact_sequence import select_impacts, summary
 from contact_sim.calibration.synthetic_audio import impact_click, synthesize_recording
-from contact_sim.calibration.wav import open_wav, read_wav, write_wav
-from contact_sim.validation import require_positive, require_range
+from contact_sim.calibration.wav import MAX_CHANNELS, MAX_RATE, open_wav, read_wav, write_wav
+from contact_sim.validation import (InputError, require_positive, require_range,
+                                   require_real_array)
 
 __all__ = ['AudioOnsets', 'bounce_times_from_audio', 'detect_onsets', 'impact_click',
            'read_wav', 'synthesize_recording', 'write_wav']
@@ -55,18 +61,29 @@ RIDGE = 1e-2              # the predictor's ridge, relative to the signal's powe
 REACH = 6e-4              # s: an impact's crack peaks within this time of its onset
 WEAK_WINDOW = 1.0         # s: a click this close after a louder one is compared with it
 FRAME, FIT = 1e-3, 16e-3  # s: the predictor is refitted every FRAME to the FIT before it
+MAX_SAMPLES = 1 << 28     # values of samples passed in memory, at most (2 GB of doubles)
+HIGHPASS = 2000.0         # Hz, the high-pass corner by default
+MAX_LEVEL = 1e6           # |sample| at most, full scale 1 (float recordings may exceed 1)
 
 
 @dataclass(frozen=True)
 class AudioOnsets:
-    """Detected clicks: onset times (s), peak amplitudes (full scale 1), confidences (0-1),
-    the sample rate (Hz) and the noise level (full scale) of the high-passed signal."""
+    """Detected impacts: onset times (s), peak amplitudes (full scale 1), confidences (0-1),
+    the sample rate (Hz) and the noise level (full scale) of the high-passed signal; ``found``,
+    the clicks the detector heard, and ``rejected``, those that are not impacts of the bounce
+    sequence (``impact_sequence.Rejected``: time, kind, reason)."""
 
     times: np.ndarray
     amplitudes: np.ndarray
     confidence: np.ndarray
     sample_rate: float
     noise: float
+    found: int = 0
+    rejected: tuple = ()
+
+    def summary(self):
+        """How many onsets were found, kept and rejected, and why (one line)."""
+        return summary(self.found, self.times.size, self.rejected)
 
 
 @dataclass(frozen=True)
@@ -86,8 +103,8 @@ class _Settings:
     order: int
 
 
-def bounce_times_from_audio(path, block=BLOCK, **settings):
-    """Onsets of the impact clicks in the WAV file at ``path``, read ``block`` frames at a time.
+def bounce_times_from_audio(path, block=BLOCK, sequence=True, **settings):
+    """Onsets of the impacts in the WAV file at ``path``, read ``block`` frames at a time.
 
     Parameters
     ----------
@@ -95,6 +112,10 @@ def bounce_times_from_audio(path, block=BLOCK, **settings):
         The WAV file.
     block : int
         Frames processed at once (bounds the memory: module doc), >= 4096.
+    sequence : bool
+        Keep only the clicks that are impacts of a bounce sequence (``impact_sequence``: echoes,
+        ringing, precursors, clicks too quiet or off the sequence rejected, each with its
+        reason in ``AudioOnsets.rejected``); False: every click heard.
     **settings
         The detector's settings, as ``detect_onsets``.
 
@@ -104,8 +125,9 @@ def bounce_times_from_audio(path, block=BLOCK, **settings):
 
     Raises
     ------
-    ValueError
-        The file cannot be read as WAV (named), or a setting is out of range (named).
+    InputError
+        The file cannot be read as WAV or holds a non-finite sample (``audio``), or a setting
+        is out of range (named).
 
     Examples
     --------
@@ -117,20 +139,22 @@ def bounce_times_from_audio(path, block=BLOCK, **settings):
     [0.1, 0.4]
     """
     wav = open_wav(path)
-    return _detect(wav.read, wav.frames, wav.rate, block, _settings(wav.rate, **settings))
+    return _detect(wav.read, wav.frames, wav.rate, block, _settings(wav.rate, **settings),
+                   sequence, 'audio')
 
 
 def detect_onsets(samples, rate, highpass=2000.0, threshold=4.0, rise=1.5, lookback=2e-3,
                   refractory=1.5e-3, gate=0.03, gate_ratio=0.5, weak=0.25, onset_fraction=0.2,
-                  smooth=2e-4, noise_window=1.0, order=16, block=BLOCK):
+                  smooth=2e-4, noise_window=1.0, order=16, block=BLOCK, sequence=True):
     """``bounce_times_from_audio`` on samples already read.
 
     Parameters
     ----------
     samples : array_like
-        (n,) or (n, channels), full scale 1.
+        (n,) or (n, channels) finite real samples, full scale 1: at least 16 frames, 1 to
+        ``MAX_CHANNELS`` (64) channels.
     rate : float
-        Sample rate in Hz, > 0.
+        Sample rate in Hz, 0 < rate <= 1e7 (``MAX_RATE``), above twice ``highpass``.
     highpass : float
         High-pass corner in Hz, 0 < highpass < rate / 2.
     threshold : float
@@ -155,6 +179,8 @@ def detect_onsets(samples, rate, highpass=2000.0, threshold=4.0, rise=1.5, lookb
         The linear predictor's order, 1 to 64.
     block : int
         Frames processed at once, >= 4096.
+    sequence : bool
+        As ``bounce_times_from_audio``; False: every click heard (not only a bounce sequence's).
 
     Returns
     -------
@@ -162,28 +188,60 @@ def detect_onsets(samples, rate, highpass=2000.0, threshold=4.0, rise=1.5, lookb
 
     Raises
     ------
-    ValueError
-        A setting out of range, named with its allowed range.
+    InputError
+        A setting out of range, or samples that are not finite reals in that shape, named
+        with the allowed range.
 
     Examples
     --------
     >>> from contact_sim.calibration import audio
     >>> x = audio.synthesize_recording([0.1, 0.105, 0.3], [0.5, 0.45, 0.4], echo_gain=0.0)
-    >>> [round(float(t), 4) for t in audio.detect_onsets(x, 48000).times]
+    >>> [round(float(t), 4) for t in audio.detect_onsets(x, 48000, sequence=False).times]
     [0.1, 0.105, 0.3]
     """
     settings = _settings(rate, highpass, threshold, rise, lookback, refractory, gate, gate_ratio,
                          weak, onset_fraction, smooth, noise_window, order)
-    x = np.asarray(samples, dtype=float)
+    x = _samples(samples)
+    return _detect(lambda a, b: x[a:b], x.shape[0], settings.rate, block, settings, sequence)
+
+
+def _samples(samples):
+    """``samples`` as an (n, channels) float array, or an ``InputError`` on ``samples``."""
+    x = require_real_array('samples', samples, max_size=MAX_SAMPLES)
     if x.ndim == 1:
         x = x[:, None]
-    return _detect(lambda a, b: x[a:b], x.shape[0], settings.rate, block, settings)
+    if x.ndim != 2 or not 1 <= x.shape[1] <= MAX_CHANNELS:
+        raise InputError('samples', None, '{n[samples]} has shape %s: allowed (n,) or (n, '
+                         'channels) with 1 to %d channels (a (channels, n) array: pass its '
+                         'transpose)' % (x.shape, MAX_CHANNELS))
+    if x.shape[0] < 16:
+        raise InputError('samples', x.shape[0], '{n[samples]} holds {value} frames: allowed a '
+                         'recording of at least 16 frames')
+    _level(x, 'samples', 0)
+    return x
+
+
+def _level(x, name, offset):
+    """Refuse samples beyond ``MAX_LEVEL`` (their powers would overflow)."""
+    big = np.abs(x) > MAX_LEVEL
+    if big.any():
+        at = offset + int(np.flatnonzero(big.any(axis=1))[0])
+        raise InputError(name, None, '{n[%s]} holds a sample of %.3g at frame %d: allowed '
+                         '|sample| <= %g (full scale 1)' % (name, float(np.abs(x).max()), at,
+                                                           MAX_LEVEL))
 
 
 def _settings(rate, highpass=2000.0, threshold=4.0, rise=1.5, lookback=2e-3, refractory=1.5e-3,
               gate=0.03, gate_ratio=0.5, weak=0.25, onset_fraction=0.2, smooth=2e-4,
               noise_window=1.0, order=16):
-    rate = require_positive('sample_rate', rate)
+    if isinstance(rate, (str, bytes)):
+        raise InputError('sample_rate', rate, '{n[sample_rate]} = {value} is text: allowed a '
+                         'number, 0 < {n[sample_rate]} <= %g Hz' % MAX_RATE)
+    rate = require_range('sample_rate', rate, 0.0, MAX_RATE, low_open=True)
+    if highpass == HIGHPASS and rate <= 2.0 * HIGHPASS:     # the caller gave the rate only
+        raise InputError('sample_rate', rate, '{n[sample_rate]} = {value} Hz is too low for the '
+                         'high-pass at %g Hz: allowed %g < {n[sample_rate]} <= %g Hz (or a '
+                         'lower highpass)' % (HIGHPASS, 2.0 * HIGHPASS, MAX_RATE))
     order = require_range('order', order, 1, 64)
     return _Settings(
         rate, require_range('highpass', highpass, 0.0, rate / 2.0, low_open=True, high_open=True),
@@ -197,13 +255,19 @@ def _settings(rate, highpass=2000.0, threshold=4.0, rise=1.5, lookback=2e-3, ref
         int(order))
 
 
-def _detect(read, frames, rate, block, s):
+def _detect(read, frames, rate, block, s, sequence=True, name='samples'):
     block = int(require_range('block', block, 4096))
     pad = int((s.noise_window / 2 + 0.01 + s.lookback) * rate)
     found, noise = [], []
     for start in range(0, frames, block):
         a, b = max(start - pad, 0), min(start + block + pad, frames)
-        cands, floor = _candidates(read(a, b), s)
+        x = read(a, b)
+        if not np.all(np.isfinite(x)):
+            at = a + int(np.flatnonzero(~np.isfinite(x).all(axis=1))[0])
+            raise InputError(name, None, '{n[%s]} holds a non-finite sample at frame %d: '
+                             'allowed finite samples (full scale 1)' % (name, at))
+        _level(x, name, a)
+        cands, floor = _candidates(x, s)
         keep = (cands[:, 0] + a >= start) & (cands[:, 0] + a < start + block)
         cands = cands[keep]
         cands[:, 0] += a
@@ -211,8 +275,13 @@ def _detect(read, frames, rate, block, s):
         found.append(cands)
         noise.append(floor)
     cands = np.concatenate(found) if found else np.zeros((0, 7))
-    times, amps, conf = _accept(cands, s)
-    return AudioOnsets(times, amps, conf, rate, float(np.median(noise)))
+    rows, conf = _accept(cands, s)
+    heard, rejected = rows.shape[0], []
+    if sequence and heard:
+        kept, rejected = select_impacts(rows[:, 1], rows[:, 2])
+        rows, conf = rows[kept], conf[kept]
+    return AudioOnsets(rows[:, 1], rows[:, 3], conf, rate, float(np.median(noise)), heard,
+                       tuple(rejected))
 
 
 def _lpc_residual(y, order, frame, fit):
@@ -233,7 +302,10 @@ def _lpc_residual(y, order, frame, fit):
         r[:, k] = prod[starts] - prod[np.minimum(lo + k, starts)]
     r[:, 0] = r[:, 0] * (1.0 + RIDGE) + 1e-30
     lags = np.abs(np.arange(order)[:, None] - np.arange(order)[None, :])
-    a = np.linalg.solve(r[:, lags], r[:, 1:, None])[:, :, 0]       # (count, order)
+    try:
+        a = np.linalg.solve(r[:, lags], r[:, 1:, None])[:, :, 0]       # (count, order)
+    except np.linalg.LinAlgError:       # a degenerate signal: no prediction
+        return y
     a[starts < fit] = 0.0                    # no tail before: no prediction
     which = np.minimum(np.arange(n) // frame, count - 1)
     e = y.copy()
@@ -279,14 +351,14 @@ def _candidates(x, s):
     sos = butter(4, s.highpass, btype='highpass', fs=rate, output='sos')
     hp = sosfiltfilt(sos, x, axis=0)
     width = max(int(round(s.smooth * rate)), 1)
-    env = np.sqrt(uniform_filter1d((hp * hp).mean(axis=1), width))
+    env = np.sqrt(np.maximum(uniform_filter1d((hp * hp).mean(axis=1), width), 0.0))
     frame, fit = max(int(FRAME * rate), 1), max(int(FIT * rate), 4 * s.order + 1)
     res2 = np.mean([_lpc_residual(hp[:, c], s.order, frame, fit) ** 2
                     for c in range(hp.shape[1])], axis=0)
-    res = np.sqrt(uniform_filter1d(res2, max(width // 3, 1)))   # the innovation is a spike
+    res = np.sqrt(np.maximum(uniform_filter1d(res2, max(width // 3, 1)), 0.0))   # a spike
     look, gap = max(int(s.lookback * rate), 2), max(2 * width, 2)
     floors, scores = [], []
-    tail_rms = np.sqrt(_mean_before(res2, look, gap))
+    tail_rms = np.sqrt(np.maximum(_mean_before(res2, look, gap), 0.0))
     env_before = _before(env, look, gap)
     for e, tail in ((env, env_before), (res, tail_rms)):
         floor = _floor(e, rate, s.noise_window)
@@ -380,7 +452,8 @@ def _onset(signal, lo, hi, fraction):
 
 
 def _accept(cands, s):
-    """Refractory, echo gate and weak-click rules over all candidates (rows sorted by index)."""
+    """Refractory (of two clicks closer than it, the louder), echo gate and weak-click rules
+    over all candidates (rows sorted by index)."""
     cands = cands[np.argsort(cands[:, 0], kind='stable')]
     kept, conf = [], []
     last_t, last_strength, last_amp, last_top = -np.inf, 0.0, 0.0, 0.0
@@ -388,6 +461,11 @@ def _accept(cands, s):
         t, strength = row[1], row[2]
         margin = 1.0
         if t - last_t < s.refractory:
+            if kept and strength > last_strength:
+                # the same click heard twice (its onsets closer than its peaks): the louder
+                kept[-1] = row
+                conf[-1] = float(np.clip(1.0 - s.threshold / row[4], 0.0, 1.0))
+                last_t, last_strength, last_amp, last_top = t, strength, row[3], row[5]
             continue
         if t - last_t < WEAK_WINDOW and row[3] < s.weak * last_amp:
             continue          # far quieter than the click before: a rattle or a tick
@@ -403,6 +481,5 @@ def _accept(cands, s):
         conf.append(float(np.clip(1.0 - s.threshold / row[4], 0.0, 1.0)) * margin)
         last_t, last_strength, last_amp, last_top = t, strength, row[3], row[5]
     if not kept:
-        return np.zeros(0), np.zeros(0), np.zeros(0)
-    rows, conf = np.array(kept), np.array(conf)
-    return rows[:, 1], rows[:, 3], conf
+        return np.zeros((0, 7)), np.zeros(0)
+    return np.array(kept), np.array(conf)

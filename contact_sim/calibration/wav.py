@@ -11,7 +11,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.io import wavfile
 
+from contact_sim.validation import InputError
+
 PCM, IEEE_FLOAT, EXTENSIBLE = 1, 3, 0xFFFE
+MAX_CHANNELS = 64        # channels of a recording, at most (a block of 2^19 frames: 268 MB)
+MAX_RATE = 1e7           # Hz: a sample rate, at most
 
 
 @dataclass(frozen=True)
@@ -52,7 +56,8 @@ class WavFile:
 
 
 def _refuse(path, reason):
-    raise ValueError(f'audio = {str(path)!r} cannot be read as WAV: {reason}')
+    raise InputError('audio', str(path), '{n[audio]} = {value} cannot be read as WAV: {reason}',
+                     value=repr(str(path)), reason=reason)
 
 
 def open_wav(path):
@@ -60,10 +65,10 @@ def open_wav(path):
 
     Raises
     ------
-    ValueError
+    InputError
         ``audio = 'path' cannot be read as WAV: ...`` for a missing file, a header cut off, an
-        encoding other than integer PCM (8-32 bit) or IEEE float (32/64 bit), or fewer than 16
-        frames.
+        encoding other than integer PCM (8-32 bit) or IEEE float (32/64 bit), more than
+        ``MAX_CHANNELS`` channels, or fewer than 16 frames.
     """
     try:
         f = open(path, 'rb')
@@ -103,12 +108,13 @@ def open_wav(path):
     if not ((tag == PCM and bits in (8, 16, 24, 32)) or (floating and bits in (32, 64))):
         _refuse(path, f'encoding {tag} with {bits} bits: allowed integer PCM of 8, 16, 24 or '
                       '32 bits or IEEE float of 32 or 64 bits')
-    if channels < 1 or rate < 1:
-        _refuse(path, f'{channels} channels at {rate} Hz')
+    if not 1 <= channels <= MAX_CHANNELS or not 1 <= rate <= MAX_RATE:
+        _refuse(path, f'{channels} channels at {rate} Hz: allowed 1 to {MAX_CHANNELS} channels '
+                      f'at 1 Hz to {MAX_RATE:g} Hz')
     frames = size // (channels * bits // 8)
     if frames < 16:
-        raise ValueError(f'audio = {str(path)!r} holds {frames} samples: allowed a recording '
-                         'of at least 16 samples')
+        raise InputError('audio', str(path), '{n[audio]} = {value} holds %d samples: allowed a '
+                         'recording of at least 16 samples' % frames, value=repr(str(path)))
     return WavFile(str(path), float(rate), channels, frames, bits, floating, offset)
 
 

@@ -139,6 +139,7 @@ def _sequences(args):
     for path in args.data:
         if str(path).lower().endswith('.wav'):
             onsets = bounce_times_from_audio(path)
+            print(f'# audio {path}: {onsets.summary()}')
             sequences.append(ImpactTimes(onsets.times, height_from_label(
                 str(path).rsplit('/', 1)[-1]), f'{path} (audio)'))
         else:

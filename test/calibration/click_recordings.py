@@ -17,6 +17,18 @@ or the package's own ``synthesize_recording``): a recording here is
   of a flight, which is not an impact;
 * clipping at full scale: the first impacts are made ``loudness`` times full scale when it is > 1.
 
+The failure modes of real recordings (issue 32), each optional (``make_recording``'s keywords):
+
+* ``echo_lag``, ``echo_gain``: every impact heard again ``echo_lag`` s later (a reflection from
+  a surface near the microphone), ``echo_gain`` times as loud, slightly low-passed;
+* ``rattle``: the ringing of a hollow ball: after each impact, a burst of small cracks (one every
+  1.5-4 ms, random) decaying over ``rattle`` s from a fifth of the impact's loudness, each a new
+  onset for a detector;
+* ``spurious_count`` spurious clicks between impacts (one per flight chosen at random), of
+  ``spurious_ratio`` of their neighbours' loudness (the first one is ``spurious``);
+* ``pre_click``: a click ``pre_click`` s before the first impact at a tenth of its loudness (a
+  hand, the release).
+
 ``score(found, true)`` gives recall, false clicks and timing errors: a true click is found when an
 onset lies within 2 ms of it (each onset used once).
 """
@@ -33,6 +45,7 @@ class Recording:
     times: np.ndarray        # true impact onsets, s
     spurious: float          # the weak click's onset, s (not an impact)
     modes: tuple             # the clicks' (frequencies Hz, decays s, weights)
+    others: np.ndarray = None   # onsets of every click that is not an impact, s
 
 
 def ball_times(first_interval=0.3, e=0.9, min_interval=0.005, start=0.25):
@@ -74,14 +87,15 @@ def _click(rng, rate, t0, length, modes, jitter=0.01):
 
 def make_recording(seed=0, rate=48000, e=0.9, first_interval=0.3, min_interval=0.005,
                    decay_low=5e-4, decay_high=2e-2, quietest_snr=10.0, loudness=0.6,
-                   spurious_ratio=0.08):
+                   spurious_ratio=0.08, echo_lag=None, echo_gain=0.5, rattle=0.0,
+                   spurious_count=1, pre_click=None, rattle_gain=0.2):
     rng = np.random.default_rng(seed)
     times, intervals = ball_times(first_interval, e, min_interval)
-    times = times + rng.uniform(0.0, 0.05)
+    times = times + rng.uniform(0.0, 0.05) + (pre_click or 0.0)
     flights = np.concatenate([[first_interval / e], intervals])
     amps = loudness * flights / flights[0] * rng.uniform(0.9, 1.1, flights.size)
     noise = float(amps.min()) / quietest_snr
-    duration = times[-1] + 0.3
+    duration = times[-1] + 0.3 + max(rattle, echo_lag or 0.0)
     n = int(duration * rate)
     x = rng.normal(0.0, noise, n)
     rumble = np.cumsum(rng.normal(0.0, 1.0, n))
@@ -90,17 +104,44 @@ def make_recording(seed=0, rate=48000, e=0.9, first_interval=0.3, min_interval=0
     x += rumble + 0.01 * np.sin(2 * math.pi * 50.0 * np.arange(n) / rate)
     modes = _modes(rng, decay_low, decay_high)
     length = min(8 * float(modes[1].max()) + 0.02, 0.25)
-    for t0, amp in zip(times, amps):
-        i0, y = _click(rng, rate, t0, length, modes)
+    others = []
+
+    def add(t0, amp, shape, span, smooth=1):
+        i0, y = _click(rng, rate, t0, span, shape)
+        if smooth > 1:
+            y = np.convolve(y, np.ones(smooth) / smooth, mode='same')
         stop = min(i0 + y.size, n)
         x[i0:stop] += amp * y[:stop - i0]
-    # the spurious tick: in the middle of the longest flight after the third impact
-    k = 3 + int(rng.integers(0, 5))
-    t_sp = 0.5 * (times[k] + times[k + 1]) + rng.uniform(-0.02, 0.02)
+
     tick = (np.array([9000.0]), np.array([3e-4]), np.array([1.0]))
-    i0, y = _click(rng, rate, t_sp, 0.01, tick)
-    x[i0:i0 + y.size] += spurious_ratio * 0.5 * (amps[k] + amps[k + 1]) * y
-    return Recording(np.clip(x, -1.0, 1.0), float(rate), times, float(t_sp), modes)
+    for t0, amp in zip(times, amps):
+        add(t0, amp, modes, length)
+        if echo_lag:
+            add(t0 + echo_lag, echo_gain * amp, modes, length, smooth=3)
+            others.append(t0 + echo_lag)
+        t = t0 + rng.uniform(1.5e-3, 4e-3) if rattle else math.inf
+        while t < t0 + rattle:
+            add(t, rattle_gain * amp * math.exp(-(t - t0) / (rattle / 4)), tick, 0.004)
+            others.append(t)
+            t += rng.uniform(1.5e-3, 4e-3)
+    # the spurious ticks: the first in the middle of the longest flight after the third impact
+    spurious = []
+    k = 3 + int(rng.integers(0, 5))
+    chosen = [k]
+    if spurious_count > 1:
+        rest = np.setdiff1d(np.arange(1, times.size - 2), [k])
+        chosen += list(rng.choice(rest, spurious_count - 1, replace=False))
+    for k in chosen[:spurious_count]:
+        t_sp = 0.5 * (times[k] + times[k + 1]) + rng.uniform(-0.02, 0.02) * min(
+            1.0, 10.0 * (times[k + 1] - times[k]))
+        add(t_sp, spurious_ratio * 0.5 * (amps[k] + amps[k + 1]), tick, 0.01)
+        spurious.append(t_sp)
+    if pre_click:
+        add(times[0] - pre_click, 0.1 * amps[0], tick, 0.01)
+        others.append(times[0] - pre_click)
+    return Recording(np.clip(x, -1.0, 1.0), float(rate), times,
+                     float(spurious[0]) if spurious else math.nan, modes,
+                     np.sort(np.array(others + spurious)))
 
 
 def score(found, true, tolerance=2e-3):

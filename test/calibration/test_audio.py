@@ -40,10 +40,11 @@ def test_every_onset_within_0_2_ms(tmp_path, rate, bits, stereo):
 
 def test_echo_is_gated_but_a_close_real_bounce_is_not():
     rate = 48000
-    # two clicks 20 ms apart of nearly equal loudness (final bounces), then one with an echo
+    # two clicks 20 ms apart of nearly equal loudness (final bounces), then one with an echo;
+    # not a bounce sequence (flights grow): the clicks heard, without the sequence rules
     times = np.array([0.1, 0.12, 0.5])
     x = audio.synthesize_recording(times, [0.5, 0.45, 0.5], rate=rate, echo_gain=0.0, seed=3)
-    onsets = audio.detect_onsets(x, rate)
+    onsets = audio.detect_onsets(x, rate, sequence=False)
     assert np.max(np.abs(onsets.times - times)) < 2e-4
     x = audio.synthesize_recording(times[:1], [0.5], rate=rate, echo_gain=0.45,
                                    echo_delay=0.012, seed=4)
@@ -59,6 +60,10 @@ def test_wav_into_the_bounce_fit(tmp_path, capsys):
     out = capsys.readouterr().out
     assert code == 0
     assert 'released from 0.8 m' in out           # the height from the file name
+    # the onsets found, kept and rejected are said before the fit
+    summary = next(ln for ln in out.splitlines() if ln.startswith('# audio'))
+    assert out.index(summary) < out.index('# bounce fit')
+    assert f'{len(times) - 1} kept as impacts' in summary and 'onset(s) found' in summary
     assert 'missed bounce' in out                 # the quiet tenth bounce
     line = next(ln for ln in out.splitlines() if ln.startswith('azad_featherstone: lambda'))
     assert float(line.split()[3]) == pytest.approx(4500.0, rel=0.01)
@@ -82,3 +87,61 @@ def test_a_wav_cut_off_inside_its_header_is_refused_by_name(tmp_path):
     path.write_bytes(b'RIFF\x24\x00\x00\x00WAVEfmt \x10\x00')
     with pytest.raises(ValueError, match="audio = '.*cut.wav' cannot be read as WAV"):
         bounce_times_from_audio(path)
+
+
+@pytest.mark.parametrize('samples, says', [
+    (np.full(5000, np.nan), r'samples\[0\] = nan is not finite'),
+    (np.concatenate([np.zeros(4000), [np.inf], np.zeros(999)]), r'samples\[4000\] = inf'),
+    (np.zeros(0), 'samples holds 0 frames: allowed a recording of at least 16 frames'),
+    (np.zeros(5000, dtype=complex), 'samples holds complex numbers'),
+    (np.zeros((2, 5000)), r'samples has shape \(2, 5000\): allowed \(n,\) or \(n, channels\) '
+                          'with 1 to 64 channels'),
+    (np.zeros((100, 2, 2)), r'samples has shape \(100, 2, 2\)'),
+    ('0.1 0.2', 'samples = .* is not a real number'),
+])
+def test_samples_that_are_not_a_recording_are_refused_by_name(samples, says):
+    # found (issue 34): LinAlgError from NaN samples, NaN noise from 2-D ones, an empty min()
+    with pytest.raises(cs.InputError, match=says) as error:
+        audio.detect_onsets(samples, 48000)
+    assert error.value.field == 'samples'
+
+
+def test_a_wav_with_non_finite_samples_or_too_many_channels_is_refused_by_name(tmp_path):
+    x = audio.synthesize_recording([0.1, 0.4], [0.5, 0.4])
+    x[3000] = np.nan
+    path = tmp_path / 'nan.wav'
+    audio.write_wav(path, x, 48000, 'float')
+    with pytest.raises(cs.InputError, match='audio holds a non-finite sample at frame 3000') \
+            as error:
+        audio.bounce_times_from_audio(path)
+    assert error.value.field == 'audio'
+    # a header claiming 1000 channels (found: a MemoryError reading one block)
+    path = tmp_path / 'wide.wav'
+    audio.write_wav(path, np.zeros(1000), 48000, 16)
+    raw = bytearray(path.read_bytes())
+    raw[22:24] = (1000).to_bytes(2, 'little')
+    path.write_bytes(bytes(raw))
+    with pytest.raises(cs.InputError, match='1000 channels at 48000 Hz: allowed 1 to 64'):
+        audio.bounce_times_from_audio(path)
+
+
+@pytest.mark.parametrize('samples, rate, field, says', [
+    (np.full(5000, 1e300), 48000, 'samples', r'a sample of 1e\+300 at frame 0: allowed '
+                                             r'\|sample\| <= 1e\+06'),
+    (np.zeros(5000), 1e300, 'sample_rate', r'allowed 0 < sample_rate <= 1e\+07'),
+    (np.zeros(5000), '48000', 'sample_rate', 'is text'),
+    (np.zeros(5000), 1.0, 'sample_rate', 'too low for the high-pass at 2000 Hz'),
+])
+def test_levels_and_rates_out_of_range_are_refused_by_name(samples, rate, field, says):
+    # found (issue 34): a LinAlgError at 1e300 Hz, overflow at 1e300 full scale, text taken as a
+    # rate, and a too-low rate reported as highpass
+    with pytest.raises(cs.InputError, match=says) as error:
+        audio.detect_onsets(samples, rate)
+    assert error.value.field == field
+
+
+def test_a_lone_spike_gives_finite_onsets():
+    x = np.zeros(6001)
+    x[3000] = 1.0                     # found: the square root of a rounding error below zero
+    onsets = audio.detect_onsets(x, 48000)
+    assert np.all(np.isfinite(onsets.times)) and np.isfinite(onsets.noise)

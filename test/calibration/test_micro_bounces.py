@@ -59,3 +59,19 @@ def test_bad_cuts_are_refused_by_name():
         MicroBounceCut(LAW, 1e5, MASS, 0.0)
     with pytest.raises(ValueError, match='min_flight = -1.0 is out of range'):
         MicroBounceCut(min_flight=-1.0)
+
+
+def test_a_wav_cut_to_too_few_clicks_still_says_what_was_heard_and_kept(tmp_path, capsys):
+    # found (issue 32): 'data holds 2 click(s)', exit 2, without a word about the dozens of
+    # onsets heard; now the audio line comes first, whatever the fit then refuses
+    from contact_sim import cli
+    from contact_sim.calibration import audio
+    t = 0.3 + flights_of(e=0.8, v=3.0, count=12)
+    path = tmp_path / 'drop.wav'
+    audio.write_wav(path, audio.synthesize_recording(t, 0.5 * 0.8 ** np.arange(t.size)), 48000)
+    code = cli.main(['bounces', str(path), '--mass', '0.058', '--stiffness', '1e3',
+                     '--law', 'hunt_crossley'])
+    captured = capsys.readouterr()
+    assert code == 2 and 'click(s)' in captured.err
+    line = next(ln for ln in captured.out.splitlines() if ln.startswith('# audio'))
+    assert f'{t.size} kept as impacts' in line and 'onset(s) found' in line
