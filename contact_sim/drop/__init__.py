@@ -20,14 +20,10 @@ alone, ``advance`` until its next event):
   is the linearised damped oscillator about z₀, in closed form, so a resting sphere costs nothing
   to advance;
 * ``mode_carried.Carried`` (a moving plate): quasi-static while the plate's acceleration is
-  above -g/2; event ``released``;
-* ``mode_train.Bouncing`` (the fixed plate or a vibrating table in vacuum, the compiled
-  engine): the flights and contact phases above strung together in compiled code
-  (``compiled_train``), many bounces a call, with the same functions in the same order; events
-  ``landed`` (a ``Contact`` over the phase goes on), ``carried`` (as a contact's), ``touch`` (a
-  phase too stiff for the compiled integrator, left to ``Contact``) and ``handed_over`` (the
-  engine changed).  A change from outside first takes its current flight or phase
-  (``Mode.handed_over``).
+  above -g/2; event ``released``.
+
+The speed is in the compiled kernels each mode calls (a phase's integrator steps, a flight's
+plan), not in a second machine: every bounce goes through these modes and the table.
 
 What follows an event is looked up in one table, ``transitions.TRANSITIONS``; the record of
 impacts, apexes and integrator steps is kept by one ``records.Recorder``.  The fixed plate is the

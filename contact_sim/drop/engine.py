@@ -191,7 +191,6 @@ class DropSimulation:
         """
         self.check_plate(plate)
         new = as_plate(plate)
-        self._mode = self._mode.handed_over(self)
         t = self.time
         z, zdot = self._mode.state(t)
         p, pv = self.plate_motion.state(t)[:2]
@@ -214,7 +213,6 @@ class DropSimulation:
         """
         contact = require_contact(contact)
         self.check(contact)
-        self._mode = self._mode.handed_over(self)
         z, zdot = self._mode.state(self.time)
         self._follow(Event('set_contact', self.time, z, zdot, contact=contact))
 

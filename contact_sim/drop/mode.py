@@ -54,7 +54,6 @@ class Mode:
       plate, recorder);
     * ``event_at_until()``: the event at ``until`` of a closed-form mode that has one (the
       default ``advance`` reports it once ``t_end`` reaches ``until``);
-    * ``handed_over(sim)``: the mode that takes a change from outside in this one's place;
     * ``steps``: integrator steps taken in this mode so far (the engine adds them to the record
       when the mode ends); ``in_contact``, ``carried``: what ``DropSimulation`` reports.
     """
@@ -78,11 +77,6 @@ class Mode:
 
     def event_at_until(self):
         raise NotImplementedError
-
-    def handed_over(self, sim):
-        """The mode that takes a change from outside (``set_plate``, ``set_contact``) in this
-        one's place: itself (a train of modes hands over its current one, ``mode_train``)."""
-        return self
 
 
 class _NoPoints:

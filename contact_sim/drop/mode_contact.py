@@ -6,12 +6,11 @@ import bisect
 import math
 from operator import itemgetter
 
-from contact_sim.drop.compiled_train import bounded_rate
 from contact_sim.drop.mode import Event, Mode, Move
 from contact_sim.drop.mode_carried import CarryWatch
 from contact_sim.drop.mode_rest import RestWatch
 from contact_sim.drop.records import ImpactRecord
-from contact_sim.phase import contact_phase
+from contact_sim.phase import contact_phase, potential_at
 
 _TIME = itemgetter(0)   # a point's time (points are (t, z, ż, F))
 
@@ -26,9 +25,12 @@ def energy_bounded_rate(sim, start, z, zdot):
     release; the speed is then taken from the energy at the start instead (the sign kept).
     Unchanged wherever the energy did not grow.
     """
-    contact = sim.contact
-    return bounded_rate(contact.stiffness, contact.law.n, sim.mass, sim.gravity, start[1],
-                        start[2], z, zdot)
+    contact, mass, gravity = sim.contact, sim.mass, sim.gravity
+    e_start = 0.5 * mass * start[2] * start[2] + potential_at(contact, mass, gravity, start[1])
+    potential = potential_at(contact, mass, gravity, z)
+    if not 0.5 * mass * zdot * zdot + potential > e_start:
+        return zdot
+    return math.copysign(math.sqrt(max(2.0 * (e_start - potential) / mass, 0.0)), zdot)
 
 
 class Contact(Mode):
@@ -44,10 +46,10 @@ class Contact(Mode):
     in_contact = True
     until = -math.inf
 
-    def __init__(self, sim, t, z, zdot, resumed=False, record=None, integrator=None):
+    def __init__(self, sim, t, z, zdot, resumed=False, record=None):
         plate = sim.plate_motion
         forcing, self.valid_until = plate.forcing_piece(t)
-        self.integrator = integrator if integrator is not None else contact_phase(
+        self.integrator = contact_phase(
             sim.contact, sim.mass, sim.gravity, t, z, zdot, rtol=sim.rtol, atol=sim.rtol * 1e-2,
             forcing=forcing)
         self.watch = CarryWatch() if plate.moving else RestWatch(sim)

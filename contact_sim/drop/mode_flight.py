@@ -27,16 +27,6 @@ class Flight(Mode):
         self.contact_time = math.inf
         self.apex = plate.plan_flight(self, z, zdot, contact, drag_rates, after_lift_off)
 
-    @classmethod
-    def planned(cls, plate, gravity, start, y0, v0, contact_time):
-        """The vacuum flight from ``start`` (s) at y0 (m), v0 (m/s) over ``plate`` whose touch
-        at ``contact_time`` (s) is planned already (by the compiled bounces, ``mode_train``)."""
-        flight = cls.__new__(cls)
-        flight.plate, flight.gravity, flight.start = plate, gravity, start
-        flight.y0, flight.v0, flight.path, flight.contact_time = y0, v0, None, contact_time
-        flight.apex = None
-        return flight
-
     @property
     def until(self):
         return self.contact_time

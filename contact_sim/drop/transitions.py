@@ -3,10 +3,8 @@
 ``TRANSITIONS[(mode class, event name)]`` is the entry ``(sim, mode, event) -> next mode`` (the
 same mode: no change), ``sim`` the ``DropSimulation``, ``mode`` the mode the event ended.  The
 events a mode reports itself (``Mode.advance``): ``touch`` (flight), ``lift_off``, ``knot``,
-``settled``, ``carried`` (contact), ``released`` (carried), ``landed``, ``touch``, ``knot``,
-``carried`` and ``handed_over`` (the compiled bounces, ``mode_train``: a flight becomes one where
-``mode_train.takes`` it).  The changes from outside (taken by the mode's ``handed_over``), at
-the current time: ``set_contact`` (``event.contact`` is the new contact) and ``set_plate`` (the
+``settled``, ``carried`` (contact), ``released`` (carried).  The changes from outside, at the
+current time: ``set_contact`` (``event.contact`` is the new contact) and ``set_plate`` (the
 plate's motion has changed; (z, ż) are relative to the new plate).
 
 A contact given during a contact phase waits (``DropSimulation.pending_contact``) and is taken
@@ -16,8 +14,6 @@ from contact_sim.drop.mode_carried import Carried
 from contact_sim.drop.mode_contact import Contact
 from contact_sim.drop.mode_flight import Flight
 from contact_sim.drop.mode_rest import Rest
-from contact_sim.drop import mode_train
-from contact_sim.drop.mode_train import Bouncing
 
 
 def _take_pending_contact(sim):
@@ -33,7 +29,7 @@ def free_motion(sim, t, z, zdot, after_lift_off=False, resumed=False):
     flight = Flight(sim.plate_motion, sim.gravity, t, z, zdot, sim.contact, sim.drag_rates,
                     after_lift_off)
     sim.recorder.apex(flight.apex)
-    return Bouncing(sim, flight) if mode_train.takes(sim, flight) else flight
+    return flight
 
 
 def _contact(sim, t, z, zdot, resumed):
@@ -115,9 +111,4 @@ TRANSITIONS = {
     (Carried, 'released'): impact,
     (Carried, 'set_contact'): new_contact(resume),
     (Carried, 'set_plate'): resume,
-    (Bouncing, 'touch'): impact,
-    (Bouncing, 'knot'): go_on,
-    (Bouncing, 'landed'): built,
-    (Bouncing, 'handed_over'): built,
-    (Bouncing, 'carried'): built,
 }

@@ -2,17 +2,107 @@
 
 The same mathematics as the reference (``reference.PhaseIntegrator``): DOP853 with scipy's step
 control, the 7th-order dense output and Brent event location, all in numba, so that ``run``
-takes any number of steps in one call.
+takes any number of steps in one call.  A phase starts with ``start_phase`` (after
+``constant_parameters``): the per-phase slots of ``compiled``'s parameter vector from the
+phase's scales, the state at σ = 0 and the force and peak of the first point.
 """
 import math
 
 import numpy as np
+from numba import njit
 
 from contact_sim.phase import compiled
-from contact_sim.phase.compiled_start import (constant_parameters, energy_stop, phase_state_at,
-                                              phase_storage, start_phase, step_too_small)
+from contact_sim.phase.compiled import (NPAR, P_ATOL, P_DAMPING, P_ENERGY_GRAVITY, P_GRAVITY,
+                                        P_KIND, P_LENGTH, P_LIFT_EVENTS, P_MASS, P_N, P_P, P_Q,
+                                        P_REST_POTENTIAL, P_RTOL, P_START, P_STIFFNESS, P_TIME,
+                                        P_ZETA, S_DEPTH, S_H, S_PEAK, S_U, S_X)
 from contact_sim.phase.lift_off import force_can_vanish_inside
-from contact_sim.phase.scales import DEFAULT_ATOL, DEFAULT_RTOL, PhaseScales, phase_scales
+from contact_sim.phase.scales import (DEFAULT_ATOL, DEFAULT_RTOL, FIRST_STEP, phase_scales,
+                                      start_peak)
+
+_KW = dict(cache=True, nogil=True, error_model='numpy')
+
+_start_peak = njit('float64(float64, float64, float64, float64, float64, float64)',
+                   **_KW)(start_peak)
+
+
+def constant_parameters(contact, mass, rtol, atol, lift_events):
+    """``compiled``'s parameter vector with the slots that hold for every phase of ``contact``
+    filled (law, k, λ, m (kg), tolerances, the law's short form, ``lift_events`` 1 or 2); the
+    forcing and the per-phase slots zero (``start_phase`` fills the latter)."""
+    law = contact.law
+    par = np.zeros(NPAR)
+    par[P_N], par[P_P], par[P_Q] = law.n, law.p, law.q
+    par[P_STIFFNESS], par[P_DAMPING], par[P_MASS] = contact.stiffness, contact.damping, mass
+    par[P_RTOL], par[P_ATOL] = rtol, atol
+    par[P_KIND], par[P_LIFT_EVENTS] = float(law.kernel), float(lift_events)
+    return par
+
+
+def phase_storage():
+    """Empty integrator storage (st, K, F) of ``compiled``'s shapes."""
+    return (np.zeros(compiled.NSTATE), np.zeros((compiled.A.shape[0], 2)),
+            np.zeros((compiled.D.shape[0] + 3, 2)))
+
+
+@njit('float64(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], float64, float64, '
+      'float64, float64, float64, float64, float64)', **_KW)
+def start_phase(par, st, K, F, start_time, penetration, penetration_rate, length, time, gamma,
+                zeta):
+    """Start a phase at ``start_time`` (s) from (z, ż) (m, m/s) with the scales (Z m, T s, γ, ζ):
+    fill the per-phase slots of ``par`` (as ``constant_parameters`` left it, its forcing
+    slots set by the caller), set (st, K, F) to the state at σ = 0; returns the phase's first
+    peak force (N), ``scales.start_peak_force`` of the force there.
+
+    The energy of rest is taken at the g the scales give back, m γ Z / T² / m (as the phase's
+    energy test uses it)."""
+    par[P_ZETA], par[P_GRAVITY] = zeta, gamma
+    par[P_START], par[P_TIME], par[P_LENGTH] = start_time, time, length
+    mass, k, n = par[P_MASS], par[P_STIFFNESS], par[P_N]
+    mass_g = mass * gamma * length / (time * time)
+    g = mass_g / mass
+    z0 = (mass_g / k) ** (1.0 / n)
+    par[P_ENERGY_GRAVITY] = g
+    par[P_REST_POTENTIAL] = (k * (z0 if z0 > 0.0 else 0.0) ** (n + 1.0) / (n + 1.0)
+                             - mass * g * z0)
+    st[:] = 0.0
+    K[:, :] = 0.0
+    F[:, :] = 0.0
+    st[S_X], st[S_U], st[S_H] = penetration / length, penetration_rate * time / length, FIRST_STEP
+    peak = _start_peak(par[P_P], par[P_DAMPING], par[P_Q], penetration, penetration_rate,
+                       compiled.contact_force(penetration, penetration_rate, par))
+    st[S_PEAK], st[S_DEPTH] = peak, penetration
+    return peak
+
+
+@njit('float64(float64, float64[::1])', **_KW)
+def energy_stop(stop_energy, par):
+    """The energy (J) at which ``compiled.run`` stops for a caller's test at ``stop_energy``:
+    a generous margin above it (1e-9 of it and 1e-12 of the phase's kinetic energy scale
+    m (Z/T)²), so that the run stops a step before the caller's own test may agree, never
+    after; -inf stays -inf."""
+    if not stop_energy > -np.inf:
+        return -np.inf
+    v = par[P_LENGTH] / par[P_TIME]
+    return stop_energy + abs(stop_energy) * 1e-9 + 1e-12 * par[P_MASS] * (v * v)
+
+
+def step_too_small():
+    """The error of a phase whose step size fell below the spacing of the doubles
+    (``compiled.STEP_TOO_SMALL``)."""
+    return RuntimeError('contact integration failed: Required step size is less than spacing '
+                        'between numbers.')
+
+
+@njit('UniTuple(float64, 2)(float64[::1], float64[:, ::1], float64[:, ::1], float64[::1], '
+      'float64)', **_KW)
+def phase_state_at(st, K, F, par, t):
+    """(z m, ż m/s) of a phase at a time t (s) within its last step, from the step's dense
+    output (``CompiledPhase.state_at``)."""
+    time, length = par[P_TIME], par[P_LENGTH]
+    s = math.sqrt(max(t - par[P_START], 0.0) / time)
+    x, u = compiled.state_in_last_step(st, K, F, par, s)
+    return x * length, u * length / time
 
 
 class CompiledPhase:
@@ -41,40 +131,17 @@ class CompiledPhase:
         st, k, f = phase_storage()
         peak = start_phase(par, st, k, f, start_time, penetration, penetration_rate, sc.length,
                            sc.time, sc.gravity, sc.damping)
-        self._adopt(contact, mass, sc, par, st, k, f, keep_points,
-                    [(start_time, penetration, penetration_rate, peak)])
-
-    @classmethod
-    def adopt(cls, contact, mass, par, st, k, f, points, keep_points=True):
-        """The phase whose compiled storage is (``par``, st, K, F), started and run by someone
-        else (the drop's compiled bounce loop): its points so far ``points`` (rows (t, z, ż, F),
-        the first one its start), its scales and results read from the storage, which it then
-        owns."""
-        phase = cls.__new__(cls)
-        sc = PhaseScales(par[compiled.P_LENGTH], par[compiled.P_TIME], par[compiled.P_GRAVITY],
-                         par[compiled.P_ZETA])
-        phase._adopt(contact, mass, sc, par, st, k, f, keep_points, points)
-        phase._read_state()
-        return phase
-
-    def caught_up(self, points):
-        """An adopted phase (``adopt``) after the kernel that drives it took more steps: its
-        new ``points`` (rows (t, z, ż, F)) appended, its results read again from the storage."""
-        self.points.extend(points)
-        self._read_state()
-
-    def _adopt(self, contact, mass, scales, par, st, k, f, keep_points, points):
-        self.contact, self.mass, self.scales = contact, mass, scales
-        self.start_time = points[0][0]
+        self.contact, self.mass, self.scales = contact, mass, sc
+        self.start_time = start_time
         self._par, self._st, self._k, self._f = par, st, k, f
         self._buffer = np.empty((compiled.POINT_BUFFER, 4))
         self._keep_points = keep_points
         self.lifted_off = False
         self.steps = 0
-        self.peak_force = points[0][3]
-        self.max_penetration = points[0][1]
+        self.peak_force = peak
+        self.max_penetration = penetration
         self.end = None  # (t, z, ż) at lift-off
-        self.points = points
+        self.points = [(start_time, penetration, penetration_rate, peak)]
 
     def run(self, t_stop=math.inf, max_steps=None, stop_energy=-math.inf):
         """Step until lift-off, until ``time >= t_stop`` (s), for ``max_steps`` steps, or until a

@@ -1,9 +1,8 @@
 """A flight over the fixed plate in compiled code: when the clamped force switches on again and
 the apex of a flight after a lift-off, in closed form (numba).
 
-Written once for both paths: ``flights.ballistic_flight`` (a flight planned from Python) calls
-these functions, and so does the compiled bounce loop (``drop.compiled_train``) for the flights
-it plans itself.  Units: SI; z > 0 is penetration, ż > 0 approach, g >= 0 along +z.
+``flights.ballistic_flight`` (a flight planned by the fixed plate) calls these functions.
+Units: SI; z > 0 is penetration, ż > 0 approach, g >= 0 along +z.
 
 Compiled with explicit signatures when imported and cached on disk (numba ``cache=True``).
 """

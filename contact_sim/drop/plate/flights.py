@@ -36,7 +36,7 @@ def reduced_force_scalar(contact):
 def touch_time(z, zdot, gravity, contact):
     """Ballistic flight time (s) from (z, ż) (m, m/s) over the fixed plate under ``gravity``
     (m/s²) until the clamped force of ``contact`` switches on again (inf: never): the compiled
-    ``compiled_ballistic.touch_time``, which the compiled bounce loop plans its flights with."""
+    ``compiled_ballistic.touch_time``."""
     law = contact.law
     return ballistic_touch_time(z, zdot, gravity, contact.stiffness, contact.damping,
                                 law.n - law.p, law.q)
@@ -77,7 +77,7 @@ def gap_flight(plate, flight, z, zdot, contact, drag_rates, after_lift_off):
 
 def rise_apex(y0, v0, gravity):
     """The apex height (m) of a vacuum flight leaving y0 (m) upwards at v0 > 0 (m/s) under
-    ``gravity`` (m/s²): plain Python that numba compiles as it stands (the compiled bounces)."""
+    ``gravity`` (m/s²)."""
     return y0 + 0.5 * v0 * v0 / gravity
 
 
