@@ -6,11 +6,10 @@ import bisect
 import math
 from operator import itemgetter
 
-from contact_sim.drop.mode import Event, Mode, Move
+from contact_sim.drop.mode import NO_POINTS, Event, Mode, Move
 from contact_sim.drop.mode_carried import CarryWatch
 from contact_sim.drop.mode_rest import RestWatch
 from contact_sim.drop.records import ImpactRecord
-from contact_sim.phase import contact_phase, potential_at
 
 _TIME = itemgetter(0)   # a point's time (points are (t, z, ż, F))
 
@@ -25,9 +24,12 @@ def energy_bounded_rate(sim, start, z, zdot):
     release; the speed is then taken from the energy at the start instead (the sign kept).
     Unchanged wherever the energy did not grow.
     """
-    contact, mass, gravity = sim.contact, sim.mass, sim.gravity
-    e_start = 0.5 * mass * start[2] * start[2] + potential_at(contact, mass, gravity, start[1])
-    potential = potential_at(contact, mass, gravity, z)
+    contact, mass, mg = sim.contact, sim.mass, sim.mass * sim.gravity
+    k, n1 = contact.stiffness, contact.law.n + 1.0
+    z_start = start[1]      # the potentials of phase.potential_at
+    e_start = (0.5 * mass * start[2] * start[2]
+               + (k * max(z_start, 0.0) ** n1 / n1 - mg * z_start))
+    potential = k * max(z, 0.0) ** n1 / n1 - mg * z
     if not 0.5 * mass * zdot * zdot + potential > e_start:
         return zdot
     return math.copysign(math.sqrt(max(2.0 * (e_start - potential) / mass, 0.0)), zdot)
@@ -49,13 +51,13 @@ class Contact(Mode):
     def __init__(self, sim, t, z, zdot, resumed=False, record=None):
         plate = sim.plate_motion
         forcing, self.valid_until = plate.forcing_piece(t)
-        self.integrator = contact_phase(
-            sim.contact, sim.mass, sim.gravity, t, z, zdot, rtol=sim.rtol, atol=sim.rtol * 1e-2,
-            forcing=forcing)
+        self.integrator = phase = sim.phase_factory().start(t, z, zdot, forcing=forcing)
+        self.start_point = phase.points[0]      # (t, z, ż, F) at the phase's start
         self.watch = CarryWatch() if plate.moving else RestWatch(sim)
         self.resumed = resumed
         self.first_point, self.peak, self.depth = record or (None, 0.0, -math.inf)
-        self.emitted = 0
+        self.emitted = 0            # the points handed out (an index into the integrator's)
+        self.passed = -math.inf     # and the points up to this time (s), passed
 
     @property
     def steps(self):
@@ -70,7 +72,7 @@ class Contact(Mode):
     @property
     def impact_point(self):
         """(t, z, ż, F) at the start of the contact (before any restart)."""
-        return self.first_point or self.integrator.points[0]
+        return self.first_point or self.start_point
 
     def record_until(self, t):
         """(first point, peak force (N), depth (m)) of the contact up to t (s), to carry on."""
@@ -82,16 +84,22 @@ class Contact(Mode):
     def state(self, t):
         phase = self.integrator
         if t == phase.start_time:
-            return phase.points[0][1], phase.points[0][2]
+            return self.start_point[1], self.start_point[2]
         if t == phase.time:
             return phase.state
         return phase.state_at(t)
 
-    def take_points(self, t_end):
-        """The integrator's points up to ``t_end`` (s) not handed out yet."""
-        pts, start = self.integrator.points, self.emitted
-        self.emitted = bisect.bisect_right(pts, t_end, lo=start, key=_TIME)  # times increase
-        return pts[start:self.emitted]
+    def hand_out(self, points, t_end):
+        """Append the integrator's points up to ``t_end`` (s) not handed out yet to ``points``;
+        to ``NO_POINTS`` none: they are passed (the integrator's list is then not read)."""
+        if points is NO_POINTS:
+            if t_end > self.passed:
+                self.passed = t_end
+            return
+        pts = self.integrator.points                    # times increase
+        start = bisect.bisect_right(pts, self.passed, lo=self.emitted, key=_TIME)
+        self.emitted = bisect.bisect_right(pts, t_end, lo=start, key=_TIME)
+        points.extend(pts[start:self.emitted])
 
     def finish_time(self):
         """When the phase ends within its forcing piece (lift-off, or the switch to rest), or
@@ -104,7 +112,7 @@ class Contact(Mode):
     def advance(self, sim, t_end, budget, points):
         phase, knot = self.integrator, self.valid_until
         while True:
-            points.extend(self.take_points(min(t_end, knot)))
+            self.hand_out(points, min(t_end, knot))
             finish = self.finish_time()
             if finish is not None:
                 if finish > t_end:
@@ -119,7 +127,7 @@ class Contact(Mode):
             if phase.time >= t_end:
                 return Move(None, t_end, budget)
             if budget <= 0:         # out of budget: stop where the integrator is
-                points.extend(self.take_points(phase.time))
+                self.hand_out(points, phase.time)
                 return Move(None, phase.time, budget)
             event = self.watch.before_run(sim, self)
             if event is not None:
@@ -135,7 +143,7 @@ class Contact(Mode):
             return Event('settled', rest.start, after=rest)
         t, z, zdot = phase.end
         if not sim.plate_motion.moving:
-            zdot = energy_bounded_rate(sim, phase.points[0], z, zdot)
+            zdot = energy_bounded_rate(sim, self.start_point, z, zdot)
         if self.resumed:        # a contact change moved the sphere: no impact to record
             recorder.permanent_contact_time = recorder.settle_time = None
         else:

@@ -9,7 +9,6 @@ import numpy as np
 
 from contact_sim.drop.mode import Mode
 from contact_sim.drop.records import ImpactRecord
-from contact_sim.phase import lift_off_energy
 
 
 class Rest(Mode):
@@ -67,8 +66,7 @@ class RestWatch:
     integrated all the way); ``record``: the index of the landing's ``ImpactRecord``."""
 
     def __init__(self, sim):
-        self.floor = (lift_off_energy(sim.contact, sim.mass, sim.gravity)
-                      if sim.gravity > 0.0 else -math.inf)
+        self.floor = sim.phase_factory().energy_floor
         self.permanent = False
         self.rest = None
         self.record = None

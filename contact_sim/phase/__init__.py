@@ -26,7 +26,8 @@ Python, the reference path), ``compiled_phase`` (``CompiledPhase``, the default 
 start) over ``compiled`` (the numba kernels: DOP853 with dense output and located events) and
 ``_dop853_coefficients`` (the generated tableau), ``brent`` (Brent's method one iteration at a
 time, for the compiled root searches here and in the drop's flights), ``engines`` (the engine
-switch and ``contact_phase``, which picks one).
+switch and ``contact_phase``, which picks one; ``PhaseFactory``, its choices for one contact made
+once).
 """
 from contact_sim._lazy import lazy_exports
 
@@ -36,8 +37,8 @@ _EXPORTS = {
     'brent': ('brent_evaluated', 'brent_next', 'brent_start'),
     'compiled_phase': ('CompiledPhase',),
     'energy': ('energy_above_rest', 'lift_off_energy', 'potential_at'),
-    'engines': ('COMPILED_STIFF_DAMPING', 'ENGINES', 'contact_phase', 'get_engine', 'set_engine',
-                'use_engine'),
+    'engines': ('COMPILED_STIFF_DAMPING', 'ENGINES', 'PhaseFactory', 'contact_phase', 'get_engine',
+                'set_engine', 'use_engine'),
     'forcing': ('Forcing',),
     'lift_off': ('force_can_vanish_inside',),
     'reference': ('STIFF_DAMPING', 'PhaseIntegrator'),
@@ -46,7 +47,8 @@ _EXPORTS = {
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = ['COMPILED_STIFF_DAMPING', 'DEFAULT_ATOL', 'DEFAULT_RTOL', 'ENGINES', 'STIFF_DAMPING',
-           'CompiledPhase', 'Forcing', 'PhaseIntegrator', 'PhaseScales', 'brent_evaluated',
+           'CompiledPhase', 'Forcing', 'PhaseFactory', 'PhaseIntegrator', 'PhaseScales',
+           'brent_evaluated',
            'brent_next', 'brent_start', 'contact_phase', 'energy_above_rest',
            'force_can_vanish_inside', 'get_engine', 'lift_off_energy', 'phase_scales',
            'potential_at', 'set_engine', 'use_engine']

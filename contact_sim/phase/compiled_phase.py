@@ -17,13 +17,15 @@ from contact_sim.phase.compiled import (NPAR, P_ATOL, P_DAMPING, P_ENERGY_GRAVIT
                                         P_REST_POTENTIAL, P_RTOL, P_START, P_STIFFNESS, P_TIME,
                                         P_ZETA, S_DEPTH, S_H, S_PEAK, S_U, S_X)
 from contact_sim.phase.lift_off import force_can_vanish_inside
-from contact_sim.phase.scales import (DEFAULT_ATOL, DEFAULT_RTOL, FIRST_STEP, phase_scales,
-                                      start_peak)
+from contact_sim.phase.scales import (DEFAULT_ATOL, DEFAULT_RTOL, FIRST_STEP, PhaseScales,
+                                      phase_scales, scales_of, start_peak)
 
 _KW = dict(cache=True, nogil=True, error_model='numpy')
 
 _start_peak = njit('float64(float64, float64, float64, float64, float64, float64)',
                    **_KW)(start_peak)
+_scales_of = njit('UniTuple(float64, 4)(float64, float64, float64, float64, float64, float64, '
+                  'float64, float64, float64)', **_KW)(scales_of)
 
 
 def constant_parameters(contact, mass, rtol, atol, lift_events):
@@ -40,9 +42,10 @@ def constant_parameters(contact, mass, rtol, atol, lift_events):
 
 
 def phase_storage():
-    """Empty integrator storage (st, K, F) of ``compiled``'s shapes."""
-    return (np.zeros(compiled.NSTATE), np.zeros((compiled.A.shape[0], 2)),
-            np.zeros((compiled.D.shape[0] + 3, 2)))
+    """Integrator storage (st, K, F) of ``compiled``'s shapes, uninitialised (``start_phase``
+    sets it)."""
+    return (np.empty(compiled.NSTATE), np.empty((compiled.A.shape[0], 2)),
+            np.empty((compiled.D.shape[0] + 3, 2)))
 
 
 @njit('float64(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], float64, float64, '
@@ -75,16 +78,20 @@ def start_phase(par, st, K, F, start_time, penetration, penetration_rate, length
     return peak
 
 
-@njit('float64(float64, float64[::1])', **_KW)
-def energy_stop(stop_energy, par):
-    """The energy (J) at which ``compiled.run`` stops for a caller's test at ``stop_energy``:
-    a generous margin above it (1e-9 of it and 1e-12 of the phase's kinetic energy scale
-    m (Z/T)²), so that the run stops a step before the caller's own test may agree, never
-    after; -inf stays -inf."""
-    if not stop_energy > -np.inf:
-        return -np.inf
-    v = par[P_LENGTH] / par[P_TIME]
-    return stop_energy + abs(stop_energy) * 1e-9 + 1e-12 * par[P_MASS] * (v * v)
+@njit('UniTuple(float64, 4)(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], '
+      'float64, float64, float64, float64)', **_KW)
+def start_scaled(par, st, K, F, start_time, penetration, penetration_rate, gravity):
+    """``start_phase`` with the phase's scales found here (``scales.scales_of`` of the law, k,
+    λ and m in ``par`` and ``gravity`` m/s²): returns (peak force N, Z m, T s, ζ); nothing
+    started where Z <= 0 (no motion and no gravity, ``phase_scales`` refuses it)."""
+    length, time, gamma, zeta = _scales_of(par[P_STIFFNESS], par[P_DAMPING], par[P_MASS],
+                                           gravity, par[P_N], par[P_P], par[P_Q], penetration,
+                                           penetration_rate)
+    if not length > 0.0:
+        return math.nan, length, time, zeta
+    peak = start_phase(par, st, K, F, start_time, penetration, penetration_rate, length, time,
+                       gamma, zeta)
+    return peak, length, time, zeta
 
 
 def step_too_small():
@@ -110,10 +117,11 @@ class CompiledPhase:
     same mathematics as ``PhaseIntegrator`` (DOP853 with scipy's step control, the 7th-order dense
     output, Brent event location), but ``run`` takes any number of steps in one call.
 
-    ``points``, ``peak_force``, ``max_penetration``, ``steps``, ``lifted_off`` and ``end`` are
-    plain attributes, brought up to date after every ``step``/``run``.  With
-    ``keep_points=False`` only the first point is kept (a caller that wants the outcome alone).
-    ``forcing`` (a ``Forcing``) adds forcing terms to gravity.
+    ``peak_force``, ``max_penetration``, ``steps``, ``lifted_off`` and ``end`` are plain
+    attributes, brought up to date after every ``step``/``run``; ``points`` too, read as a list
+    of (t, z, ż, F) tuples when asked for (the rows a run adds are kept as arrays until then).
+    With ``keep_points=False`` only the first point is kept (a caller that wants the outcome
+    alone).  ``forcing`` (a ``Forcing``) adds forcing terms to gravity.
     """
 
     def __init__(self, contact, mass, gravity, start_time, penetration, penetration_rate,
@@ -125,15 +133,26 @@ class CompiledPhase:
         par = constant_parameters(contact, mass, rtol, atol,
                                   2 if force_can_vanish_inside(contact.law, gravity, forcing)
                                   else 1)
-        if forcing is not None:
-            par[compiled.P_AMPLITUDE:compiled.P_DRAG2 + 1] = forcing.dimensionless(
-                mass, sc, start_time)
         st, k, f = phase_storage()
         peak = start_phase(par, st, k, f, start_time, penetration, penetration_rate, sc.length,
                            sc.time, sc.gravity, sc.damping)
-        self.contact, self.mass, self.scales = contact, mass, sc
+        self._started(contact, mass, par, (st, k, f), start_time, penetration, penetration_rate,
+                      peak, sc, keep_points, forcing)
+
+    def _started(self, contact, mass, par, storage, start_time, penetration, penetration_rate,
+                 peak, scales, keep_points, forcing):
+        """The phase ``start_phase`` started in ``par`` (its own) and ``storage`` (st, K, F), its
+        first ``peak`` force (N), with its ``scales`` (a ``PhaseScales``, or (Z m, T s)): its
+        attributes, and the slots of ``forcing`` (``None``: gravity alone)."""
+        if isinstance(scales, PhaseScales):
+            self._scales, self._length_scale, self._time_scale = (scales, scales.length,
+                                                                  scales.time)
+        else:
+            self._scales = None
+            self._length_scale, self._time_scale = scales
+        self.contact, self.mass = contact, mass
         self.start_time = start_time
-        self._par, self._st, self._k, self._f = par, st, k, f
+        self._par, (self._st, self._k, self._f) = par, storage
         self._buffer = np.empty((compiled.POINT_BUFFER, 4))
         self._keep_points = keep_points
         self.lifted_off = False
@@ -141,7 +160,30 @@ class CompiledPhase:
         self.peak_force = peak
         self.max_penetration = penetration
         self.end = None  # (t, z, ż) at lift-off
-        self.points = [(start_time, penetration, penetration_rate, peak)]
+        self._points = [(start_time, penetration, penetration_rate, peak)]
+        self._rows = []     # the rows of points the runs added, not yet in ``_points``
+        if forcing is not None:
+            par[compiled.P_AMPLITUDE:compiled.P_DRAG2 + 1] = forcing.dimensionless(
+                mass, self.scales, start_time)
+
+    @property
+    def scales(self):
+        """The phase's ``PhaseScales`` (Z m, T s, γ, ζ)."""
+        if self._scales is None:
+            par = self._par
+            self._scales = PhaseScales(*par[[P_LENGTH, P_TIME, P_GRAVITY, P_ZETA]].tolist())
+        return self._scales
+
+    @property
+    def points(self):
+        """The points (t s, z m, ż m/s, F N) so far, a list of tuples: the start, then each
+        step's end and the peak, deepest point and lift-off located in it."""
+        if self._rows:
+            points = self._points
+            for rows in self._rows:
+                points.extend(map(tuple, rows.tolist()))
+            self._rows = []
+        return self._points
 
     def run(self, t_stop=math.inf, max_steps=None, stop_energy=-math.inf):
         """Step until lift-off, until ``time >= t_stop`` (s), for ``max_steps`` steps, or until a
@@ -149,7 +191,7 @@ class CompiledPhase:
         compiled test uses a margin of 1e-12 of the phase's kinetic energy scale, so it may stop
         a step before the caller's own test agrees, never after).  Returns the steps taken."""
         budget = compiled.MAX_STEPS if max_steps is None else int(min(max_steps, compiled.MAX_STEPS))
-        stop = energy_stop(stop_energy, self._par)
+        stop = self._energy_stop(stop_energy)
         st, buf = self._st, self._buffer
         taken = 0
         while True:
@@ -157,13 +199,23 @@ class CompiledPhase:
                                            budget - taken, stop)
             taken += n
             if npts and self._keep_points:
-                self.points.extend(map(tuple, buf[:npts].tolist()))
+                self._rows.append(buf[:npts].copy())
             if reason != compiled.BUFFER_FULL:
                 break
         self._read_state()
         if reason == compiled.STEP_TOO_SMALL:
             raise step_too_small()
         return taken
+
+    def _energy_stop(self, stop_energy):
+        """The energy (J) at which ``compiled.run`` stops for a caller's test at ``stop_energy``:
+        a generous margin above it (1e-9 of it and 1e-12 of the phase's kinetic energy scale
+        m (Z/T)²), so that the run stops a step before the caller's own test may agree, never
+        after; -inf stays -inf."""
+        if not stop_energy > -math.inf:
+            return -math.inf
+        v = self._length_scale / self._time_scale
+        return stop_energy + abs(stop_energy) * 1e-9 + 1e-12 * self.mass * (v * v)
 
     def _read_state(self):
         """The results of the steps taken, from the compiled state."""
@@ -184,11 +236,11 @@ class CompiledPhase:
     def time(self):
         """Time (s) reached by the integrator (the end of its last step)."""
         s = self._st[compiled.S_S]
-        return self.start_time + self.scales.time * s * s
+        return self.start_time + self._time_scale * s * s
 
     def _dimensional(self, s, x, u):
-        sc = self.scales
-        return self.start_time + sc.time * s * s, x * sc.length, u * sc.length / sc.time
+        time, length = self._time_scale, self._length_scale
+        return self.start_time + time * s * s, x * length, u * length / time
 
     @property
     def state(self):

@@ -77,3 +77,15 @@ def apex_height(start, flight_time, z, zdot, g):
     dt = (start + flight_time) - start
     touch = 0.0 - ((0.0 - z) + (0.0 - zdot) * dt - 0.5 * g * dt * dt)
     return -(touch if touch < z else z)
+
+
+@njit('UniTuple(float64, 2)(float64, float64, float64, float64, float64, float64, float64, '
+      'float64, boolean)', **_KW)
+def vacuum_plan(start, z, zdot, g, k, lam, spring_exponent, q, after_lift_off):
+    """A vacuum flight over the fixed plate from (z, ż) (m, m/s) at ``start`` (s), planned in
+    one call: (the touch time s, inf: never; the apex height m of a flight ``after_lift_off``
+    that touches again under g > 0, else nan): ``touch_time`` and ``apex_height``."""
+    dt = touch_time(z, zdot, g, k, lam, spring_exponent, q)
+    if after_lift_off and g > 0.0 and math.isfinite(dt):
+        return start + dt, apex_height(start, dt, z, zdot, g)
+    return start + dt, math.nan

@@ -12,7 +12,7 @@ z > 0 is penetration, ż > 0 approach.
 """
 import math
 
-from contact_sim.drop.plate.compiled_ballistic import apex_height, surface_time
+from contact_sim.drop.plate.compiled_ballistic import apex_height, surface_time, vacuum_plan
 from contact_sim.drop.plate.compiled_ballistic import touch_time as ballistic_touch_time
 from contact_sim.drop.plate.compiled_flight import (NO_EXIT, commanded_touch_time,
                                                    sinusoid_touch_time)
@@ -49,6 +49,12 @@ def ballistic_flight(flight, z, zdot, contact, drag_rates, after_lift_off):
     ``after_lift_off``, or ``None``.  A brief excursion inside the undeformed surface after a
     lift-off at z > 0 stays ballistic."""
     g, t = flight.gravity, flight.start
+    if drag_rates is None:
+        law = contact.law
+        flight.contact_time, apex = vacuum_plan(t, z, zdot, g, contact.stiffness,
+                                                contact.damping, law.n - law.p, law.q,
+                                                after_lift_off)
+        return None if math.isnan(apex) else apex
     dt = touch_time(z, zdot, g, contact)
     flight.contact_time = t + dt
     leaves = z <= 0.0 or (zdot < 0.0 and dt > surface_time(z, zdot, g))
