@@ -389,7 +389,7 @@ class DropSimulation:
         mode = self._mode
         new = TRANSITIONS[type(mode), event.name](self, mode, event)
         if new is not mode:
-            self.recorder.steps += mode.steps
+            self.recorder.left(mode.steps)
             self._mode = new
 
     def advance_ticks(self, times, max_steps=None):

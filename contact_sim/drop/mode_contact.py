@@ -9,7 +9,6 @@ from operator import itemgetter
 from contact_sim.drop.mode import NO_POINTS, Event, Mode, Move
 from contact_sim.drop.mode_carried import CarryWatch
 from contact_sim.drop.mode_rest import RestWatch
-from contact_sim.drop.records import ImpactRecord
 
 _TIME = itemgetter(0)   # a point's time (points are (t, z, ż, F))
 
@@ -107,7 +106,8 @@ class Contact(Mode):
         phase = self.integrator
         if phase.lifted_off:
             return phase.end[0] if phase.end[0] <= self.valid_until else None
-        return self.watch.settled_at
+        settled = self.watch.settled
+        return settled[0] if settled is not None else None
 
     def advance(self, sim, t_end, budget, points):
         phase, knot = self.integrator, self.valid_until
@@ -133,25 +133,23 @@ class Contact(Mode):
             if event is not None:
                 return Move(event, event.time, budget)
             budget -= self.watch.run(sim, phase, min(t_end, knot), budget)
-            self.watch.after_run(sim, self)
+            if self.watch.after_run(sim, self):     # landed for good
+                return Move(Event('landed', phase.time, resumed=self.resumed,
+                                  record=(self.start_point, phase.peak_force,
+                                          phase.max_penetration)), phase.time, budget)
 
     def _finish(self, sim):
-        """The event at the end of the phase, its impact recorded: ``lift_off`` or ``settled``."""
-        phase, recorder = self.integrator, sim.recorder
+        """The event at the end of the phase: ``lift_off`` (the rebound's rate bounded by the
+        energy on the fixed plate, the impact's record) or ``settled`` (the state where the
+        closed-form rest takes over)."""
+        phase = self.integrator
         if not phase.lifted_off:
-            rest = self.watch.settle(sim, self)
-            return Event('settled', rest.start, after=rest)
+            t, z, zdot = self.watch.settled
+            return Event('settled', t, z, zdot, resumed=self.resumed,
+                         record=(self.start_point, phase.peak_force, phase.max_penetration))
         t, z, zdot = phase.end
         if not sim.plate_motion.moving:
             zdot = energy_bounded_rate(sim, self.start_point, z, zdot)
-        if self.resumed:        # a contact change moved the sphere: no impact to record
-            recorder.permanent_contact_time = recorder.settle_time = None
-        else:
-            impact_time, _, impact_rate, _ = self.impact_point
-            impact_speed = max(impact_rate, 0.0)
-            rebound = max(-zdot, 0.0)
-            recorder.impacts.append(ImpactRecord(
-                impact_time, impact_speed, rebound,
-                rebound / impact_speed if impact_speed > 0.0 else 0.0, t - impact_time,
-                max(phase.peak_force, self.peak), max(phase.max_penetration, self.depth)))
-        return Event('lift_off', t, z, zdot, resumed=self.resumed)
+        return Event('lift_off', t, z, zdot, resumed=self.resumed,
+                     record=(self.impact_point, max(phase.peak_force, self.peak),
+                             max(phase.max_penetration, self.depth)))

@@ -3,17 +3,22 @@
 ``TRANSITIONS[(mode class, event name)]`` is the entry ``(sim, mode, event) -> next mode`` (the
 same mode: no change), ``sim`` the ``DropSimulation``, ``mode`` the mode the event ended.  The
 events a mode reports itself (``Mode.advance``): ``touch`` (flight), ``lift_off``, ``knot``,
-``settled``, ``carried`` (contact), ``released`` (carried).  The changes from outside, at the
-current time: ``set_contact`` (``event.contact`` is the new contact) and ``set_plate`` (the
-plate's motion has changed; (z, ż) are relative to the new plate).
+``landed``, ``settled``, ``carried`` (contact), ``released`` (carried).  The changes from
+outside, at the current time: ``set_contact`` (``event.contact`` is the new contact) and
+``set_plate`` (the plate's motion has changed; (z, ż) are relative to the new plate).
+
+Every successor is made here, from the event: no mode builds the one that follows it.  And what
+the drop records of an event (an impact at a lift-off, the landing for good, the rest, the
+carried state, a flight's apex) is written here, with the ledger's one method for it
+(``records.Recorder``).
 
 A contact given during a contact phase waits (``DropSimulation.pending_contact``) and is taken
 by the next contact phase that starts (an impact or a resumed contact) or at a lift-off.
 """
-from contact_sim.drop.mode_carried import Carried
+from contact_sim.drop.mode_carried import Carried, carried_from
 from contact_sim.drop.mode_contact import Contact
 from contact_sim.drop.mode_flight import Flight
-from contact_sim.drop.mode_rest import Rest
+from contact_sim.drop.mode_rest import Rest, rest_after
 
 
 def _take_pending_contact(sim):
@@ -54,17 +59,40 @@ def go_on(sim, mode, event):
 
 
 def bounce(sim, mode, event):
-    """The flight after a lift-off (a waiting contact is taken now, unless the phase was
-    resumed)."""
+    """The flight after a lift-off, the impact recorded (a waiting contact is taken now, unless
+    the phase was resumed)."""
+    impact_point, peak_force, max_penetration = event.record
+    sim.recorder.lift_off(impact_point, event.time, event.penetration_rate, peak_force,
+                          max_penetration, event.resumed)
     if not event.resumed:
         _take_pending_contact(sim)
     return free_motion(sim, event.time, event.penetration, event.penetration_rate,
                        after_lift_off=True)
 
 
-def built(sim, mode, event):
-    """The mode the ending one has built (``event.after``)."""
-    return event.after
+def land(sim, mode, event):
+    """The contact phase became permanent: the same phase goes on, its landing for good
+    recorded as an impact (unless the phase was resumed)."""
+    if not event.resumed:
+        sim.recorder.land(*event.record)
+    return mode
+
+
+def settle(sim, mode, event):
+    """The phase settled: the closed-form rest from its state, the rest recorded (with the
+    landing's final peaks, unless the phase was resumed)."""
+    if event.resumed:
+        sim.recorder.settle(event.time)
+    else:
+        sim.recorder.settle(event.time, *event.record, impact_time=mode.impact_point[0])
+    return rest_after(sim, event.time, event.penetration, event.penetration_rate)
+
+
+def carry(sim, mode, event):
+    """The plate carries the sphere: the quasi-static state from here, the landing for good
+    recorded at the contact's impact (unless one came before)."""
+    sim.recorder.carry(mode.impact_point[0])
+    return carried_from(sim, event.time)
 
 
 def fly_on(sim, mode, event):
@@ -102,8 +130,9 @@ TRANSITIONS = {
     (Flight, 'set_plate'): fly_on,
     (Contact, 'lift_off'): bounce,
     (Contact, 'knot'): go_on,
-    (Contact, 'settled'): built,
-    (Contact, 'carried'): built,
+    (Contact, 'landed'): land,
+    (Contact, 'settled'): settle,
+    (Contact, 'carried'): carry,
     (Contact, 'set_contact'): contact_waits,
     (Contact, 'set_plate'): replant,
     (Rest, 'set_contact'): new_contact(resume),
