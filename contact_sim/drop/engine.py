@@ -389,7 +389,9 @@ class DropSimulation:
         mode = self._mode
         new = TRANSITIONS[type(mode), event.name](self, mode, event)
         if new is not mode:
-            self.recorder.left(mode.steps)
+            steps = mode.steps
+            if steps:
+                self.recorder.left(steps)
             self._mode = new
 
     def advance_ticks(self, times, max_steps=None):

@@ -50,9 +50,11 @@ class Contact(Mode):
     def __init__(self, sim, t, z, zdot, resumed=False, record=None):
         plate = sim.plate_motion
         forcing, self.valid_until = plate.forcing_piece(t)
-        self.integrator = phase = sim.phase_factory().start(t, z, zdot, forcing=forcing)
+        phases = sim.phase_factory()
+        self.integrator = phase = phases.start(t, z, zdot, forcing=forcing)
         self.start_point = phase.points[0]      # (t, z, ż, F) at the phase's start
-        self.watch = CarryWatch() if plate.moving else RestWatch(sim)
+        self.moving = plate.moving
+        self.watch = CarryWatch() if self.moving else RestWatch(phases.energy_floor)
         self.resumed = resumed
         self.first_point, self.peak, self.depth = record or (None, 0.0, -math.inf)
         self.emitted = 0            # the points handed out (an index into the integrator's)
@@ -100,20 +102,20 @@ class Contact(Mode):
         self.emitted = bisect.bisect_right(pts, t_end, lo=start, key=_TIME)
         points.extend(pts[start:self.emitted])
 
-    def finish_time(self):
-        """When the phase ends within its forcing piece (lift-off, or the switch to rest), or
-        ``None`` if not yet known."""
-        phase = self.integrator
-        if phase.lifted_off:
-            return phase.end[0] if phase.end[0] <= self.valid_until else None
-        settled = self.watch.settled
-        return settled[0] if settled is not None else None
-
     def advance(self, sim, t_end, budget, points):
-        phase, knot = self.integrator, self.valid_until
+        phase, knot, watch = self.integrator, self.valid_until, self.watch
+        stop = min(t_end, knot)
         while True:
-            self.hand_out(points, min(t_end, knot))
-            finish = self.finish_time()
+            if points is NO_POINTS:         # hand_out's pass, inline (a phase a bounce)
+                if stop > self.passed:
+                    self.passed = stop
+            else:
+                self.hand_out(points, stop)
+            # the end within the forcing piece: lift-off, or the switch to rest
+            if phase.lifted_off:
+                finish = phase.end[0] if phase.end[0] <= knot else None
+            else:
+                finish = watch.settled[0] if watch.settled is not None else None
             if finish is not None:
                 if finish > t_end:
                     return Move(None, t_end, budget)
@@ -129,11 +131,11 @@ class Contact(Mode):
             if budget <= 0:         # out of budget: stop where the integrator is
                 self.hand_out(points, phase.time)
                 return Move(None, phase.time, budget)
-            event = self.watch.before_run(sim, self)
+            event = watch.before_run(sim, self)
             if event is not None:
                 return Move(event, event.time, budget)
-            budget -= self.watch.run(sim, phase, min(t_end, knot), budget)
-            if self.watch.after_run(sim, self):     # landed for good
+            budget -= watch.run(sim, phase, stop, budget)
+            if watch.after_run(sim, self):     # landed for good
                 return Move(Event('landed', phase.time, resumed=self.resumed,
                                   record=(self.start_point, phase.peak_force,
                                           phase.max_penetration)), phase.time, budget)
@@ -148,7 +150,7 @@ class Contact(Mode):
             return Event('settled', t, z, zdot, resumed=self.resumed,
                          record=(self.start_point, phase.peak_force, phase.max_penetration))
         t, z, zdot = phase.end
-        if not sim.plate_motion.moving:
+        if not self.moving:
             zdot = energy_bounded_rate(sim, self.start_point, z, zdot)
         return Event('lift_off', t, z, zdot, resumed=self.resumed,
                      record=(self.impact_point, max(phase.peak_force, self.peak),

@@ -2,7 +2,7 @@
 the force switches on again (the event ``touch``)."""
 import math
 
-from contact_sim.drop.mode import Event, Mode
+from contact_sim.drop.mode import Event, Mode, Move
 
 
 def ballistic(y0, v0, gravity, dt):
@@ -49,6 +49,14 @@ class Flight(Mode):
             return None
         y, v = self.absolute(t)
         return plate[0] - y, plate[1] - v
+
+    def advance(self, sim, t_end, budget, points):
+        """Closed form up to the touch (``Mode.advance`` without its lookups: a flight a
+        bounce)."""
+        touch = self.contact_time
+        if touch > t_end:
+            return Move(None, t_end, budget)
+        return Move(self.event_at_until(), touch, budget)
 
     def event_at_until(self):
         z, zdot = self.state(self.contact_time)

@@ -59,15 +59,16 @@ def rest_after(sim, t, z, zdot):
 class RestWatch:
     """What a contact phase on the fixed plate settles into: permanent contact, then rest.
 
-    ``floor``: below this energy above rest (J) the force can never vanish again; ``permanent``
+    ``floor``: below this energy above rest (J) the force can never vanish again
+    (``phase.PhaseFactory.energy_floor``); ``permanent``
     once it is so; ``settled``: (t s, z m, ż m/s) where the oscillation has decayed below
     ``settle_tolerance`` of the rest depth and the closed-form ``Rest`` takes over (laws linear
     in the rate only: the others are integrated all the way), ``None`` before."""
 
     settled = None
 
-    def __init__(self, sim):
-        self.floor = sim.phase_factory().energy_floor
+    def __init__(self, floor):
+        self.floor = floor
         self.permanent = False
 
     @property
@@ -80,16 +81,14 @@ class RestWatch:
 
     def run(self, sim, phase, t_stop, budget):
         """Steps until ``t_stop`` (s), ``budget`` or the energy at which ``after_run`` has work."""
-        return phase.run(t_stop, budget, self._stop_energy(sim))
+        return phase.run(t_stop, budget, self.floor if not self.permanent
+                         else self._rest_energy(sim))
 
-    def _stop_energy(self, sim):
-        """The energy above rest (J) below which ``after_run`` has work: the contact phase runs
-        its steps without returning until then (it stops at the first step below)."""
-        if sim.gravity <= 0.0:
-            return -math.inf
-        if not self.permanent:
-            return self.floor
-        if not sim.contact.law.linear_in_rate:
+    def _rest_energy(self, sim):
+        """The energy above rest (J) below which a permanent contact settles: the phase runs its
+        steps without returning until then, as it does down to ``floor`` before (it stops at
+        the first step below); -inf where no closed-form rest takes over."""
+        if sim.gravity <= 0.0 or not sim.contact.law.linear_in_rate:
             return -math.inf
         z0, k_lin, _ = sim.contact.rest_linearisation(sim.mass * sim.gravity)
         return 0.5 * k_lin * (sim.settle_tolerance * z0) ** 2

@@ -33,7 +33,8 @@ def free_motion(sim, t, z, zdot, after_lift_off=False, resumed=False):
         return _contact(sim, t, z, zdot, resumed)
     flight = Flight(sim.plate_motion, sim.gravity, t, z, zdot, sim.contact, sim.drag_rates,
                     after_lift_off)
-    sim.recorder.apex(flight.apex)
+    if flight.apex is not None:
+        sim.recorder.apex(flight.apex)
     return flight
 
 

@@ -12,10 +12,13 @@ import numpy as np
 from numba import njit
 
 from contact_sim.phase import compiled
-from contact_sim.phase.compiled import (NPAR, P_ATOL, P_DAMPING, P_ENERGY_GRAVITY, P_GRAVITY,
-                                        P_KIND, P_LENGTH, P_LIFT_EVENTS, P_MASS, P_N, P_P, P_Q,
-                                        P_REST_POTENTIAL, P_RTOL, P_START, P_STIFFNESS, P_TIME,
-                                        P_ZETA, S_DEPTH, S_H, S_PEAK, S_U, S_X)
+from contact_sim.phase.compiled import (BUFFER_FULL, MAX_STEPS, NPAR, P_ATOL, P_DAMPING,
+                                        P_ENERGY_GRAVITY, P_GRAVITY, P_KIND, P_LENGTH,
+                                        P_LIFT_EVENTS, P_MASS, P_N, P_P, P_Q, P_REST_POTENTIAL,
+                                        P_RTOL, P_START, P_STIFFNESS, P_TIME, P_ZETA, S_DEPTH,
+                                        S_END_RATE, S_END_T, S_END_Z, S_H, S_LIFTED, S_PEAK,
+                                        S_S, S_STEPS, S_U, S_X, STEP_TOO_SMALL)
+from contact_sim.phase.compiled import run as _run
 from contact_sim.phase.lift_off import force_can_vanish_inside
 from contact_sim.phase.scales import (DEFAULT_ATOL, DEFAULT_RTOL, FIRST_STEP, PhaseScales,
                                       phase_scales, scales_of, start_peak)
@@ -78,20 +81,20 @@ def start_phase(par, st, K, F, start_time, penetration, penetration_rate, length
     return peak
 
 
-@njit('UniTuple(float64, 4)(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], '
+@njit('UniTuple(float64, 5)(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], '
       'float64, float64, float64, float64)', **_KW)
 def start_scaled(par, st, K, F, start_time, penetration, penetration_rate, gravity):
     """``start_phase`` with the phase's scales found here (``scales.scales_of`` of the law, k,
-    λ and m in ``par`` and ``gravity`` m/s²): returns (peak force N, Z m, T s, ζ); nothing
+    λ and m in ``par`` and ``gravity`` m/s²): returns (peak force N, Z m, T s, γ, ζ); nothing
     started where Z <= 0 (no motion and no gravity, ``phase_scales`` refuses it)."""
     length, time, gamma, zeta = _scales_of(par[P_STIFFNESS], par[P_DAMPING], par[P_MASS],
                                            gravity, par[P_N], par[P_P], par[P_Q], penetration,
                                            penetration_rate)
     if not length > 0.0:
-        return math.nan, length, time, zeta
+        return math.nan, length, time, gamma, zeta
     peak = start_phase(par, st, K, F, start_time, penetration, penetration_rate, length, time,
                        gamma, zeta)
-    return peak, length, time, zeta
+    return peak, length, time, gamma, zeta
 
 
 def step_too_small():
@@ -140,20 +143,19 @@ class CompiledPhase:
                       peak, sc, keep_points, forcing)
 
     def _started(self, contact, mass, par, storage, start_time, penetration, penetration_rate,
-                 peak, scales, keep_points, forcing):
+                 peak, scales, keep_points, forcing, buffer=None):
         """The phase ``start_phase`` started in ``par`` (its own) and ``storage`` (st, K, F), its
-        first ``peak`` force (N), with its ``scales`` (a ``PhaseScales``, or (Z m, T s)): its
-        attributes, and the slots of ``forcing`` (``None``: gravity alone)."""
-        if isinstance(scales, PhaseScales):
-            self._scales, self._length_scale, self._time_scale = (scales, scales.length,
-                                                                  scales.time)
-        else:
-            self._scales = None
-            self._length_scale, self._time_scale = scales
+        first ``peak`` force (N), with its ``scales`` (a ``PhaseScales``, or its fields (Z m,
+        T s, γ, ζ) as a tuple): its attributes, and the slots of ``forcing`` (``None``: gravity
+        alone); ``buffer``, the (POINT_BUFFER, 4) rows a run writes its points to, may be shared
+        by phases run one at a time (default: its own)."""
+        self._scales = scales
+        self._length_scale, self._time_scale = (scales[:2] if isinstance(scales, tuple)
+                                                else (scales.length, scales.time))
         self.contact, self.mass = contact, mass
         self.start_time = start_time
         self._par, (self._st, self._k, self._f) = par, storage
-        self._buffer = np.empty((compiled.POINT_BUFFER, 4))
+        self._buffer = np.empty((compiled.POINT_BUFFER, 4)) if buffer is None else buffer
         self._keep_points = keep_points
         self.lifted_off = False
         self.steps = 0
@@ -169,9 +171,8 @@ class CompiledPhase:
     @property
     def scales(self):
         """The phase's ``PhaseScales`` (Z m, T s, γ, ζ)."""
-        if self._scales is None:
-            par = self._par
-            self._scales = PhaseScales(*par[[P_LENGTH, P_TIME, P_GRAVITY, P_ZETA]].tolist())
+        if isinstance(self._scales, tuple):
+            self._scales = PhaseScales(*self._scales)
         return self._scales
 
     @property
@@ -190,20 +191,20 @@ class CompiledPhase:
         step that did not lift off ends with ``energy_above_rest() < stop_energy`` (J) (the
         compiled test uses a margin of 1e-12 of the phase's kinetic energy scale, so it may stop
         a step before the caller's own test agrees, never after).  Returns the steps taken."""
-        budget = compiled.MAX_STEPS if max_steps is None else int(min(max_steps, compiled.MAX_STEPS))
+        budget = MAX_STEPS if max_steps is None else int(min(max_steps, MAX_STEPS))
         stop = self._energy_stop(stop_energy)
-        st, buf = self._st, self._buffer
+        st, k, f, par, buf = self._st, self._k, self._f, self._par, self._buffer
+        t_stop = float(t_stop)
         taken = 0
         while True:
-            reason, npts, n = compiled.run(st, self._k, self._f, self._par, buf, float(t_stop),
-                                           budget - taken, stop)
+            reason, npts, n = _run(st, k, f, par, buf, t_stop, budget - taken, stop)
             taken += n
             if npts and self._keep_points:
                 self._rows.append(buf[:npts].copy())
-            if reason != compiled.BUFFER_FULL:
+            if reason != BUFFER_FULL:
                 break
         self._read_state()
-        if reason == compiled.STEP_TOO_SMALL:
+        if reason == STEP_TOO_SMALL:
             raise step_too_small()
         return taken
 
@@ -220,13 +221,12 @@ class CompiledPhase:
     def _read_state(self):
         """The results of the steps taken, from the compiled state."""
         values = self._st.tolist()
-        self.steps = int(values[compiled.S_STEPS])
-        self.peak_force = values[compiled.S_PEAK]
-        self.max_penetration = values[compiled.S_DEPTH]
-        if values[compiled.S_LIFTED]:
+        self.steps = int(values[S_STEPS])
+        self.peak_force = values[S_PEAK]
+        self.max_penetration = values[S_DEPTH]
+        if values[S_LIFTED]:
             self.lifted_off = True
-            self.end = (values[compiled.S_END_T], values[compiled.S_END_Z],
-                        values[compiled.S_END_RATE])
+            self.end = (values[S_END_T], values[S_END_Z], values[S_END_RATE])
 
     def step(self):
         """Take one integrator step; locate peak, maximum penetration and lift-off in it."""
@@ -235,7 +235,7 @@ class CompiledPhase:
     @property
     def time(self):
         """Time (s) reached by the integrator (the end of its last step)."""
-        s = self._st[compiled.S_S]
+        s = self._st[S_S]
         return self.start_time + self._time_scale * s * s
 
     def _dimensional(self, s, x, u):
@@ -245,7 +245,7 @@ class CompiledPhase:
     @property
     def state(self):
         st = self._st
-        return self._dimensional(st[compiled.S_S], st[compiled.S_X], st[compiled.S_U])[1:]
+        return self._dimensional(st[S_S], st[S_X], st[S_U])[1:]
 
     def state_at(self, t):
         """(z, ż) at a time t within the last step, from the dense output."""

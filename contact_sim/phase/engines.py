@@ -12,6 +12,9 @@ import contextlib
 import math
 import os
 
+import numpy as np
+
+from contact_sim.phase import compiled
 from contact_sim.phase.compiled_phase import (CompiledPhase, constant_parameters,
                                               phase_storage, start_phase, start_scaled)
 from contact_sim.phase.energy import lift_off_energy
@@ -81,7 +84,7 @@ class PhaseFactory:
     as ``contact_phase`` makes them, with what holds for every one of them found once: the
     compiled engine's constant parameters, whether a phase may creep (stiff), and the energy
     below which the sphere can never leave the plate (``energy_floor``).  A drop makes its
-    phases here, one a bounce.
+    phases here, one a bounce.  Its phases share one points buffer: one thread at a time.
     """
 
     def __init__(self, contact, mass, gravity, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
@@ -93,6 +96,9 @@ class PhaseFactory:
         self._vanishes_inside = law.force_vanishes_inside
         self._creeps = gravity > 0.0 or not self._vanishes_inside    # lift_off.is_stiff
         self._parameters = [None, None, None]   # constant_parameters by lift-off events (1, 2)
+        # the points buffer of the compiled runs, shared by this factory's phases (a run copies
+        # out what it wrote before it returns)
+        self._buffer = np.empty((compiled.POINT_BUFFER, 4))
         self._floor = None
 
     @property
@@ -108,7 +114,9 @@ class PhaseFactory:
               forcing=None, scales=None):
         """``contact_phase`` of this factory's contact from (z, ż) (m, m/s) at ``start_time``
         (s), with its ``engine``, ``keep_points``, ``forcing`` and ``scales``."""
-        engine = get_engine() if engine is None else _check_engine(engine)
+        engine = _engine if engine is None else engine
+        if engine not in ENGINES:
+            _check_engine(engine)
         contact, mass, gravity = self.contact, self.mass, self.gravity
         if forcing is not None and forcing.active:
             if engine != 'compiled':
@@ -143,18 +151,18 @@ class PhaseFactory:
         par = par.copy()
         storage = phase_storage()
         if scales is None:
-            peak, length, time, zeta = start_scaled(par, *storage, start_time, penetration,
-                                                    penetration_rate, self.gravity)
-            if not length > 0.0:        # no motion and no gravity: phase_scales refuses it
+            started = start_scaled(par, *storage, start_time, penetration, penetration_rate,
+                                   self.gravity)
+            peak, scales = started[0], started[1:]      # (Z, T, γ, ζ)
+            if not scales[0] > 0.0:     # no motion and no gravity: phase_scales refuses it
                 phase_scales(self.contact, self.mass, self.gravity, penetration,
                              penetration_rate)
-            if forcing is None and self._creeps and zeta > COMPILED_STIFF_DAMPING:
+            if forcing is None and self._creeps and scales[3] > COMPILED_STIFF_DAMPING:
                 return None
-            scales = (length, time)
         else:
             peak = start_phase(par, *storage, start_time, penetration, penetration_rate,
                                scales.length, scales.time, scales.gravity, scales.damping)
         phase = CompiledPhase.__new__(CompiledPhase)
         phase._started(self.contact, self.mass, par, storage, start_time, penetration,
-                       penetration_rate, peak, scales, keep_points, forcing)
+                       penetration_rate, peak, scales, keep_points, forcing, self._buffer)
         return phase

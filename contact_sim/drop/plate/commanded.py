@@ -82,6 +82,13 @@ class CommandedPlate(PlateMotion):
         (each row a contiguous array)."""
         return np.array(self._pieces, dtype=np.float64)
 
+    @functools.cached_property
+    def piece_rows(self):
+        """The four rows of ``piece_arrays`` (start times, positions, velocities,
+        accelerations), each a contiguous array, as a tuple made once: the arguments of the
+        compiled flight search (``flights.commanded_flight``, one a flight)."""
+        return tuple(self.piece_arrays)
+
     def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
         """In vacuum the touch time comes from compiled code (``flights.commanded_flight``),
         with drag from ``flights.gap_flight`` (the reference path of both)."""

@@ -121,7 +121,7 @@ def commanded_flight(plate, flight, z, zdot, contact, after_lift_off):
     the apex height (m) of a rising flight ``after_lift_off``, or ``None``."""
     g, law = flight.gravity, contact.law
     t = commanded_touch_time(flight.start, flight.y0, flight.v0, g, z, zdot,
-                             *plate.piece_arrays, contact.stiffness, contact.damping,
+                             *plate.piece_rows, contact.stiffness, contact.damping,
                              law.n - law.p, law.q, g + plate.acceleration_bound())
     return _compiled_flight(flight, t, after_lift_off)
 
