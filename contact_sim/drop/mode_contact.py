@@ -152,6 +152,6 @@ class Contact(Mode):
         t, z, zdot = phase.end
         if not self.moving:
             zdot = energy_bounded_rate(sim, self.start_point, z, zdot)
-        return Event('lift_off', t, z, zdot, resumed=self.resumed,
-                     record=(self.impact_point, max(phase.peak_force, self.peak),
-                             max(phase.max_penetration, self.depth)))
+        return Event('lift_off', t, z, zdot, self.resumed,     # (resumed, record)
+                     (self.impact_point, max(phase.peak_force, self.peak),
+                      max(phase.max_penetration, self.depth)))
