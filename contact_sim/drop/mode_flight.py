@@ -39,7 +39,11 @@ class Flight(Mode):
         return ballistic(self.y0, self.v0, self.gravity, dt)
 
     def state(self, t):
-        y, v = self.absolute(t)
+        if self.path is None:       # ``absolute``'s ballistic flight, inline (a touch a bounce)
+            g, dt = self.gravity, t - self.start
+            y, v = self.y0 + self.v0 * dt - 0.5 * g * dt * dt, self.v0 - g * dt
+        else:
+            y, v = self.absolute(t)
         p, pv, _ = self.plate.state(t)
         return p - y, pv - v
 

@@ -39,7 +39,8 @@ def free_motion(sim, t, z, zdot, after_lift_off=False, resumed=False):
 
 
 def _contact(sim, t, z, zdot, resumed):
-    _take_pending_contact(sim)
+    if sim.pending_contact is not None:
+        _take_pending_contact(sim)
     return Contact(sim, t, z, zdot, resumed=resumed)
 
 
@@ -65,7 +66,7 @@ def bounce(sim, mode, event):
     impact_point, peak_force, max_penetration = event.record
     sim.recorder.lift_off(impact_point, event.time, event.penetration_rate, peak_force,
                           max_penetration, event.resumed)
-    if not event.resumed:
+    if not event.resumed and sim.pending_contact is not None:
         _take_pending_contact(sim)
     return free_motion(sim, event.time, event.penetration, event.penetration_rate,
                        after_lift_off=True)

@@ -203,7 +203,13 @@ class CompiledPhase:
                 self._rows.append(buf[:npts].copy())
             if reason != BUFFER_FULL:
                 break
-        self._read_state()
+        values = st.tolist()            # the results of the steps taken
+        self.steps = int(values[S_STEPS])
+        self.peak_force = values[S_PEAK]
+        self.max_penetration = values[S_DEPTH]
+        if values[S_LIFTED]:
+            self.lifted_off = True
+            self.end = (values[S_END_T], values[S_END_Z], values[S_END_RATE])
         if reason == STEP_TOO_SMALL:
             raise step_too_small()
         return taken
@@ -217,16 +223,6 @@ class CompiledPhase:
             return -math.inf
         v = self._length_scale / self._time_scale
         return stop_energy + abs(stop_energy) * 1e-9 + 1e-12 * self.mass * (v * v)
-
-    def _read_state(self):
-        """The results of the steps taken, from the compiled state."""
-        values = self._st.tolist()
-        self.steps = int(values[S_STEPS])
-        self.peak_force = values[S_PEAK]
-        self.max_penetration = values[S_DEPTH]
-        if values[S_LIFTED]:
-            self.lifted_off = True
-            self.end = (values[S_END_T], values[S_END_Z], values[S_END_RATE])
 
     def step(self):
         """Take one integrator step; locate peak, maximum penetration and lift-off in it."""
