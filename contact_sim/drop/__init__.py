@@ -11,7 +11,7 @@ alone, ``advance`` until its next event):
   the time at which the force switches on again planned by the plate (``plate.flights``):
   ballistic or with drag by the quadratic formula on the fixed plate, by the first root of the
   gap over a moving one; event ``touch``;
-* ``mode_contact.Contact``: integrated exactly (``phase.PhaseFactory``: compiled DOP853, or the
+* ``mode_contact.InContact`` (a contact phase): integrated exactly (``phase.PhaseFactory``: compiled DOP853, or the
   reference ``phase.PhaseIntegrator`` where stiff), the plate's acceleration as forcing, up to
   the located lift-off; events ``lift_off``, ``knot`` (the plate's forcing changes), ``landed``
   (the contact became permanent: the same phase goes on), ``settled``, ``carried``;

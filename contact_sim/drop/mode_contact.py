@@ -1,7 +1,9 @@
-"""Contact: a contact phase integrated exactly by ``phase.PhaseIntegrator``, with the plate's
+"""InContact: a contact phase integrated exactly (``phase.PhaseFactory``), with the plate's
 acceleration as forcing, until one of its events: ``lift_off`` (the force vanished), ``knot``
-(the plate's forcing changes: the same contact goes on from there), ``settled`` (the fixed
-plate's rest took over) or ``carried`` (a moving plate carries the sphere)."""
+(the plate's forcing changes: the same contact goes on from there), ``landed`` (the contact
+became permanent: the same phase goes on), ``settled`` (the fixed plate's rest took over) or
+``carried`` (a moving plate carries the sphere).  (The mode is ``InContact``, the model's
+``Contact`` the law with its k and λ.)"""
 import bisect
 import math
 from operator import itemgetter
@@ -34,7 +36,7 @@ def energy_bounded_rate(sim, start, z, zdot):
     return math.copysign(math.sqrt(max(2.0 * (e_start - potential) / mass, 0.0)), zdot)
 
 
-class Contact(Mode):
+class InContact(Mode):
     """A contact phase of ``sim`` (a ``DropSimulation``) from time t (s) at (z, ż) (m, m/s).
 
     The forcing is the plate's on [t, ``valid_until``) (``PlateMotion.forcing_piece``: none and

@@ -16,7 +16,7 @@ A contact given during a contact phase waits (``DropSimulation.pending_contact``
 by the next contact phase that starts (an impact or a resumed contact) or at a lift-off.
 """
 from contact_sim.drop.mode_carried import Carried, carried_from
-from contact_sim.drop.mode_contact import Contact
+from contact_sim.drop.mode_contact import InContact
 from contact_sim.drop.mode_flight import Flight
 from contact_sim.drop.mode_rest import Rest, rest_after
 
@@ -41,7 +41,7 @@ def free_motion(sim, t, z, zdot, after_lift_off=False, resumed=False):
 def _contact(sim, t, z, zdot, resumed):
     if sim.pending_contact is not None:
         _take_pending_contact(sim)
-    return Contact(sim, t, z, zdot, resumed=resumed)
+    return InContact(sim, t, z, zdot, resumed=resumed)
 
 
 def impact(sim, mode, event):
@@ -56,7 +56,7 @@ def resume(sim, mode, event):
 
 def go_on(sim, mode, event):
     """The same contact goes on in a new phase (the plate's forcing changed), its record carried."""
-    return Contact(sim, event.time, event.penetration, event.penetration_rate,
+    return InContact(sim, event.time, event.penetration, event.penetration_rate,
                    resumed=event.resumed, record=event.record)
 
 
@@ -122,7 +122,7 @@ def replant(sim, mode, event):
     (a waiting contact still waits), or, once the contact is permanent, a new resumed phase."""
     if mode.landed:
         return resume(sim, mode, event)
-    return Contact(sim, event.time, event.penetration, event.penetration_rate,
+    return InContact(sim, event.time, event.penetration, event.penetration_rate,
                    resumed=mode.resumed, record=mode.record_until(event.time))
 
 
@@ -130,13 +130,13 @@ TRANSITIONS = {
     (Flight, 'touch'): impact,
     (Flight, 'set_contact'): new_contact(fly_on),
     (Flight, 'set_plate'): fly_on,
-    (Contact, 'lift_off'): bounce,
-    (Contact, 'knot'): go_on,
-    (Contact, 'landed'): land,
-    (Contact, 'settled'): settle,
-    (Contact, 'carried'): carry,
-    (Contact, 'set_contact'): contact_waits,
-    (Contact, 'set_plate'): replant,
+    (InContact, 'lift_off'): bounce,
+    (InContact, 'knot'): go_on,
+    (InContact, 'landed'): land,
+    (InContact, 'settled'): settle,
+    (InContact, 'carried'): carry,
+    (InContact, 'set_contact'): contact_waits,
+    (InContact, 'set_plate'): replant,
     (Rest, 'set_contact'): new_contact(resume),
     (Rest, 'set_plate'): resume,
     (Carried, 'released'): impact,
