@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""What one bounce costs, and what its physics costs: the issue-21 figures.
+"""What one bounce costs, and what its physics costs: the issue-21 figures, on the one drop engine
+(issue 36: every bounce through the modes and the transition table, no compiled bounce loop).
 
 Prints, each the best of ``--repeat`` runs of CPU time (the machine is shared: the best CPU time
 is the figure to compare; the load average is printed beside it):
@@ -12,16 +13,20 @@ is the figure to compare; the load average is printed beside it):
   ``examples/bifurcation.py``), µs per bounce and its ratio to one ``simulate_impact`` at the
   drop's mean impact speed (target <= 1.5);
 * the same for the peers' problem of ``bench_peers.py`` (a Hunt-Crossley steel ball dropped from
-  1 m, 5 s); both drops also with every bounce through the Python modes
-  (``mode_train.trains_enabled(False)``, the reference the compiled bounces replace);
+  1 m, 5 s);
 * a bounce on a vibrating table (``VibratingTable.run`` at Γ = 2, 400 impacts), µs per bounce and
-  its ratio to ``simulate_impact``; and the same orbit (40 s) with the compiled bounces beside the
-  Python reference path they replace (``flights.gap_flight``);
+  its ratio to ``simulate_impact``; and the same orbit (40 s) with its flights planned in
+  compiled code beside the Python reference search (``flights.gap_flight``);
 * the same 40 s on a commanded plate following the table as set-points (its (p, ṗ) sampled 20
   times a period, ``CommandedPlate``'s C¹ piecewise quadratic between them; the plate built
-  before the clock starts): a row of the table above (the compiled bounces), and beside it the
-  Python modes with compiled flights and with the reference flights; and one flight's plan
-  over it alone (``mode_flight.Flight``, 400 flights from random states above the plate).
+  before the clock starts), with compiled flights and with the reference flights; and one
+  flight's plan over it alone (``mode_flight.Flight``, 400 flights from random states above the
+  plate).
+
+Beside each figure: the last one published with the compiled bounce loop that issue 36 removed
+(``PUBLISHED``, docs/bench_results/bench_bounce.md of 2026-12-04 14:11 UTC, load 0.6), and the
+ratio of this run's to it (a second machine was to be kept only if the one engine could not come
+within 1.5x of it).  A loaded machine inflates this run's figures, not the published ones.
 
     python bench/bench_bounce.py [--repeat 5]
 """
@@ -36,7 +41,6 @@ import numpy as np
 
 import contact_sim as cs
 from contact_sim import phase
-from contact_sim.drop import mode_train
 from contact_sim.drop.engine import DropSimulation
 from contact_sim.drop.mode_flight import Flight
 from contact_sim.drop.plate import CommandedPlate, PlateMotion, SinusoidalPlate
@@ -48,12 +52,18 @@ from bench_peers import peers_contact  # noqa: E402
 
 MASS, STIFFNESS, E_1MS, FREQUENCY = 0.066, 1e10, 0.7, 10.0
 TARGET_IMPACT_OVER_KERNEL, TARGET_BOUNCE_OVER_IMPACT = 3.0, 1.5
+TARGET_OVER_TRAINS = 1.5
+# the last figures published with the compiled bounce loop (mode_train, removed by issue 36):
+# docs/bench_results/bench_bounce.md, 2026-12-04 14:11 UTC, load 0.6; µs a bounce, ms a drop
+PUBLISHED = {'fixed': 42.5, 'peers': 27.6, 'table': 37.7, 'commanded': 48.0,
+             'fixed drop ms': 1.401, 'fixed drop ms, Python modes': 2.008,
+             'peers drop ms': 10.417, 'peers drop ms, Python modes': 18.403,
+             'table 40 s': 42.8, 'commanded 40 s, Python modes': 70.3}
 
 
 @dataclass(frozen=True)
 class ReferenceTable(SinusoidalPlate):
-    """The table with its flights planned by the Python path (``flights.gap_flight``), and so
-    through the Python modes (``table`` is None: no compiled bounces)."""
+    """The table with its flights planned by the Python reference (``flights.gap_flight``)."""
 
     def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
         return PlateMotion.plan_flight(self, flight, z, zdot, contact, drag_rates,
@@ -144,15 +154,6 @@ def main():
                                                        duration=5.0), args.repeat)
     n_hc = len(hc_drop.impacts)
     speed_hc = float(np.mean([i.impact_speed for i in hc_drop.impacts]))
-    # the same two drops with every bounce through the Python modes (the trains' reference)
-    previous = mode_train.trains_enabled(False)
-    try:
-        wall_drop_ref, drop_ref = best_of(lambda: cs.simulate_drop(
-            contact, MASS, 0.2, gravity=g, duration=20.0), args.repeat)
-        wall_hc_ref, hc_ref = best_of(lambda: cs.simulate_drop(
-            hc, hc_mass, 1.0, gravity=g, duration=5.0), args.repeat)
-    finally:
-        mode_train.trains_enabled(previous)
     # a vibrating table at Γ = 2 (period-1), 400 impacts
     table = VibratingTable(contact, MASS, FREQUENCY, bounces=300, transient=100,
                            restitution_guess=E_1MS)
@@ -178,11 +179,6 @@ def main():
     wall_cmd, cmd_impacts = best_of(lambda: table_drop(commanded), args.repeat)
     n_cmd = len(cmd_impacts)
     speed_cmd = float(np.mean([i.impact_speed for i in cmd_impacts]))
-    previous = mode_train.trains_enabled(False)     # its compiled flights, the Python modes
-    try:
-        wall_cmd_modes, n_cmd_modes = best_of(lambda: len(table_drop(commanded)), args.repeat)
-    finally:
-        mode_train.trains_enabled(previous)
     wall_cmd_ref, n_cmd_ref = best_of(lambda: len(table_drop(commanded_ref)), args.repeat)
     rng = np.random.default_rng(0)
     starts = list(zip(rng.uniform(0.0, 40.0, 400), -rng.uniform(1e-4, 1e-2, 400),
@@ -196,38 +192,43 @@ def main():
     wall_plan_ref, touch_ref = best_of(lambda: plans(commanded_ref), args.repeat)
     worst = max(abs(a - b) / abs(b) for a, b in zip(touch, touch_ref))
 
-    ratios, bounce_ratios = [], []
+    ratios, bounce_ratios, published_ratios = [], [], []
     print(f'{"case":<34} {"speed (m/s)":>11} {"steps":>6} {"kernel (us)":>12} '
-          f'{"impact (us)":>12} {"impact/kernel":>14} {"bounce (us)":>12} {"bounce/impact":>14}')
-    for name, c, mass, speed, wall, count in (
-            (f'fixed plate, drop 0.2 m ({n_drop} bnc)', contact, MASS, speed_drop, wall_drop,
-             n_drop),
-            (f'fixed, peers\' HC 1 m ({n_hc} bnc)', hc, hc_mass, speed_hc, wall_hc, n_hc),
-            (f'table 10 Hz, G = 2 ({n_table} bnc)', contact, MASS, speed_table, wall_table,
-             n_table),
-            (f'commanded, table as pts ({n_cmd} bnc)', contact, MASS, speed_cmd, wall_cmd,
-             n_cmd)):
+          f'{"impact (us)":>12} {"impact/kernel":>14} {"bounce (us)":>12} {"bounce/impact":>14} '
+          f'{"published (us)":>15} {"bounce/published":>17}')
+    for name, key, c, mass, speed, wall, count in (
+            (f'fixed plate, drop 0.2 m ({n_drop} bnc)', 'fixed', contact, MASS, speed_drop,
+             wall_drop, n_drop),
+            (f'fixed, peers\' HC 1 m ({n_hc} bnc)', 'peers', hc, hc_mass, speed_hc, wall_hc,
+             n_hc),
+            (f'table 10 Hz, G = 2 ({n_table} bnc)', 'table', contact, MASS, speed_table,
+             wall_table, n_table),
+            (f'commanded, table as pts ({n_cmd} bnc)', 'commanded', contact, MASS, speed_cmd,
+             wall_cmd, n_cmd)):
         kernel, steps = kernel_time(c, mass, speed, g, args.repeat)
         impact, _ = impact_time(c, mass, speed, g, args.repeat)
         bounce = wall / count
         ratios.append(impact / kernel)
         bounce_ratios.append(bounce / impact)
+        published_ratios.append(bounce * 1e6 / PUBLISHED[key])
         print(f'{name:<34} {speed:11.4g} {steps:6d} {kernel * 1e6:12.2f} {impact * 1e6:12.2f} '
-              f'{impact / kernel:14.1f} {bounce * 1e6:12.1f} {bounce / impact:14.1f}')
-    print(f'fixed plate, drop 0.2 m, 20 s: {wall_drop * 1e3:.3f} ms ({n_drop} bounces) with the '
-          f'compiled bounces (mode_train), {wall_drop_ref * 1e3:.3f} ms '
-          f'({len(drop_ref.impacts)}) with the Python modes')
-    print(f"peers' Hunt-Crossley drop, 1 m, 5 s: {wall_hc * 1e3:.3f} ms ({n_hc} bounces) with "
-          f'the compiled bounces, {wall_hc_ref * 1e3:.3f} ms ({len(hc_ref.impacts)}) with the '
-          f'Python modes')
-    print(f'table G = 2, 40 s: {wall_fast / n_fast * 1e6:.1f} us a bounce ({n_fast} bounces) '
-          f'with the compiled bounces, {wall_ref / n_ref * 1e6:.1f} us ({n_ref}) with the '
-          f'Python modes and reference flights (flights.gap_flight)')
+              f'{impact / kernel:14.1f} {bounce * 1e6:12.1f} {bounce / impact:14.1f} '
+              f'{PUBLISHED[key]:15.1f} {published_ratios[-1]:17.2f}')
+    print(f'fixed plate, drop 0.2 m, 20 s: {wall_drop * 1e3:.3f} ms ({n_drop} bounces); '
+          f'published: {PUBLISHED["fixed drop ms"]:.3f} ms with the compiled bounces, '
+          f'{PUBLISHED["fixed drop ms, Python modes"]:.3f} ms with the Python modes')
+    print(f"peers' Hunt-Crossley drop, 1 m, 5 s: {wall_hc * 1e3:.3f} ms ({n_hc} bounces); "
+          f'published: {PUBLISHED["peers drop ms"]:.3f} ms with the compiled bounces, '
+          f'{PUBLISHED["peers drop ms, Python modes"]:.3f} ms with the Python modes')
+    print(f'table G = 2, 40 s: {wall_fast / n_fast * 1e6:.1f} us a bounce ({n_fast} bounces), '
+          f'{wall_ref / n_ref * 1e6:.1f} us ({n_ref}) with the reference flights '
+          f'(flights.gap_flight); published with the compiled bounces: '
+          f'{PUBLISHED["table 40 s"]:.1f} us')
     print(f'commanded plate (the table as {len(points[0])} set-points), 40 s: '
-          f'{wall_cmd / n_cmd * 1e6:.1f} us a bounce ({n_cmd} bounces) with the compiled '
-          f'bounces, {wall_cmd_modes / n_cmd_modes * 1e6:.1f} us ({n_cmd_modes}) with the '
-          f'Python modes and compiled flights, {wall_cmd_ref / n_cmd_ref * 1e6:.1f} us '
-          f'({n_cmd_ref}) with the Python modes and reference flights (flights.gap_flight)')
+          f'{wall_cmd / n_cmd * 1e6:.1f} us a bounce ({n_cmd} bounces), '
+          f'{wall_cmd_ref / n_cmd_ref * 1e6:.1f} us ({n_cmd_ref}) with the reference flights '
+          f'(flights.gap_flight); published: {PUBLISHED["commanded"]:.1f} us with the compiled '
+          f'bounces, {PUBLISHED["commanded 40 s, Python modes"]:.1f} us with the Python modes')
     print(f'one flight planned over it: {wall_plan / len(starts) * 1e6:.1f} us compiled, '
           f'{wall_plan_ref / len(starts) * 1e6:.1f} us Python ({len(starts)} flights, touch '
           f'times within {worst:.1e} relative)')
@@ -235,11 +236,13 @@ def main():
     print(f'per kernel step (1 m/s, no gravity): {kernel / steps * 1e6:.3f} us '
           f'({steps} steps a phase)')
     for what, values, target in (('impact/kernel', ratios, TARGET_IMPACT_OVER_KERNEL),
-                                 ('bounce/impact', bounce_ratios, TARGET_BOUNCE_OVER_IMPACT)):
+                                 ('bounce/impact', bounce_ratios, TARGET_BOUNCE_OVER_IMPACT),
+                                 ('bounce/published', published_ratios, TARGET_OVER_TRAINS)):
         print(f'target {what} <= {target:g} on every row: worst {max(values):.1f} '
               f'({"met" if max(values) <= target else "NOT met"})')
     print(f'targets: impact/kernel <= {TARGET_IMPACT_OVER_KERNEL:g}, bounce/impact <= '
-          f'{TARGET_BOUNCE_OVER_IMPACT:g}; load average at end: '
+          f'{TARGET_BOUNCE_OVER_IMPACT:g}, bounce/published <= {TARGET_OVER_TRAINS:g}; '
+          f'load average at end: '
           f'{" ".join(f"{x:.2f}" for x in os.getloadavg())}')
 
 

@@ -11,34 +11,34 @@ alone, ``advance`` until its next event):
   the time at which the force switches on again planned by the plate (``plate.flights``):
   ballistic or with drag by the quadratic formula on the fixed plate, by the first root of the
   gap over a moving one; event ``touch``;
-* ``mode_contact.Contact``: integrated exactly by ``phase.PhaseIntegrator``, the plate's
-  acceleration as forcing, up to the located lift-off; events ``lift_off``, ``knot`` (the
-  plate's forcing changes), ``settled``, ``carried``;
+* ``mode_contact.InContact`` (a contact phase): integrated exactly (``phase.PhaseFactory``: compiled DOP853, or the
+  reference ``phase.PhaseIntegrator`` where stiff), the plate's acceleration as forcing, up to
+  the located lift-off; events ``lift_off``, ``knot`` (the plate's forcing changes), ``landed``
+  (the contact became permanent: the same phase goes on), ``settled``, ``carried``;
 * ``mode_rest.Rest`` (the fixed plate): once the energy above static equilibrium is too small
   for the force ever to vanish again (permanent contact) and the oscillation amplitude about the
   static deflection z₀ = (m g / k)^(1/n) has decayed below ``settle_tolerance * z₀``, the motion
   is the linearised damped oscillator about z₀, in closed form, so a resting sphere costs nothing
   to advance;
 * ``mode_carried.Carried`` (a moving plate): quasi-static while the plate's acceleration is
-  above -g/2; event ``released``;
-* ``mode_train.Bouncing`` (the fixed plate or a vibrating table in vacuum, the compiled
-  engine): the flights and contact phases above strung together in compiled code
-  (``compiled_train``), many bounces a call, with the same functions in the same order; events
-  ``landed`` (a ``Contact`` over the phase goes on), ``carried`` (as a contact's), ``touch`` (a
-  phase too stiff for the compiled integrator, left to ``Contact``) and ``handed_over`` (the
-  engine changed).  A change from outside first takes its current flight or phase
-  (``Mode.handed_over``).
+  above -g/2; event ``released``.
 
-What follows an event is looked up in one table, ``transitions.TRANSITIONS``; the record of
-impacts, apexes and integrator steps is kept by one ``records.Recorder``.  The fixed plate is the
+The speed is in the compiled kernels each mode calls (a phase's integrator steps, a flight's
+plan), not in a second machine: every bounce goes through these modes and the table.
+
+What follows an event is looked up in one table, ``transitions.TRANSITIONS``, whose entries make
+every successor (no mode builds the one that follows it) and write what the drop records of the
+event to one ledger, ``records.Recorder`` (impacts, the landing for good, the rest, apexes and
+integrator steps).  The fixed plate is the
 plate motion that does not move (``plate.FixedPlate``), answering the modes' questions in closed
 form: there is one machine for every plate.
 
 To add a mode (two spheres, friction, a plate that is a robot's tool): write it in a new module
 ``mode_<name>.py`` as a ``mode.Mode`` (``state``, ``states``, ``until``, ``advance`` returning a
 ``mode.Move`` with the ``mode.Event`` that ends it, ``steps``, ``in_contact``, ``carried``), and
-add its rows to ``transitions.TRANSITIONS``: the events that lead into it, from it, and what the
-changes from outside (``set_contact``, ``set_plate``) do to it.
+add its rows to ``transitions.TRANSITIONS``: the events that lead into it, from it (each entry
+makes the next mode and records what the event adds to the ``Recorder``), and what the changes
+from outside (``set_contact``, ``set_plate``) do to it.
 
 ``DropSimulation.advance(t)`` moves to time t and returns what happened on the way, so the same
 engine serves a batch run (``simulate_drop``) and a real-time loop.  Units: SI; z > 0 is

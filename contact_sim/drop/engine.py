@@ -19,6 +19,7 @@ from contact_sim.drop.plate import as_plate
 from contact_sim.drop.records import Advance, DropState, Recorder, Samples, TickBatch
 from contact_sim.drop.transitions import TRANSITIONS, free_motion
 from contact_sim.model import require_contact
+from contact_sim.phase import PhaseFactory
 from contact_sim.validation import (InputError, require_instance, require_int, require_range,
                                     require_real, require_rtol)
 
@@ -108,6 +109,7 @@ class DropSimulation:
             self.drag_rates = self.drag.rates(self.mass, self.gravity)
         self.plate_motion = self._moving_or_fixed(plate)
         self._initial_contact = require_contact(contact)
+        self._phases = None
         self.reset()
 
     # -- public ---------------------------------------------------------------------------
@@ -135,6 +137,21 @@ class DropSimulation:
         self.recorder = Recorder()
         rate = self.velocity + self.plate_motion.state(0.0)[1]
         self._mode = free_motion(self, 0.0, -self.height, rate)
+
+    def phase_factory(self):
+        """The maker of this drop's contact phases, for the contact in use.
+
+        Returns
+        -------
+        PhaseFactory
+            ``phase.PhaseFactory`` of ``contact``, the drop's mass, gravity and tolerances (made
+            again when the contact changes).
+        """
+        factory = self._phases
+        if factory is None or factory.contact is not self.contact:
+            factory = self._phases = PhaseFactory(self.contact, self.mass, self.gravity,
+                                                  self.rtol, self.rtol * 1e-2)
+        return factory
 
     def check(self, contact, height=None, velocity=None, plate=False):
         """``check_drop`` of ``contact`` for this drop (its ``InputError``), changing nothing.
@@ -191,7 +208,6 @@ class DropSimulation:
         """
         self.check_plate(plate)
         new = as_plate(plate)
-        self._mode = self._mode.handed_over(self)
         t = self.time
         z, zdot = self._mode.state(t)
         p, pv = self.plate_motion.state(t)[:2]
@@ -214,7 +230,6 @@ class DropSimulation:
         """
         contact = require_contact(contact)
         self.check(contact)
-        self._mode = self._mode.handed_over(self)
         z, zdot = self._mode.state(self.time)
         self._follow(Event('set_contact', self.time, z, zdot, contact=contact))
 
@@ -374,7 +389,9 @@ class DropSimulation:
         mode = self._mode
         new = TRANSITIONS[type(mode), event.name](self, mode, event)
         if new is not mode:
-            self.recorder.steps += mode.steps
+            steps = mode.steps
+            if steps:
+                self.recorder.left(steps)
             self._mode = new
 
     def advance_ticks(self, times, max_steps=None):

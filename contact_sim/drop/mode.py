@@ -14,10 +14,10 @@ class Event(NamedTuple):
 
     ``name`` is the key of ``transitions.TRANSITIONS`` (with the mode's class); ``resumed``: a
     contact phase started by a change from outside (no impact of its own); ``record``: a contact's
-    (first point, peak force (N), depth (m)) carried into the phase that goes on from here;
-    ``after``: the next mode when the ending mode has built it already (the rest it decayed to,
-    the carried state it checked); ``contact``: a new ``Contact`` given from outside.  (Events
-    and moves are named tuples: a few are made at every bounce.)"""
+    (first point (t, z, ż, F), peak force (N), depth (m)): carried into the phase that goes on
+    from here (``knot``), or recorded (``lift_off``, ``landed``: the phase's own first point);
+    ``contact``: a new ``Contact`` given from outside.  (Events and moves are named tuples: a
+    few are made at every bounce.)"""
 
     name: str
     time: float
@@ -25,7 +25,6 @@ class Event(NamedTuple):
     penetration_rate: float = 0.0
     resumed: bool = False
     record: tuple = None
-    after: object = None
     contact: object = None
 
 
@@ -54,7 +53,6 @@ class Mode:
       plate, recorder);
     * ``event_at_until()``: the event at ``until`` of a closed-form mode that has one (the
       default ``advance`` reports it once ``t_end`` reaches ``until``);
-    * ``handed_over(sim)``: the mode that takes a change from outside in this one's place;
     * ``steps``: integrator steps taken in this mode so far (the engine adds them to the record
       when the mode ends); ``in_contact``, ``carried``: what ``DropSimulation`` reports.
     """
@@ -78,11 +76,6 @@ class Mode:
 
     def event_at_until(self):
         raise NotImplementedError
-
-    def handed_over(self, sim):
-        """The mode that takes a change from outside (``set_plate``, ``set_contact``) in this
-        one's place: itself (a train of modes hands over its current one, ``mode_train``)."""
-        return self
 
 
 class _NoPoints:

@@ -37,38 +37,42 @@ class Carried(Mode):
         return Event('released', self.until, z, zdot)
 
 
+def carried_from(sim, t):
+    """The ``Carried`` state of ``sim`` (a ``DropSimulation``) from t (s) on: until the plate's
+    acceleration falls to -g/2 or its forcing piece ends."""
+    plate, g = sim.plate_motion, sim.gravity
+    until = min(plate.next_acceleration_below(t, -0.5 * g), plate.forcing_piece(t)[1])
+    return Carried(t, until, plate, sim.contact, sim.mass, g)
+
+
 class CarryWatch:
     """What a contact phase on a moving plate settles into: the ``Carried`` state.  It runs
     ``CHUNK`` steps at a time and tests before each run; it never lands for good."""
 
     landed = False
-    settled_at = None
+    settled = None
 
     def run(self, sim, phase, t_stop, budget):
         return phase.run(t_stop, CHUNK)
 
     def after_run(self, sim, contact):
-        return None
+        return False
 
     def before_run(self, sim, contact):
-        """The event ``carried`` if the plate's acceleration is above -g/4 and the contact's
-        oscillation about the quasi-static depth has decayed below ``settle_tolerance``; the
-        landing's time is the contact's impact unless a landing came before."""
+        """The event ``carried`` at the quasi-static state (z_s, ż_s) if the plate's
+        acceleration is above -g/4 and the contact's oscillation about that state has decayed
+        below ``settle_tolerance``."""
         plate, g = sim.plate_motion, sim.gravity
         phase = contact.integrator
         t = phase.time
         p_acc = plate.state(t)[2]
         if p_acc <= -0.25 * g:    # hysteresis: carried from -g/4, released at -g/2
             return None
-        until = min(plate.next_acceleration_below(t, -0.5 * g), plate.forcing_piece(t)[1])
-        carried = Carried(t, until, plate, sim.contact, sim.mass, g)
-        z_s, rate_s = carried.state(t)
+        z_s, rate_s = carried_from(sim, t).state(t)
         z, zdot = phase.state
         law = sim.contact.law
         k_lin = law.n * sim.contact.stiffness * z_s ** (law.n - 1.0)
         deviation = math.hypot(z - z_s, (zdot - rate_s) * math.sqrt(sim.mass / k_lin))
         if not deviation < sim.settle_tolerance * z_s:
             return None
-        if sim.recorder.permanent_contact_time is None:
-            sim.recorder.permanent_contact_time = contact.impact_point[0]
-        return Event('carried', t, z_s, rate_s, after=carried)
+        return Event('carried', t, z_s, rate_s)

@@ -1,17 +1,16 @@
-"""Contact: a contact phase integrated exactly by ``phase.PhaseIntegrator``, with the plate's
+"""InContact: a contact phase integrated exactly (``phase.PhaseFactory``), with the plate's
 acceleration as forcing, until one of its events: ``lift_off`` (the force vanished), ``knot``
-(the plate's forcing changes: the same contact goes on from there), ``settled`` (the fixed
-plate's rest took over) or ``carried`` (a moving plate carries the sphere)."""
+(the plate's forcing changes: the same contact goes on from there), ``landed`` (the contact
+became permanent: the same phase goes on), ``settled`` (the fixed plate's rest took over) or
+``carried`` (a moving plate carries the sphere).  (The mode is ``InContact``, the model's
+``Contact`` the law with its k and λ.)"""
 import bisect
 import math
 from operator import itemgetter
 
-from contact_sim.drop.compiled_train import bounded_rate
-from contact_sim.drop.mode import Event, Mode, Move
+from contact_sim.drop.mode import NO_POINTS, Event, Mode, Move
 from contact_sim.drop.mode_carried import CarryWatch
 from contact_sim.drop.mode_rest import RestWatch
-from contact_sim.drop.records import ImpactRecord
-from contact_sim.phase import contact_phase
 
 _TIME = itemgetter(0)   # a point's time (points are (t, z, ż, F))
 
@@ -26,12 +25,18 @@ def energy_bounded_rate(sim, start, z, zdot):
     release; the speed is then taken from the energy at the start instead (the sign kept).
     Unchanged wherever the energy did not grow.
     """
-    contact = sim.contact
-    return bounded_rate(contact.stiffness, contact.law.n, sim.mass, sim.gravity, start[1],
-                        start[2], z, zdot)
+    contact, mass, mg = sim.contact, sim.mass, sim.mass * sim.gravity
+    k, n1 = contact.stiffness, contact.law.n + 1.0
+    z_start = start[1]      # the potentials of phase.potential_at
+    e_start = (0.5 * mass * start[2] * start[2]
+               + (k * max(z_start, 0.0) ** n1 / n1 - mg * z_start))
+    potential = k * max(z, 0.0) ** n1 / n1 - mg * z
+    if not 0.5 * mass * zdot * zdot + potential > e_start:
+        return zdot
+    return math.copysign(math.sqrt(max(2.0 * (e_start - potential) / mass, 0.0)), zdot)
 
 
-class Contact(Mode):
+class InContact(Mode):
     """A contact phase of ``sim`` (a ``DropSimulation``) from time t (s) at (z, ż) (m, m/s).
 
     The forcing is the plate's on [t, ``valid_until``) (``PlateMotion.forcing_piece``: none and
@@ -44,16 +49,18 @@ class Contact(Mode):
     in_contact = True
     until = -math.inf
 
-    def __init__(self, sim, t, z, zdot, resumed=False, record=None, integrator=None):
+    def __init__(self, sim, t, z, zdot, resumed=False, record=None):
         plate = sim.plate_motion
         forcing, self.valid_until = plate.forcing_piece(t)
-        self.integrator = integrator if integrator is not None else contact_phase(
-            sim.contact, sim.mass, sim.gravity, t, z, zdot, rtol=sim.rtol, atol=sim.rtol * 1e-2,
-            forcing=forcing)
-        self.watch = CarryWatch() if plate.moving else RestWatch(sim)
+        phases = sim.phase_factory()
+        self.integrator = phase = phases.start(t, z, zdot, forcing=forcing)
+        self.start_point = phase.points[0]      # (t, z, ż, F) at the phase's start
+        self.moving = plate.moving
+        self.watch = CarryWatch() if self.moving else RestWatch(phases.energy_floor)
         self.resumed = resumed
         self.first_point, self.peak, self.depth = record or (None, 0.0, -math.inf)
-        self.emitted = 0
+        self.emitted = 0            # the points handed out (an index into the integrator's)
+        self.passed = -math.inf     # and the points up to this time (s), passed
 
     @property
     def steps(self):
@@ -68,7 +75,7 @@ class Contact(Mode):
     @property
     def impact_point(self):
         """(t, z, ż, F) at the start of the contact (before any restart)."""
-        return self.first_point or self.integrator.points[0]
+        return self.first_point or self.start_point
 
     def record_until(self, t):
         """(first point, peak force (N), depth (m)) of the contact up to t (s), to carry on."""
@@ -80,30 +87,37 @@ class Contact(Mode):
     def state(self, t):
         phase = self.integrator
         if t == phase.start_time:
-            return phase.points[0][1], phase.points[0][2]
+            return self.start_point[1], self.start_point[2]
         if t == phase.time:
             return phase.state
         return phase.state_at(t)
 
-    def take_points(self, t_end):
-        """The integrator's points up to ``t_end`` (s) not handed out yet."""
-        pts, start = self.integrator.points, self.emitted
-        self.emitted = bisect.bisect_right(pts, t_end, lo=start, key=_TIME)  # times increase
-        return pts[start:self.emitted]
-
-    def finish_time(self):
-        """When the phase ends within its forcing piece (lift-off, or the switch to rest), or
-        ``None`` if not yet known."""
-        phase = self.integrator
-        if phase.lifted_off:
-            return phase.end[0] if phase.end[0] <= self.valid_until else None
-        return self.watch.settled_at
+    def hand_out(self, points, t_end):
+        """Append the integrator's points up to ``t_end`` (s) not handed out yet to ``points``;
+        to ``NO_POINTS`` none: they are passed (the integrator's list is then not read)."""
+        if points is NO_POINTS:
+            if t_end > self.passed:
+                self.passed = t_end
+            return
+        pts = self.integrator.points                    # times increase
+        start = bisect.bisect_right(pts, self.passed, lo=self.emitted, key=_TIME)
+        self.emitted = bisect.bisect_right(pts, t_end, lo=start, key=_TIME)
+        points.extend(pts[start:self.emitted])
 
     def advance(self, sim, t_end, budget, points):
-        phase, knot = self.integrator, self.valid_until
+        phase, knot, watch = self.integrator, self.valid_until, self.watch
+        stop = min(t_end, knot)
         while True:
-            points.extend(self.take_points(min(t_end, knot)))
-            finish = self.finish_time()
+            if points is NO_POINTS:         # hand_out's pass, inline (a phase a bounce)
+                if stop > self.passed:
+                    self.passed = stop
+            else:
+                self.hand_out(points, stop)
+            # the end within the forcing piece: lift-off, or the switch to rest
+            if phase.lifted_off:
+                finish = phase.end[0] if phase.end[0] <= knot else None
+            else:
+                finish = watch.settled[0] if watch.settled is not None else None
             if finish is not None:
                 if finish > t_end:
                     return Move(None, t_end, budget)
@@ -117,31 +131,29 @@ class Contact(Mode):
             if phase.time >= t_end:
                 return Move(None, t_end, budget)
             if budget <= 0:         # out of budget: stop where the integrator is
-                points.extend(self.take_points(phase.time))
+                self.hand_out(points, phase.time)
                 return Move(None, phase.time, budget)
-            event = self.watch.before_run(sim, self)
+            event = watch.before_run(sim, self)
             if event is not None:
                 return Move(event, event.time, budget)
-            budget -= self.watch.run(sim, phase, min(t_end, knot), budget)
-            self.watch.after_run(sim, self)
+            budget -= watch.run(sim, phase, stop, budget)
+            if watch.after_run(sim, self):     # landed for good
+                return Move(Event('landed', phase.time, resumed=self.resumed,
+                                  record=(self.start_point, phase.peak_force,
+                                          phase.max_penetration)), phase.time, budget)
 
     def _finish(self, sim):
-        """The event at the end of the phase, its impact recorded: ``lift_off`` or ``settled``."""
-        phase, recorder = self.integrator, sim.recorder
+        """The event at the end of the phase: ``lift_off`` (the rebound's rate bounded by the
+        energy on the fixed plate, the impact's record) or ``settled`` (the state where the
+        closed-form rest takes over)."""
+        phase = self.integrator
         if not phase.lifted_off:
-            rest = self.watch.settle(sim, self)
-            return Event('settled', rest.start, after=rest)
+            t, z, zdot = self.watch.settled
+            return Event('settled', t, z, zdot, resumed=self.resumed,
+                         record=(self.start_point, phase.peak_force, phase.max_penetration))
         t, z, zdot = phase.end
-        if not sim.plate_motion.moving:
-            zdot = energy_bounded_rate(sim, phase.points[0], z, zdot)
-        if self.resumed:        # a contact change moved the sphere: no impact to record
-            recorder.permanent_contact_time = recorder.settle_time = None
-        else:
-            impact_time, _, impact_rate, _ = self.impact_point
-            impact_speed = max(impact_rate, 0.0)
-            rebound = max(-zdot, 0.0)
-            recorder.impacts.append(ImpactRecord(
-                impact_time, impact_speed, rebound,
-                rebound / impact_speed if impact_speed > 0.0 else 0.0, t - impact_time,
-                max(phase.peak_force, self.peak), max(phase.max_penetration, self.depth)))
-        return Event('lift_off', t, z, zdot, resumed=self.resumed)
+        if not self.moving:
+            zdot = energy_bounded_rate(sim, self.start_point, z, zdot)
+        return Event('lift_off', t, z, zdot, self.resumed,     # (resumed, record)
+                     (self.impact_point, max(phase.peak_force, self.peak),
+                      max(phase.max_penetration, self.depth)))

@@ -2,7 +2,7 @@
 the force switches on again (the event ``touch``)."""
 import math
 
-from contact_sim.drop.mode import Event, Mode
+from contact_sim.drop.mode import Event, Mode, Move
 
 
 def ballistic(y0, v0, gravity, dt):
@@ -27,16 +27,6 @@ class Flight(Mode):
         self.contact_time = math.inf
         self.apex = plate.plan_flight(self, z, zdot, contact, drag_rates, after_lift_off)
 
-    @classmethod
-    def planned(cls, plate, gravity, start, y0, v0, contact_time):
-        """The vacuum flight from ``start`` (s) at y0 (m), v0 (m/s) over ``plate`` whose touch
-        at ``contact_time`` (s) is planned already (by the compiled bounces, ``mode_train``)."""
-        flight = cls.__new__(cls)
-        flight.plate, flight.gravity, flight.start = plate, gravity, start
-        flight.y0, flight.v0, flight.path, flight.contact_time = y0, v0, None, contact_time
-        flight.apex = None
-        return flight
-
     @property
     def until(self):
         return self.contact_time
@@ -49,7 +39,11 @@ class Flight(Mode):
         return ballistic(self.y0, self.v0, self.gravity, dt)
 
     def state(self, t):
-        y, v = self.absolute(t)
+        if self.path is None:       # ``absolute``'s ballistic flight, inline (a touch a bounce)
+            g, dt = self.gravity, t - self.start
+            y, v = self.y0 + self.v0 * dt - 0.5 * g * dt * dt, self.v0 - g * dt
+        else:
+            y, v = self.absolute(t)
         p, pv, _ = self.plate.state(t)
         return p - y, pv - v
 
@@ -59,6 +53,14 @@ class Flight(Mode):
             return None
         y, v = self.absolute(t)
         return plate[0] - y, plate[1] - v
+
+    def advance(self, sim, t_end, budget, points):
+        """Closed form up to the touch (``Mode.advance`` without its lookups: a flight a
+        bounce)."""
+        touch = self.contact_time
+        if touch > t_end:
+            return Move(None, t_end, budget)
+        return Move(self.event_at_until(), touch, budget)
 
     def event_at_until(self):
         z, zdot = self.state(self.contact_time)

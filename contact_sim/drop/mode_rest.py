@@ -1,15 +1,13 @@
 """Rest on the fixed plate: the linearised damped oscillation about the static deflection, in
 closed form, for ever; and ``RestWatch``, the test a contact phase on the fixed plate makes after
 each run of steps: has it become permanent (the energy above rest below the lift-off floor, or a
-provable creep into the rest depth), and has its oscillation decayed enough for the closed form
-to take over (the event ``settled``, see ``mode_contact``)?"""
+provable creep into the rest depth: the event ``landed``), and has its oscillation decayed enough
+for the closed form to take over (the event ``settled``, see ``mode_contact``)?"""
 import math
 
 import numpy as np
 
 from contact_sim.drop.mode import Mode
-from contact_sim.drop.records import ImpactRecord
-from contact_sim.phase import lift_off_energy
 
 
 class Rest(Mode):
@@ -51,93 +49,74 @@ class Rest(Mode):
         return self._oscillation(t, np.exp, np.cos, np.sin)
 
 
-def permanent_record(phase):
-    """The ``ImpactRecord`` of a permanent contact ``phase`` (rebound 0, duration inf)."""
-    impact_time, _, impact_rate, _ = phase.points[0]
-    return ImpactRecord(impact_time, max(impact_rate, 0.0), 0.0, 0.0, math.inf,
-                        phase.peak_force, phase.max_penetration)
+def rest_after(sim, t, z, zdot):
+    """The ``Rest`` of ``sim`` (a ``DropSimulation``) from the state (z, ż) (m, m/s) at t (s):
+    its contact's linearisation about the static depth (``Contact.rest_linearisation``)."""
+    z0, k_lin, c_lin = sim.contact.rest_linearisation(sim.mass * sim.gravity)
+    return Rest(t, z0, z - z0, zdot, c_lin / (2.0 * sim.mass), k_lin / sim.mass)
 
 
 class RestWatch:
-    """What a contact phase on the fixed plate settles into: permanent contact, then ``rest``.
+    """What a contact phase on the fixed plate settles into: permanent contact, then rest.
 
-    ``floor``: below this energy above rest (J) the force can never vanish again; ``permanent``
-    once it is so; ``rest`` (a ``Rest``) once the oscillation has decayed below
-    ``settle_tolerance`` of the rest depth (laws linear in the rate only: the others are
-    integrated all the way); ``record``: the index of the landing's ``ImpactRecord``."""
+    ``floor``: below this energy above rest (J) the force can never vanish again
+    (``phase.PhaseFactory.energy_floor``); ``permanent``
+    once it is so; ``settled``: (t s, z m, ż m/s) where the oscillation has decayed below
+    ``settle_tolerance`` of the rest depth and the closed-form ``Rest`` takes over (laws linear
+    in the rate only: the others are integrated all the way), ``None`` before."""
 
-    def __init__(self, sim):
-        self.floor = (lift_off_energy(sim.contact, sim.mass, sim.gravity)
-                      if sim.gravity > 0.0 else -math.inf)
+    settled = None
+
+    def __init__(self, floor):
+        self.floor = floor
         self.permanent = False
-        self.rest = None
-        self.record = None
 
     @property
     def landed(self):
         """True once the contact is permanent (the sphere never leaves the plate again)."""
         return self.permanent
 
-    @property
-    def settled_at(self):
-        """When the closed-form rest takes over (s), or ``None``."""
-        return self.rest.start if self.rest is not None else None
-
     def before_run(self, sim, contact):
         return None
 
     def run(self, sim, phase, t_stop, budget):
         """Steps until ``t_stop`` (s), ``budget`` or the energy at which ``after_run`` has work."""
-        return phase.run(t_stop, budget, self._stop_energy(sim))
+        return phase.run(t_stop, budget, self.floor if not self.permanent
+                         else self._rest_energy(sim))
 
-    def _stop_energy(self, sim):
-        """The energy above rest (J) below which ``after_run`` has work: the contact phase runs
-        its steps without returning until then (it stops at the first step below)."""
-        if sim.gravity <= 0.0:
-            return -math.inf
-        if not self.permanent:
-            return self.floor
-        if not sim.contact.law.linear_in_rate:
+    def _rest_energy(self, sim):
+        """The energy above rest (J) below which a permanent contact settles: the phase runs its
+        steps without returning until then, as it does down to ``floor`` before (it stops at
+        the first step below); -inf where no closed-form rest takes over."""
+        if sim.gravity <= 0.0 or not sim.contact.law.linear_in_rate:
             return -math.inf
         z0, k_lin, _ = sim.contact.rest_linearisation(sim.mass * sim.gravity)
         return 0.5 * k_lin * (sim.settle_tolerance * z0) ** 2
 
     def after_run(self, sim, contact):
-        """Mark permanent contact (the landing for good is reported as the phase's impact unless
-        the phase was ``resumed``), and the switch to the closed-form rest solution."""
+        """Mark permanent contact, and where the closed-form rest takes over (``settled``);
+        returns True if the contact has become permanent now (the landing for good, reported as
+        the event ``landed``)."""
         phase = contact.integrator
         if sim.gravity <= 0.0 or phase.lifted_off:
-            return
+            return False
         energy = phase.energy_above_rest()
-        if not self.permanent and self.lands(sim, phase, energy):
+        landed = not self.permanent and self.lands(sim, phase, energy)
+        if landed:
             self.permanent = True
-            if not contact.resumed:
-                sim.recorder.permanent_contact_time = phase.start_time
-                self.record = sim.recorder.landing(permanent_record(phase))
         if not self.permanent or not sim.contact.law.linear_in_rate:
-            return   # (no linear damping at rest: it is integrated all the way)
-        z0, k_lin, c_lin = sim.contact.rest_linearisation(sim.mass * sim.gravity)
+            return landed   # (no linear damping at rest: it is integrated all the way)
+        z0, k_lin, _ = sim.contact.rest_linearisation(sim.mass * sim.gravity)
         amplitude = math.sqrt(2.0 * max(energy, 0.0) / k_lin)
         if amplitude < sim.settle_tolerance * z0:
-            z, zdot = phase.state
-            self.rest = Rest(phase.time, z0, z - z0, zdot, c_lin / (2.0 * sim.mass),
-                             k_lin / sim.mass)
+            self.settled = (phase.time, *phase.state)
+        return landed
 
     def lands(self, sim, phase, energy):
         """True if the running ``phase`` (not lifted off, at the ``energy`` above rest (J) its
         integrator reached) can never leave the plate again: below the lift-off floor, or in a
         provable creep into the rest depth."""
         return energy < self.floor or _creeps_to_rest(sim, phase)
-
-    def settle(self, sim, contact):
-        """The phase settled into ``rest``: complete the landing's record with the final peaks."""
-        recorder = sim.recorder
-        if not contact.resumed:
-            phase = contact.integrator
-            recorder.impacts[self.record] = permanent_record(phase)
-            recorder.permanent_contact_time = contact.impact_point[0]
-        recorder.settle_time = self.rest.start
-        return self.rest
 
 
 def _creeps_to_rest(sim, phase):

@@ -337,24 +337,77 @@ class DropResult:
 
 @dataclass
 class Recorder:
-    """The drop's record so far, kept as the modes report it: the ``impacts`` completed (a list
-    of ``ImpactRecord``; a permanent contact's record is made when it lands and completed when it
-    settles), the ``apex_heights`` (m) of the flights begun after a lift-off, the integrator
-    ``steps`` of the modes left, the ``permanent_contact_time`` (s) of the landing for good and
-    the ``settle_time`` (s) at which the closed-form rest took over (``None``: not reached)."""
+    """The drop's ledger: what the engine's transitions report, written here and only here.
+
+    ``impacts`` completed (a list of ``ImpactRecord``; a permanent contact's record is made when
+    it lands and completed when it settles), the ``apex_heights`` (m) of the flights begun after
+    a lift-off, the integrator ``steps`` of the modes left, the ``permanent_contact_time`` (s)
+    of the landing for good and the ``settle_time`` (s) at which the closed-form rest took over
+    (``None``: not reached).  The engine's transition table (``transitions``) writes each event
+    with one method: ``apex``, ``lift_off``, ``land``, ``settle``, ``carry``; ``left`` counts a
+    mode's steps."""
 
     impacts: list = field(default_factory=list)
     apex_heights: list = field(default_factory=list)
     steps: int = 0
     permanent_contact_time: float = None
     settle_time: float = None
+    landing: int = None     # the index in ``impacts`` of the last landing for good
 
     def apex(self, height):
         """A flight after a lift-off rises to ``height`` (m; ``None``: none to record)."""
         if height is not None:
             self.apex_heights.append(height)
 
-    def landing(self, record):
-        """A contact became permanent: record it (``ImpactRecord``); returns its index."""
-        self.impacts.append(record)
-        return len(self.impacts) - 1
+    def left(self, steps):
+        """A mode that took ``steps`` integrator steps has ended."""
+        self.steps += steps
+
+    def lift_off(self, impact_point, time, rebound_rate, peak_force, max_penetration, resumed):
+        """A contact phase lifted off at ``time`` (s) at the rate ``rebound_rate`` ż (m/s): the
+        impact that began at ``impact_point`` (t s, z m, ż m/s, F N) with its ``peak_force``
+        (N) and ``max_penetration`` (m), or, ``resumed`` (a change from outside moved the
+        sphere), no impact: the sphere left the rest it had landed in."""
+        if resumed:
+            self.permanent_contact_time = self.settle_time = None
+            return
+        impact_time, _, impact_rate, _ = impact_point
+        impact_speed = max(impact_rate, 0.0)
+        rebound = max(-rebound_rate, 0.0)
+        self.impacts.append(ImpactRecord(
+            impact_time, impact_speed, rebound,
+            rebound / impact_speed if impact_speed > 0.0 else 0.0, time - impact_time,
+            peak_force, max_penetration))
+
+    def _permanent(self, start_point, peak_force, max_penetration):
+        """The ``ImpactRecord`` of a permanent contact from ``start_point`` (t, z, ż, F):
+        rebound 0, duration inf."""
+        impact_time, _, impact_rate, _ = start_point
+        return ImpactRecord(impact_time, max(impact_rate, 0.0), 0.0, 0.0, math.inf, peak_force,
+                            max_penetration)
+
+    def land(self, start_point, peak_force, max_penetration):
+        """A contact phase from ``start_point`` (t s, z m, ż m/s, F N) became permanent, its
+        ``peak_force`` (N) and ``max_penetration`` (m) so far: the landing for good, recorded as
+        an impact."""
+        self.permanent_contact_time = start_point[0]
+        self.landing = len(self.impacts)
+        self.impacts.append(self._permanent(start_point, peak_force, max_penetration))
+
+    def settle(self, time, start_point=None, peak_force=None, max_penetration=None,
+               impact_time=None):
+        """The closed-form rest took over at ``time`` (s); with ``start_point``, the phase that
+        landed for good settled: its landing's record completed with the final ``peak_force``
+        (N) and ``max_penetration`` (m), the landing dated at its contact's ``impact_time``
+        (s)."""
+        if start_point is not None:
+            self.impacts[self.landing] = self._permanent(start_point, peak_force,
+                                                         max_penetration)
+            self.permanent_contact_time = impact_time
+        self.settle_time = time
+
+    def carry(self, impact_time):
+        """The plate carries the sphere: the landing for good began at ``impact_time`` (s)
+        unless a landing came before."""
+        if self.permanent_contact_time is None:
+            self.permanent_contact_time = impact_time

@@ -22,12 +22,12 @@ Modules, one job each: ``scales`` (Z, T, γ, ζ of a phase, the tolerances, the 
 start), ``forcing`` (plate motion and drag beyond gravity), ``energy`` (the energy above rest and
 the lift-off bound), ``lift_off`` (which roots end a phase, and when its end is a stiff
 creep), ``reference`` (``PhaseIntegrator``: scipy's DOP853 or Radau stepped from
-Python, the reference path), ``compiled_phase`` (``CompiledPhase``, the default engine) over
-``compiled`` (the numba kernels: DOP853 with dense output and located events) and
-``_dop853_coefficients`` (the generated tableau), ``compiled_start`` (a compiled phase as
-another kernel starts and runs it: ``CompiledPhase`` and the drop's compiled bounces),
-``brent`` (Brent's method one iteration at a time, for the compiled root searches here and in
-the drop's flights), ``engines`` (the engine switch and ``contact_phase``, which picks one).
+Python, the reference path), ``compiled_phase`` (``CompiledPhase``, the default engine, and its
+start) over ``compiled`` (the numba kernels: DOP853 with dense output and located events) and
+``_dop853_coefficients`` (the generated tableau), ``brent`` (Brent's method one iteration at a
+time, for the compiled root searches here and in the drop's flights), ``engines`` (the engine
+switch and ``contact_phase``, which picks one; ``PhaseFactory``, its choices for one contact made
+once).
 """
 from contact_sim._lazy import lazy_exports
 
@@ -36,26 +36,19 @@ from contact_sim._lazy import lazy_exports
 _EXPORTS = {
     'brent': ('brent_evaluated', 'brent_next', 'brent_start'),
     'compiled_phase': ('CompiledPhase',),
-    'compiled_start': ('RUN_REASONS', 'compiled_scales', 'constant_parameters', 'energy_stop',
-                       'lift_off_of', 'phase_state_at', 'phase_storage', 'phase_time',
-                       'results_of', 'run_phase', 'set_constant_forcing',
-                       'set_plate_forcing', 'start_phase', 'step_too_small'),
-    'energy': ('energy_above_rest', 'lift_off_energy', 'potential_at', 'potential_of'),
-    'engines': ('COMPILED_STIFF_DAMPING', 'ENGINES', 'contact_phase', 'get_engine', 'set_engine',
-                'use_engine'),
+    'energy': ('energy_above_rest', 'lift_off_energy', 'potential_at'),
+    'engines': ('COMPILED_STIFF_DAMPING', 'ENGINES', 'PhaseFactory', 'contact_phase', 'get_engine',
+                'set_engine', 'use_engine'),
     'forcing': ('Forcing',),
-    'lift_off': ('force_can_vanish_inside', 'pulls_out'),
+    'lift_off': ('force_can_vanish_inside',),
     'reference': ('STIFF_DAMPING', 'PhaseIntegrator'),
     'scales': ('DEFAULT_ATOL', 'DEFAULT_RTOL', 'PhaseScales', 'phase_scales'),
 }
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
-__all__ = ['COMPILED_STIFF_DAMPING', 'DEFAULT_ATOL', 'DEFAULT_RTOL', 'ENGINES', 'RUN_REASONS',
-           'STIFF_DAMPING', 'CompiledPhase', 'Forcing', 'PhaseIntegrator', 'PhaseScales',
-           'brent_evaluated', 'brent_next', 'brent_start',
-           'compiled_scales', 'constant_parameters', 'contact_phase', 'energy_above_rest',
-           'energy_stop', 'force_can_vanish_inside', 'get_engine', 'lift_off_energy',
-           'lift_off_of', 'phase_scales', 'phase_state_at', 'phase_storage', 'phase_time',
-           'potential_at', 'potential_of', 'pulls_out', 'results_of', 'run_phase',
-           'set_constant_forcing', 'set_engine', 'set_plate_forcing', 'start_phase',
-           'step_too_small', 'use_engine']
+__all__ = ['COMPILED_STIFF_DAMPING', 'DEFAULT_ATOL', 'DEFAULT_RTOL', 'ENGINES', 'STIFF_DAMPING',
+           'CompiledPhase', 'Forcing', 'PhaseFactory', 'PhaseIntegrator', 'PhaseScales',
+           'brent_evaluated',
+           'brent_next', 'brent_start', 'contact_phase', 'energy_above_rest',
+           'force_can_vanish_inside', 'get_engine', 'lift_off_energy', 'phase_scales',
+           'potential_at', 'set_engine', 'use_engine']

@@ -2,17 +2,117 @@
 
 The same mathematics as the reference (``reference.PhaseIntegrator``): DOP853 with scipy's step
 control, the 7th-order dense output and Brent event location, all in numba, so that ``run``
-takes any number of steps in one call.
+takes any number of steps in one call.  A phase starts with ``start_phase`` (after
+``constant_parameters``): the per-phase slots of ``compiled``'s parameter vector from the
+phase's scales, the state at σ = 0 and the force and peak of the first point.
 """
 import math
 
 import numpy as np
+from numba import njit
 
 from contact_sim.phase import compiled
-from contact_sim.phase.compiled_start import (constant_parameters, energy_stop, phase_state_at,
-                                              phase_storage, start_phase, step_too_small)
+from contact_sim.phase.compiled import (BUFFER_FULL, MAX_STEPS, NPAR, P_ATOL, P_DAMPING,
+                                        P_ENERGY_GRAVITY, P_GRAVITY, P_KIND, P_LENGTH,
+                                        P_LIFT_EVENTS, P_MASS, P_N, P_P, P_Q, P_REST_POTENTIAL,
+                                        P_RTOL, P_START, P_STIFFNESS, P_TIME, P_ZETA, S_DEPTH,
+                                        S_END_RATE, S_END_T, S_END_Z, S_H, S_LIFTED, S_PEAK,
+                                        S_S, S_STEPS, S_U, S_X, STEP_TOO_SMALL)
+from contact_sim.phase.compiled import run as _run
 from contact_sim.phase.lift_off import force_can_vanish_inside
-from contact_sim.phase.scales import DEFAULT_ATOL, DEFAULT_RTOL, PhaseScales, phase_scales
+from contact_sim.phase.scales import (DEFAULT_ATOL, DEFAULT_RTOL, FIRST_STEP, PhaseScales,
+                                      phase_scales, scales_of, start_peak)
+
+_KW = dict(cache=True, nogil=True, error_model='numpy')
+
+_start_peak = njit('float64(float64, float64, float64, float64, float64, float64)',
+                   **_KW)(start_peak)
+_scales_of = njit('UniTuple(float64, 4)(float64, float64, float64, float64, float64, float64, '
+                  'float64, float64, float64)', **_KW)(scales_of)
+
+
+def constant_parameters(contact, mass, rtol, atol, lift_events):
+    """``compiled``'s parameter vector with the slots that hold for every phase of ``contact``
+    filled (law, k, λ, m (kg), tolerances, the law's short form, ``lift_events`` 1 or 2); the
+    forcing and the per-phase slots zero (``start_phase`` fills the latter)."""
+    law = contact.law
+    par = np.zeros(NPAR)
+    par[P_N], par[P_P], par[P_Q] = law.n, law.p, law.q
+    par[P_STIFFNESS], par[P_DAMPING], par[P_MASS] = contact.stiffness, contact.damping, mass
+    par[P_RTOL], par[P_ATOL] = rtol, atol
+    par[P_KIND], par[P_LIFT_EVENTS] = float(law.kernel), float(lift_events)
+    return par
+
+
+def phase_storage():
+    """Integrator storage (st, K, F) of ``compiled``'s shapes, uninitialised (``start_phase``
+    sets it)."""
+    return (np.empty(compiled.NSTATE), np.empty((compiled.A.shape[0], 2)),
+            np.empty((compiled.D.shape[0] + 3, 2)))
+
+
+@njit('float64(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], float64, float64, '
+      'float64, float64, float64, float64, float64)', **_KW)
+def start_phase(par, st, K, F, start_time, penetration, penetration_rate, length, time, gamma,
+                zeta):
+    """Start a phase at ``start_time`` (s) from (z, ż) (m, m/s) with the scales (Z m, T s, γ, ζ):
+    fill the per-phase slots of ``par`` (as ``constant_parameters`` left it, its forcing
+    slots set by the caller), set (st, K, F) to the state at σ = 0; returns the phase's first
+    peak force (N), ``scales.start_peak_force`` of the force there.
+
+    The energy of rest is taken at the g the scales give back, m γ Z / T² / m (as the phase's
+    energy test uses it)."""
+    par[P_ZETA], par[P_GRAVITY] = zeta, gamma
+    par[P_START], par[P_TIME], par[P_LENGTH] = start_time, time, length
+    mass, k, n = par[P_MASS], par[P_STIFFNESS], par[P_N]
+    mass_g = mass * gamma * length / (time * time)
+    g = mass_g / mass
+    z0 = (mass_g / k) ** (1.0 / n)
+    par[P_ENERGY_GRAVITY] = g
+    par[P_REST_POTENTIAL] = (k * (z0 if z0 > 0.0 else 0.0) ** (n + 1.0) / (n + 1.0)
+                             - mass * g * z0)
+    st[:] = 0.0
+    K[:, :] = 0.0
+    F[:, :] = 0.0
+    st[S_X], st[S_U], st[S_H] = penetration / length, penetration_rate * time / length, FIRST_STEP
+    peak = _start_peak(par[P_P], par[P_DAMPING], par[P_Q], penetration, penetration_rate,
+                       compiled.contact_force(penetration, penetration_rate, par))
+    st[S_PEAK], st[S_DEPTH] = peak, penetration
+    return peak
+
+
+@njit('UniTuple(float64, 5)(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], '
+      'float64, float64, float64, float64)', **_KW)
+def start_scaled(par, st, K, F, start_time, penetration, penetration_rate, gravity):
+    """``start_phase`` with the phase's scales found here (``scales.scales_of`` of the law, k,
+    λ and m in ``par`` and ``gravity`` m/s²): returns (peak force N, Z m, T s, γ, ζ); nothing
+    started where Z <= 0 (no motion and no gravity, ``phase_scales`` refuses it)."""
+    length, time, gamma, zeta = _scales_of(par[P_STIFFNESS], par[P_DAMPING], par[P_MASS],
+                                           gravity, par[P_N], par[P_P], par[P_Q], penetration,
+                                           penetration_rate)
+    if not length > 0.0:
+        return math.nan, length, time, gamma, zeta
+    peak = start_phase(par, st, K, F, start_time, penetration, penetration_rate, length, time,
+                       gamma, zeta)
+    return peak, length, time, gamma, zeta
+
+
+def step_too_small():
+    """The error of a phase whose step size fell below the spacing of the doubles
+    (``compiled.STEP_TOO_SMALL``)."""
+    return RuntimeError('contact integration failed: Required step size is less than spacing '
+                        'between numbers.')
+
+
+@njit('UniTuple(float64, 2)(float64[::1], float64[:, ::1], float64[:, ::1], float64[::1], '
+      'float64)', **_KW)
+def phase_state_at(st, K, F, par, t):
+    """(z m, ż m/s) of a phase at a time t (s) within its last step, from the step's dense
+    output (``CompiledPhase.state_at``)."""
+    time, length = par[P_TIME], par[P_LENGTH]
+    s = math.sqrt(max(t - par[P_START], 0.0) / time)
+    x, u = compiled.state_in_last_step(st, K, F, par, s)
+    return x * length, u * length / time
 
 
 class CompiledPhase:
@@ -20,10 +120,11 @@ class CompiledPhase:
     same mathematics as ``PhaseIntegrator`` (DOP853 with scipy's step control, the 7th-order dense
     output, Brent event location), but ``run`` takes any number of steps in one call.
 
-    ``points``, ``peak_force``, ``max_penetration``, ``steps``, ``lifted_off`` and ``end`` are
-    plain attributes, brought up to date after every ``step``/``run``.  With
-    ``keep_points=False`` only the first point is kept (a caller that wants the outcome alone).
-    ``forcing`` (a ``Forcing``) adds forcing terms to gravity.
+    ``peak_force``, ``max_penetration``, ``steps``, ``lifted_off`` and ``end`` are plain
+    attributes, brought up to date after every ``step``/``run``; ``points`` too, read as a list
+    of (t, z, ż, F) tuples when asked for (the rows a run adds are kept as arrays until then).
+    With ``keep_points=False`` only the first point is kept (a caller that wants the outcome
+    alone).  ``forcing`` (a ``Forcing``) adds forcing terms to gravity.
     """
 
     def __init__(self, contact, mass, gravity, start_time, penetration, penetration_rate,
@@ -35,79 +136,93 @@ class CompiledPhase:
         par = constant_parameters(contact, mass, rtol, atol,
                                   2 if force_can_vanish_inside(contact.law, gravity, forcing)
                                   else 1)
-        if forcing is not None:
-            par[compiled.P_AMPLITUDE:compiled.P_DRAG2 + 1] = forcing.dimensionless(
-                mass, sc, start_time)
         st, k, f = phase_storage()
         peak = start_phase(par, st, k, f, start_time, penetration, penetration_rate, sc.length,
                            sc.time, sc.gravity, sc.damping)
-        self._adopt(contact, mass, sc, par, st, k, f, keep_points,
-                    [(start_time, penetration, penetration_rate, peak)])
+        self._started(contact, mass, par, (st, k, f), start_time, penetration, penetration_rate,
+                      peak, sc, keep_points, forcing)
 
-    @classmethod
-    def adopt(cls, contact, mass, par, st, k, f, points, keep_points=True):
-        """The phase whose compiled storage is (``par``, st, K, F), started and run by someone
-        else (the drop's compiled bounce loop): its points so far ``points`` (rows (t, z, ż, F),
-        the first one its start), its scales and results read from the storage, which it then
-        owns."""
-        phase = cls.__new__(cls)
-        sc = PhaseScales(par[compiled.P_LENGTH], par[compiled.P_TIME], par[compiled.P_GRAVITY],
-                         par[compiled.P_ZETA])
-        phase._adopt(contact, mass, sc, par, st, k, f, keep_points, points)
-        phase._read_state()
-        return phase
-
-    def caught_up(self, points):
-        """An adopted phase (``adopt``) after the kernel that drives it took more steps: its
-        new ``points`` (rows (t, z, ż, F)) appended, its results read again from the storage."""
-        self.points.extend(points)
-        self._read_state()
-
-    def _adopt(self, contact, mass, scales, par, st, k, f, keep_points, points):
-        self.contact, self.mass, self.scales = contact, mass, scales
-        self.start_time = points[0][0]
-        self._par, self._st, self._k, self._f = par, st, k, f
-        self._buffer = np.empty((compiled.POINT_BUFFER, 4))
+    def _started(self, contact, mass, par, storage, start_time, penetration, penetration_rate,
+                 peak, scales, keep_points, forcing, buffer=None):
+        """The phase ``start_phase`` started in ``par`` (its own) and ``storage`` (st, K, F), its
+        first ``peak`` force (N), with its ``scales`` (a ``PhaseScales``, or its fields (Z m,
+        T s, γ, ζ) as a tuple): its attributes, and the slots of ``forcing`` (``None``: gravity
+        alone); ``buffer``, the (POINT_BUFFER, 4) rows a run writes its points to, may be shared
+        by phases run one at a time (default: its own)."""
+        self._scales = scales
+        self._length_scale, self._time_scale = (scales[:2] if isinstance(scales, tuple)
+                                                else (scales.length, scales.time))
+        self.contact, self.mass = contact, mass
+        self.start_time = start_time
+        self._par, (self._st, self._k, self._f) = par, storage
+        self._buffer = np.empty((compiled.POINT_BUFFER, 4)) if buffer is None else buffer
         self._keep_points = keep_points
         self.lifted_off = False
         self.steps = 0
-        self.peak_force = points[0][3]
-        self.max_penetration = points[0][1]
+        self.peak_force = peak
+        self.max_penetration = penetration
         self.end = None  # (t, z, ż) at lift-off
-        self.points = points
+        self._points = [(start_time, penetration, penetration_rate, peak)]
+        self._rows = []     # the rows of points the runs added, not yet in ``_points``
+        if forcing is not None:
+            par[compiled.P_AMPLITUDE:compiled.P_DRAG2 + 1] = forcing.dimensionless(
+                mass, self.scales, start_time)
+
+    @property
+    def scales(self):
+        """The phase's ``PhaseScales`` (Z m, T s, γ, ζ)."""
+        if isinstance(self._scales, tuple):
+            self._scales = PhaseScales(*self._scales)
+        return self._scales
+
+    @property
+    def points(self):
+        """The points (t s, z m, ż m/s, F N) so far, a list of tuples: the start, then each
+        step's end and the peak, deepest point and lift-off located in it."""
+        if self._rows:
+            points = self._points
+            for rows in self._rows:
+                points.extend(map(tuple, rows.tolist()))
+            self._rows = []
+        return self._points
 
     def run(self, t_stop=math.inf, max_steps=None, stop_energy=-math.inf):
         """Step until lift-off, until ``time >= t_stop`` (s), for ``max_steps`` steps, or until a
         step that did not lift off ends with ``energy_above_rest() < stop_energy`` (J) (the
         compiled test uses a margin of 1e-12 of the phase's kinetic energy scale, so it may stop
         a step before the caller's own test agrees, never after).  Returns the steps taken."""
-        budget = compiled.MAX_STEPS if max_steps is None else int(min(max_steps, compiled.MAX_STEPS))
-        stop = energy_stop(stop_energy, self._par)
-        st, buf = self._st, self._buffer
+        budget = MAX_STEPS if max_steps is None else int(min(max_steps, MAX_STEPS))
+        stop = self._energy_stop(stop_energy)
+        st, k, f, par, buf = self._st, self._k, self._f, self._par, self._buffer
+        t_stop = float(t_stop)
         taken = 0
         while True:
-            reason, npts, n = compiled.run(st, self._k, self._f, self._par, buf, float(t_stop),
-                                           budget - taken, stop)
+            reason, npts, n = _run(st, k, f, par, buf, t_stop, budget - taken, stop)
             taken += n
             if npts and self._keep_points:
-                self.points.extend(map(tuple, buf[:npts].tolist()))
-            if reason != compiled.BUFFER_FULL:
+                self._rows.append(buf[:npts].copy())
+            if reason != BUFFER_FULL:
                 break
-        self._read_state()
-        if reason == compiled.STEP_TOO_SMALL:
+        values = st.tolist()            # the results of the steps taken
+        self.steps = int(values[S_STEPS])
+        self.peak_force = values[S_PEAK]
+        self.max_penetration = values[S_DEPTH]
+        if values[S_LIFTED]:
+            self.lifted_off = True
+            self.end = (values[S_END_T], values[S_END_Z], values[S_END_RATE])
+        if reason == STEP_TOO_SMALL:
             raise step_too_small()
         return taken
 
-    def _read_state(self):
-        """The results of the steps taken, from the compiled state."""
-        values = self._st.tolist()
-        self.steps = int(values[compiled.S_STEPS])
-        self.peak_force = values[compiled.S_PEAK]
-        self.max_penetration = values[compiled.S_DEPTH]
-        if values[compiled.S_LIFTED]:
-            self.lifted_off = True
-            self.end = (values[compiled.S_END_T], values[compiled.S_END_Z],
-                        values[compiled.S_END_RATE])
+    def _energy_stop(self, stop_energy):
+        """The energy (J) at which ``compiled.run`` stops for a caller's test at ``stop_energy``:
+        a generous margin above it (1e-9 of it and 1e-12 of the phase's kinetic energy scale
+        m (Z/T)²), so that the run stops a step before the caller's own test may agree, never
+        after; -inf stays -inf."""
+        if not stop_energy > -math.inf:
+            return -math.inf
+        v = self._length_scale / self._time_scale
+        return stop_energy + abs(stop_energy) * 1e-9 + 1e-12 * self.mass * (v * v)
 
     def step(self):
         """Take one integrator step; locate peak, maximum penetration and lift-off in it."""
@@ -116,17 +231,17 @@ class CompiledPhase:
     @property
     def time(self):
         """Time (s) reached by the integrator (the end of its last step)."""
-        s = self._st[compiled.S_S]
-        return self.start_time + self.scales.time * s * s
+        s = self._st[S_S]
+        return self.start_time + self._time_scale * s * s
 
     def _dimensional(self, s, x, u):
-        sc = self.scales
-        return self.start_time + sc.time * s * s, x * sc.length, u * sc.length / sc.time
+        time, length = self._time_scale, self._length_scale
+        return self.start_time + time * s * s, x * length, u * length / time
 
     @property
     def state(self):
         st = self._st
-        return self._dimensional(st[compiled.S_S], st[compiled.S_X], st[compiled.S_U])[1:]
+        return self._dimensional(st[S_S], st[S_X], st[S_U])[1:]
 
     def state_at(self, t):
         """(z, ż) at a time t within the last step, from the dense output."""

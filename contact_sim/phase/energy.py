@@ -15,14 +15,8 @@ def potential(contact, mass, gravity, z):
 
 def potential_at(contact, mass, gravity, z):
     """``potential`` at one depth z (m), as a float (J): the same formula without the array
-    overhead (``potential_of``)."""
-    return potential_of(contact.stiffness, contact.law.n, mass, gravity, z)
-
-
-def potential_of(k, n, mass, gravity, z):
-    """k z₊^(n+1)/(n+1) - m g z (J) at one depth z (m) of a law with exponent n and stiffness k,
-    on floats: plain Python that numba compiles as it stands (the drop's once-a-bounce energy
-    bound, ``drop.compiled_train.bounded_rate``)."""
+    overhead (the drop's once-a-bounce energy bound)."""
+    k, n = contact.stiffness, contact.law.n
     return k * max(z, 0.0) ** (n + 1.0) / (n + 1.0) - mass * gravity * z
 
 

@@ -9,10 +9,16 @@ COMPILED_STIFF_DAMPING and hands the phases above to ``PhaseIntegrator`` and Rad
 path the default.
 """
 import contextlib
+import math
 import os
 
-from contact_sim.phase.compiled_phase import CompiledPhase
-from contact_sim.phase.lift_off import is_stiff
+import numpy as np
+
+from contact_sim.phase import compiled
+from contact_sim.phase.compiled_phase import (CompiledPhase, constant_parameters,
+                                              phase_storage, start_phase, start_scaled)
+from contact_sim.phase.energy import lift_off_energy
+from contact_sim.phase.lift_off import pulls_out
 from contact_sim.phase.reference import PhaseIntegrator
 from contact_sim.phase.scales import DEFAULT_ATOL, DEFAULT_RTOL, phase_scales
 
@@ -65,22 +71,98 @@ def contact_phase(contact, mass, gravity, start_time, penetration, penetration_r
 
     ``engine`` ('compiled' or 'scipy', default ``get_engine()``) picks ``CompiledPhase`` or
     ``PhaseIntegrator``; a heavily damped phase that creeps (ζ > COMPILED_STIFF_DAMPING, stiff:
-    ``lift_off.is_stiff``) always gets ``PhaseIntegrator`` and its Radau method.
+    ``lift_off.is_stiff``) always gets ``PhaseIntegrator`` and its Radau method.  (The choice of
+    ``PhaseFactory(contact, mass, gravity, rtol, atol).start``.)
     """
-    engine = get_engine() if engine is None else _check_engine(engine)
-    if forcing is not None and forcing.active:
-        if engine != 'compiled':
-            raise ValueError(f'forcing = {forcing!r} needs the compiled engine: allowed '
-                             f"engine = 'compiled' (not {engine!r}) or no forcing")
-        return CompiledPhase(contact, mass, gravity, start_time, penetration, penetration_rate,
-                             rtol=rtol, atol=atol, scales=scales, keep_points=keep_points,
-                             forcing=forcing)
-    if engine == 'compiled':
+    return PhaseFactory(contact, mass, gravity, rtol, atol).start(
+        start_time, penetration, penetration_rate, engine=engine, keep_points=keep_points,
+        forcing=forcing, scales=scales)
+
+
+class PhaseFactory:
+    """The contact phases of one ``contact``, ``mass`` (kg), ``gravity`` (m/s²) and tolerances,
+    as ``contact_phase`` makes them, with what holds for every one of them found once: the
+    compiled engine's constant parameters, whether a phase may creep (stiff), and the energy
+    below which the sphere can never leave the plate (``energy_floor``).  A drop makes its
+    phases here, one a bounce.  Its phases share one points buffer: one thread at a time.
+    """
+
+    def __init__(self, contact, mass, gravity, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
+        self.contact, self.mass, self.gravity, self.rtol, self.atol = (contact, mass, gravity,
+                                                                      rtol, atol)
+        law = contact.law
+        self._scale_args = (contact.stiffness, contact.damping, mass, gravity, law.n, law.p,
+                            law.q)
+        self._vanishes_inside = law.force_vanishes_inside
+        self._creeps = gravity > 0.0 or not self._vanishes_inside    # lift_off.is_stiff
+        self._parameters = [None, None, None]   # constant_parameters by lift-off events (1, 2)
+        # the points buffer of the compiled runs, shared by this factory's phases (a run copies
+        # out what it wrote before it returns)
+        self._buffer = np.empty((compiled.POINT_BUFFER, 4))
+        self._floor = None
+
+    @property
+    def energy_floor(self):
+        """``lift_off_energy`` of the contact (J; -inf without gravity): below this energy above
+        rest the force can never vanish again."""
+        if self._floor is None:
+            self._floor = (lift_off_energy(self.contact, self.mass, self.gravity)
+                           if self.gravity > 0.0 else -math.inf)
+        return self._floor
+
+    def start(self, start_time, penetration, penetration_rate, engine=None, keep_points=True,
+              forcing=None, scales=None):
+        """``contact_phase`` of this factory's contact from (z, ż) (m, m/s) at ``start_time``
+        (s), with its ``engine``, ``keep_points``, ``forcing`` and ``scales``."""
+        engine = _engine if engine is None else engine
+        if engine not in ENGINES:
+            _check_engine(engine)
+        contact, mass, gravity = self.contact, self.mass, self.gravity
+        if forcing is not None and forcing.active:
+            if engine != 'compiled':
+                raise ValueError(f'forcing = {forcing!r} needs the compiled engine: allowed '
+                                 f"engine = 'compiled' (not {engine!r}) or no forcing")
+            return self._compiled(start_time, penetration, penetration_rate, keep_points,
+                                  forcing, scales)
+        if engine == 'compiled':
+            if scales is not None:
+                if not (self._creeps and scales.damping > COMPILED_STIFF_DAMPING):
+                    return self._compiled(start_time, penetration, penetration_rate, keep_points,
+                                          None, scales)
+            else:
+                phase = self._compiled(start_time, penetration, penetration_rate, keep_points,
+                                       None, None)
+                if phase is not None:
+                    return phase
+        return PhaseIntegrator(contact, mass, gravity, start_time, penetration, penetration_rate,
+                               rtol=self.rtol, atol=self.atol)
+
+    def _compiled(self, start_time, penetration, penetration_rate, keep_points, forcing,
+                  scales):
+        """A ``CompiledPhase`` started on a copy of the constant parameters made once, its
+        ``scales`` found in the same compiled call if not given; ``None`` where an unforced
+        phase is stiff (``is_stiff``: ``PhaseIntegrator``'s)."""
+        lift_events = 2 if (self._vanishes_inside or forcing is not None and pulls_out(
+            self.gravity, forcing.acceleration_amplitude)) else 1
+        par = self._parameters[lift_events]
+        if par is None:
+            par = self._parameters[lift_events] = constant_parameters(
+                self.contact, self.mass, self.rtol, self.atol, lift_events)
+        par = par.copy()
+        storage = phase_storage()
         if scales is None:
-            scales = phase_scales(contact, mass, gravity, penetration, penetration_rate)
-        if not is_stiff(contact.law, gravity, scales.damping, COMPILED_STIFF_DAMPING):
-            return CompiledPhase(contact, mass, gravity, start_time, penetration,
-                                 penetration_rate, rtol=rtol, atol=atol, scales=scales,
-                                 keep_points=keep_points)
-    return PhaseIntegrator(contact, mass, gravity, start_time, penetration, penetration_rate,
-                           rtol=rtol, atol=atol)
+            started = start_scaled(par, *storage, start_time, penetration, penetration_rate,
+                                   self.gravity)
+            peak, scales = started[0], started[1:]      # (Z, T, γ, ζ)
+            if not scales[0] > 0.0:     # no motion and no gravity: phase_scales refuses it
+                phase_scales(self.contact, self.mass, self.gravity, penetration,
+                             penetration_rate)
+            if forcing is None and self._creeps and scales[3] > COMPILED_STIFF_DAMPING:
+                return None
+        else:
+            peak = start_phase(par, *storage, start_time, penetration, penetration_rate,
+                               scales.length, scales.time, scales.gravity, scales.damping)
+        phase = CompiledPhase.__new__(CompiledPhase)
+        phase._started(self.contact, self.mass, par, storage, start_time, penetration,
+                       penetration_rate, peak, scales, keep_points, forcing, self._buffer)
+        return phase

@@ -35,8 +35,7 @@ def force_can_vanish_inside(law, gravity, forcing=None):
 
 def pulls_out(gravity, acceleration_amplitude):
     """Whether a forcing of amplitude A (m/s²) can pull the sphere out against ``gravity`` g
-    (m/s²): |A| > g.  Plain Python that numba compiles as it stands (the compiled bounces on a
-    commanded plate test each phase's forcing with it).
+    (m/s²): |A| > g.
 
     Examples
     --------

@@ -28,10 +28,9 @@ class PhaseScales:
 def scales_of(k, lam, mass, gravity, n, p, q, penetration, penetration_rate):
     """(Z m, T s, γ, ζ) of a phase starting at (z, ż) (m, m/s) of the law (n, p, q) with
     stiffness k and damping λ, mass (kg) and gravity (m/s²): the module docstring's scales on
-    floats (Z <= 0 where there is no motion and no gravity, with T = γ = ζ = 0).  Plain Python
-    that numba compiles as it stands (``compiled_start.compiled_scales``, the drop's compiled
-    bounces); ``phase_scales`` checks it.  Squares are products (numba turns ``x ** 2`` into
-    one, libm's pow(x, 2) is not always the same double): both give the same numbers."""
+    floats (Z <= 0 where there is no motion and no gravity, with T = γ = ζ = 0);
+    ``phase_scales`` checks it.  Squares are products (libm's pow(x, 2) is not always the same
+    double as x * x)."""
     z = max(penetration, 0.0)
     energy_speed_sq = (penetration_rate * penetration_rate
                        + 2.0 * k * z ** (n + 1.0) / ((n + 1.0) * mass))
@@ -80,7 +79,7 @@ def start_peak_force(contact, penetration, penetration_rate, force):
 
 def start_peak(p, lam, q, penetration, penetration_rate, force):
     """``start_peak_force`` of a law with exponents p, q and damping λ on floats: plain Python
-    that numba compiles as it stands (``compiled_start.start_phase`` calls it)."""
+    that numba compiles as it stands (``compiled_phase.start_phase`` calls it)."""
     if penetration <= 0.0 and p == 0.0 and penetration_rate > 0.0:   # the law damps at touch
         return max(force, lam * penetration_rate ** q)
     return force

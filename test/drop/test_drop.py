@@ -323,3 +323,30 @@ def test_an_elastic_drop_never_rebounds_above_its_release(law):
     assert len(result.impacts) >= 10
     assert max(result.apex_heights) <= 1.0 + 4 * np.finfo(float).eps
     assert all(imp.restitution <= 1.0 + 4 * np.finfo(float).eps for imp in result.impacts)
+
+
+def test_the_recorder_is_the_ledger_of_impacts_landings_rests_and_carries():
+    from contact_sim.drop.records import ImpactRecord, Recorder
+    ledger = Recorder()
+    ledger.lift_off((1.0, 0.0, 2.0, 0.0), 1.5, -1.5, 100.0, 1e-4, resumed=False)
+    assert ledger.impacts == [ImpactRecord(1.0, 2.0, 1.5, 0.75, 0.5, 100.0, 1e-4)]
+    ledger.land((2.0, 0.0, 0.5, 7.0), 50.0, 1e-5)
+    assert ledger.permanent_contact_time == 2.0 and ledger.impacts[1].permanent
+    ledger.settle(2.5, (2.0, 0.0, 0.5, 7.0), 60.0, 2e-5, impact_time=1.9)
+    assert ledger.impacts[1] == ImpactRecord(2.0, 0.5, 0.0, 0.0, math.inf, 60.0, 2e-5)
+    assert (ledger.permanent_contact_time, ledger.settle_time) == (1.9, 2.5)
+    ledger.lift_off((3.0, 0.0, 0.1, 0.0), 3.1, -0.1, 1.0, 1e-6, resumed=True)  # moved from rest
+    assert len(ledger.impacts) == 2
+    assert ledger.permanent_contact_time is None and ledger.settle_time is None
+    ledger.carry(4.0)
+    ledger.carry(5.0)                       # a landing came before: its time stays
+    assert ledger.permanent_contact_time == 4.0
+
+
+def test_impact_records_are_made_by_the_ledger_alone():
+    # a field added to ImpactRecord is filled in one place of the drop engine: records.Recorder
+    from pathlib import Path
+    drop = Path(engine.__file__).parent
+    makers = sorted(str(p.relative_to(drop)) for p in drop.rglob('*.py')
+                    if 'ImpactRecord(' in p.read_text().replace('class ImpactRecord(', ''))
+    assert makers == ['records.py']

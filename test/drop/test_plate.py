@@ -341,3 +341,27 @@ def test_the_depth_check_counts_the_plate_speed():
     assert sim.plate is None
     sim.set_plate(SinusoidalPlate(0.0005, 2.0))     # slow enough: accepted
     assert sim.plate is not None
+
+
+def test_a_stiff_phase_after_a_knot_goes_to_the_reference_integrator():
+    # the plate accelerates down at 5 m/s² until 0.2 s, then moves on at constant velocity: the
+    # forced phase is compiled, the unforced one after the knot too damped for DOP853 (Radau)
+    from contact_sim.drop.mode_contact import InContact
+    from contact_sim.phase import CompiledPhase, PhaseIntegrator
+    contact = Contact('hunt_crossley', 1e9, 1e15)
+    sim = DropSimulation(contact, MASS, 0.005, plate=CommandedPlate((0.0, 0.2), (0.0, -0.1),
+                                                                    (0.0, -1.0)))
+    sim.run_to(0.19)
+    assert isinstance(sim._mode, InContact)
+    assert isinstance(sim._mode.integrator, CompiledPhase)
+    sim.run_to(0.3)
+    assert isinstance(sim._mode, InContact)
+    assert isinstance(sim._mode.integrator, PhaseIntegrator)
+    assert sim._mode.integrator.start_time == 0.2            # restarted at the knot
+    assert sim.in_contact and 0.0 < sim.state.penetration < 1e-3
+
+
+def test_the_pieces_examples_run():
+    import doctest
+    from contact_sim.drop.plate import pieces
+    assert doctest.testmod(pieces).failed == 0

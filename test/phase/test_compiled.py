@@ -330,3 +330,9 @@ def test_moderately_stiff_phases_compiled_dop853_equals_the_reference_radau(lam)
     # the switch to the closed-form rest happens at the end of the first step that qualifies:
     # Radau's steps are long, so the two settle times differ by up to a step
     assert a.settle_time == pytest.approx(b.settle_time, rel=1e-3)
+
+
+def test_the_lift_off_examples_run():
+    import doctest
+    from contact_sim.phase import lift_off
+    assert doctest.testmod(lift_off).failed == 0

@@ -78,18 +78,16 @@ class CommandedPlate(PlateMotion):
     def piece_arrays(self):
         """The pieces (rows: start times s, positions m, velocities m/s, accelerations m/s²; the
         last piece runs to +inf with zero acceleration) as one C-contiguous float64 array of
-        shape (4, pieces), built once: the commanded plate as the compiled flight search and the
-        compiled bounces take it (each row a contiguous array)."""
+        shape (4, pieces), built once: the commanded plate as the compiled flight search takes it
+        (each row a contiguous array)."""
         return np.array(self._pieces, dtype=np.float64)
 
-    @property
-    def pieces(self):
-        """``piece_arrays`` for the compiled bounces (``drop.mode_train``, which compute the
-        plate's state, forcing and flights as this class does), or ``None`` where a subclass
-        computes them otherwise."""
-        own = all(getattr(type(self), name) is getattr(CommandedPlate, name)
-                  for name in ('state', 'forcing_piece', 'plan_flight'))
-        return self.piece_arrays if own else None
+    @functools.cached_property
+    def piece_rows(self):
+        """The four rows of ``piece_arrays`` (start times, positions, velocities,
+        accelerations), each a contiguous array, as a tuple made once: the arguments of the
+        compiled flight search (``flights.commanded_flight``, one a flight)."""
+        return tuple(self.piece_arrays)
 
     def plan_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off):
         """In vacuum the touch time comes from compiled code (``flights.commanded_flight``),

@@ -1,9 +1,8 @@
 """A flight over the fixed plate in compiled code: when the clamped force switches on again and
 the apex of a flight after a lift-off, in closed form (numba).
 
-Written once for both paths: ``flights.ballistic_flight`` (a flight planned from Python) calls
-these functions, and so does the compiled bounce loop (``drop.compiled_train``) for the flights
-it plans itself.  Units: SI; z > 0 is penetration, ż > 0 approach, g >= 0 along +z.
+``flights.ballistic_flight`` (a flight planned by the fixed plate) calls these functions.
+Units: SI; z > 0 is penetration, ż > 0 approach, g >= 0 along +z.
 
 Compiled with explicit signatures when imported and cached on disk (numba ``cache=True``).
 """
@@ -78,3 +77,15 @@ def apex_height(start, flight_time, z, zdot, g):
     dt = (start + flight_time) - start
     touch = 0.0 - ((0.0 - z) + (0.0 - zdot) * dt - 0.5 * g * dt * dt)
     return -(touch if touch < z else z)
+
+
+@njit('UniTuple(float64, 2)(float64, float64, float64, float64, float64, float64, float64, '
+      'float64, boolean)', **_KW)
+def vacuum_plan(start, z, zdot, g, k, lam, spring_exponent, q, after_lift_off):
+    """A vacuum flight over the fixed plate from (z, ż) (m, m/s) at ``start`` (s), planned in
+    one call: (the touch time s, inf: never; the apex height m of a flight ``after_lift_off``
+    that touches again under g > 0, else nan): ``touch_time`` and ``apex_height``."""
+    dt = touch_time(z, zdot, g, k, lam, spring_exponent, q)
+    if after_lift_off and g > 0.0 and math.isfinite(dt):
+        return start + dt, apex_height(start, dt, z, zdot, g)
+    return start + dt, math.nan

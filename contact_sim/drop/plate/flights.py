@@ -12,7 +12,7 @@ z > 0 is penetration, ż > 0 approach.
 """
 import math
 
-from contact_sim.drop.plate.compiled_ballistic import apex_height, surface_time
+from contact_sim.drop.plate.compiled_ballistic import apex_height, surface_time, vacuum_plan
 from contact_sim.drop.plate.compiled_ballistic import touch_time as ballistic_touch_time
 from contact_sim.drop.plate.compiled_flight import (NO_EXIT, commanded_touch_time,
                                                    sinusoid_touch_time)
@@ -36,7 +36,7 @@ def reduced_force_scalar(contact):
 def touch_time(z, zdot, gravity, contact):
     """Ballistic flight time (s) from (z, ż) (m, m/s) over the fixed plate under ``gravity``
     (m/s²) until the clamped force of ``contact`` switches on again (inf: never): the compiled
-    ``compiled_ballistic.touch_time``, which the compiled bounce loop plans its flights with."""
+    ``compiled_ballistic.touch_time``."""
     law = contact.law
     return ballistic_touch_time(z, zdot, gravity, contact.stiffness, contact.damping,
                                 law.n - law.p, law.q)
@@ -49,6 +49,12 @@ def ballistic_flight(flight, z, zdot, contact, drag_rates, after_lift_off):
     ``after_lift_off``, or ``None``.  A brief excursion inside the undeformed surface after a
     lift-off at z > 0 stays ballistic."""
     g, t = flight.gravity, flight.start
+    if drag_rates is None:
+        law = contact.law
+        flight.contact_time, apex = vacuum_plan(t, z, zdot, g, contact.stiffness,
+                                                contact.damping, law.n - law.p, law.q,
+                                                after_lift_off)
+        return None if math.isnan(apex) else apex
     dt = touch_time(z, zdot, g, contact)
     flight.contact_time = t + dt
     leaves = z <= 0.0 or (zdot < 0.0 and dt > surface_time(z, zdot, g))
@@ -77,7 +83,7 @@ def gap_flight(plate, flight, z, zdot, contact, drag_rates, after_lift_off):
 
 def rise_apex(y0, v0, gravity):
     """The apex height (m) of a vacuum flight leaving y0 (m) upwards at v0 > 0 (m/s) under
-    ``gravity`` (m/s²): plain Python that numba compiles as it stands (the compiled bounces)."""
+    ``gravity`` (m/s²)."""
     return y0 + 0.5 * v0 * v0 / gravity
 
 
@@ -115,7 +121,7 @@ def commanded_flight(plate, flight, z, zdot, contact, after_lift_off):
     the apex height (m) of a rising flight ``after_lift_off``, or ``None``."""
     g, law = flight.gravity, contact.law
     t = commanded_touch_time(flight.start, flight.y0, flight.v0, g, z, zdot,
-                             *plate.piece_arrays, contact.stiffness, contact.damping,
+                             *plate.piece_rows, contact.stiffness, contact.damping,
                              law.n - law.p, law.q, g + plate.acceleration_bound())
     return _compiled_flight(flight, t, after_lift_off)
 

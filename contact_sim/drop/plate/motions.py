@@ -74,9 +74,6 @@ class PlateMotion:
     def acceleration_bound(self):
         raise NotImplementedError
 
-    table = None   # (a m, ω rad/s, ϕ rad) of a plate a sin(ω t + ϕ) for ever (``SinusoidalPlate``)
-    pieces = None  # the (4, n) pieces of a plate through set-points (``CommandedPlate``)
-
     def forcing_piece(self, t):
         raise NotImplementedError
 
@@ -103,13 +100,6 @@ class PlateMotion:
         the gap (``flights.gap_flight``); returns the apex height (m) after a lift-off, or
         ``None``."""
         return gap_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off)
-
-    def motion_from(self, t):
-        """The motion that is this plate's from t (s) on, with its own flights, forcing and
-        bounds: itself (a ``SwitchedPlate`` past its switch: its ``after``'s, where that moves).
-        The compiled bounces (``drop.mode_train``) take a plate's ``table`` or ``pieces`` from
-        it."""
-        return self
 
     def samples(self, t):
         """(p, ṗ, p̈) (m, m/s, m/s²) at the times t (s, an array), one ``state`` call each."""
@@ -179,8 +169,7 @@ def constant_forcing(acceleration):
 
 
 def sinusoid_state(amplitude, angular_frequency, phase, t):
-    """(p m, ṗ m/s, p̈ m/s²) of p = a sin(ω t + ϕ) at t (s): ``SinusoidalPlate.state``, plain
-    Python that numba compiles as it stands (the compiled bounces, ``drop.compiled_train``)."""
+    """(p m, ṗ m/s, p̈ m/s²) of p = a sin(ω t + ϕ) at t (s): ``SinusoidalPlate.state``."""
     w, a = angular_frequency, amplitude
     th = w * t + phase
     s, c = math.sin(th), math.cos(th)
@@ -310,16 +299,6 @@ class SinusoidalPlate(PlateMotion):
     def forcing_piece(self, t):
         return self._forcing, math.inf
 
-    @property
-    def table(self):
-        """(a m, ω rad/s, ϕ rad): the table's motion for the compiled bounces
-        (``drop.mode_train``, which compute its state, forcing and flights as this class does),
-        or ``None`` where it does not accelerate or a subclass computes them otherwise."""
-        own = all(getattr(type(self), name) is getattr(SinusoidalPlate, name)
-                  for name in ('state', 'forcing_piece', 'plan_flight'))
-        return ((self.amplitude, self.angular_frequency, self.phase)
-                if own and self._forcing.active else None)
-
     @functools.cached_property
     def _forcing(self):
         """The table's acceleration as a ``Forcing``, the same at every t (built once)."""
@@ -418,13 +397,6 @@ class SwitchedPlate(PlateMotion):
         if flight.start >= self.switch_time and self.after.moving:
             return self.after.plan_flight(flight, z, zdot, contact, drag_rates, after_lift_off)
         return gap_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off)
-
-    def motion_from(self, t):
-        """``after``'s motion from t on once t is past the switch and ``after`` moves (as
-        ``plan_flight`` then hands its flights to ``after``); itself otherwise."""
-        if t >= self.switch_time and self.after.moving:
-            return self.after.motion_from(t)
-        return self
 
     def forcing_piece(self, t):
         if t < self.switch_time:

@@ -1,7 +1,6 @@
 """A commanded plate's pieces: its state at a time and its forcing pieces, written once as
 plain Python over indexable sequences, which ``CommandedPlate`` calls on its tuples and numba
-compiles as it stands for the compiled flights (``compiled_flight``) and bounces
-(``drop.compiled_train``) on its arrays.
+compiles as it stands for the compiled flights (``compiled_flight``) on its arrays.
 
 The pieces are four sequences of one length: start times (s, increasing), positions (m),
 velocities (m/s) and accelerations (m/s²) at each start; the last piece runs to +inf, and
