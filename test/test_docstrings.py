@@ -188,7 +188,8 @@ REFERENCED = ('contact_sim.drop:SinusoidalPlate', 'contact_sim.drop:CommandedPla
               'contact_sim.calibration:bounce_times_from_audio',
               'contact_sim.calibration:corrected_restitution_table',
               'contact_sim.coupling:NormalCoupling', 'contact_sim.coupling:friction_impulse',
-              'contact_sim.coupling:touch_time', 'contact_sim.coupling.mujoco:CoupledContacts')
+              'contact_sim.coupling:touch_time', 'contact_sim.coupling.mujoco:CoupledContacts',
+              'contact_sim.coupling.pybullet:CoupledContacts')
 
 
 @pytest.mark.parametrize('target', REFERENCED)
