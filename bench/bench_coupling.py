@@ -211,9 +211,9 @@ def main():
     args = parser.parse_args()
     exact = cs.simulate_drop(STEEL, MASS, height=1.0)
     print(f'load average {os.getloadavg()[0]:.1f}')
-    print('| engine | dt (s) | drop: apex error / allowed | apexes decrease | rest: max |z - z0| '
-          '(m) | throws AF max |Δe| | throws HC max |Δe| | naive force: 1st apex (m), deepest '
-          '(m) | export: max |Δe| | µs a step: bare / coupled at rest / coupled far |')
+    print('| engine | dt (s) | drop: apex error / allowed | apexes decrease | rest: max abs(z - z0) '
+          '(m) | throws AF max abs(Δe) | throws HC max abs(Δe) | naive force: 1st apex (m), '
+          'deepest (m) | export: max abs(Δe) | µs a step: bare / coupled at rest / coupled far |')
     print('| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |')
     for name, (engine, steps) in ENGINES.items():
         for dt in steps:
