@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The coupling (``contact_sim.coupling``) in MuJoCo and PyBullet: its accuracy figures beside
+"""The coupling (``contact_sim.coupling``) in MuJoCo, PyBullet and Drake's discrete plant: its accuracy figures beside
 naive force evaluation and the engine's own contact with ``contact-sim export``'s parameters,
 measured in the same run, and the cost of a step with and without it.
 
@@ -10,12 +10,12 @@ Per engine and host step:
 * throws at 12 speeds 0.05-10 m/s, gravity off, 8 phases within the step: the worst abs(e - exact)
   for Azad-Featherstone and Hunt-Crossley (λ = 0.08 s/m k);
 * naive force (the law's force at the step's start, applied for the step): the first apex of the
-  same drop; the engine's own contact with the export's parameters: its worst abs(e - exact) over
+  same drop (MuJoCo and PyBullet); the engine's own contact with the export's parameters: its worst abs(e - exact) over
   the export's speeds (the export measures it);
 * cost: µs of a bare step, of a coupled step at rest on the floor (contact active) and far from
   it (no contact in reach): CPU time, best of several runs (the machine is shared).
 
-    python bench/bench_coupling.py [--quick]
+    python bench/bench_coupling.py [--quick] [--engine mujoco]
 """
 import argparse
 import os
@@ -123,8 +123,59 @@ class BulletBall:
         self.p.disconnect(self.client)
 
 
+class DrakeBall:
+    name = 'drake'
+
+    def __init__(self, dt, height, gravity=G, vz=0.0, coupled=True, contact=STEEL):
+        from pydrake.all import (AddMultibodyPlantSceneGraph, DiagramBuilder, RigidTransform,
+                                 Simulator, SpatialInertia, SpatialVelocity)
+        from contact_sim.coupling.drake import CoupledContacts
+        self.dt = dt
+        builder = DiagramBuilder()
+        plant, _ = AddMultibodyPlantSceneGraph(builder, time_step=dt)
+        plant.mutable_gravity_field().set_gravity_vector([0.0, 0.0, -gravity])
+        self.body = plant.AddRigidBody('ball', SpatialInertia.SolidSphereWithMass(MASS, R))
+        plant.Finalize()
+        self.coupled = builder.AddSystem(CoupledContacts(
+            plant, [('ball', plant.world_body(), contact, R, 0.0)], friction=0.3))
+        builder.Connect(plant.get_state_output_port(), self.coupled.get_input_port())
+        if coupled:
+            builder.Connect(self.coupled.get_output_port(),
+                            plant.get_applied_spatial_force_input_port())
+        self.simulator = Simulator(builder.Build())
+        self.plant = plant
+        self.context = plant.GetMyMutableContextFromRoot(self.simulator.get_mutable_context())
+        plant.SetFreeBodyPose(self.context, self.body, RigidTransform([0.0, 0.0, height + R]))
+        plant.SetFreeBodySpatialVelocity(self.context, self.body,
+                                         SpatialVelocity(np.zeros(3), np.array([0.0, 0.0, vz])))
+        self.steps = 0
+
+    def step(self):
+        self.steps += 1
+        self.simulator.AdvanceTo(self.steps * self.dt)
+
+    bare_step = step        # the bare plant: built with coupled=False
+
+    def height(self):
+        return self.plant.EvalBodyPoseInWorld(self.context, self.body).translation()[2] - R
+
+    def vz(self):
+        return self.plant.EvalBodySpatialVelocityInWorld(self.context,
+                                                         self.body).translational()[2]
+
+    @property
+    def impacts(self):
+        return self.coupled.impacts
+
+
 ENGINES = {'mujoco': (MujocoBall, [1e-4, 5e-4, 1e-3, 2e-3]),
-           'pybullet': (BulletBall, [1.0 / 240.0, 1e-3])}
+           'pybullet': (BulletBall, [1.0 / 240.0, 1e-3]),
+           'drake': (DrakeBall, [1e-3])}
+
+
+def only(names):
+    """The engines named (all if none)."""
+    return {k: v for k, v in ENGINES.items() if not names or k in names}
 
 
 def drop_figures(engine, dt, exact, rest_seconds):
@@ -192,7 +243,7 @@ def cost(engine, dt, repeat=5, steps=2000):
         best = float('inf')
         for _ in range(repeat):
             ball = engine(dt, 0.5 if kind != 'rest' else -z0, gravity=0.0 if kind == 'far'
-                          else G)
+                          else G, coupled=kind != 'bare' or engine is not DrakeBall)
             run = ball.bare_step if kind == 'bare' else ball.step
             for _ in range(50):
                 run()
@@ -208,6 +259,8 @@ def cost(engine, dt, repeat=5, steps=2000):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--quick', action='store_true', help='1 s at rest instead of 10')
+    parser.add_argument('--engine', action='append', choices=sorted(ENGINES),
+                        help='only this engine (repeatable; default all)')
     args = parser.parse_args()
     exact = cs.simulate_drop(STEEL, MASS, height=1.0)
     print(f'load average {os.getloadavg()[0]:.1f}')
@@ -215,11 +268,12 @@ def main():
           '(m) | throws AF max abs(Δe) | throws HC max abs(Δe) | naive force: 1st apex (m), '
           'deepest (m) | export: max abs(Δe) | µs a step: bare / coupled at rest / coupled far |')
     print('| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |')
-    for name, (engine, steps) in ENGINES.items():
+    for name, (engine, steps) in only(args.engine).items():
         for dt in steps:
             ratio, decreasing, rest = drop_figures(engine, dt, exact, 1.0 if args.quick else 10.0)
             af, hc = throw_error(engine, dt, STEEL), throw_error(engine, dt, HUNT)
-            apex, deepest = naive_first_apex(engine, dt)
+            apex, deepest = naive_first_apex(engine, dt) if engine is not DrakeBall else (
+                float('nan'), float('nan'))
             bare, at_rest, far = cost(engine, dt)
             print(f'| {name} | {dt:.3g} | {ratio:.3f} | {decreasing} | {rest:.1e} | {af:.1e} | '
                   f'{hc:.1e} | {apex:.3g}, {deepest:.2g} | {export_error(name, dt)} | '

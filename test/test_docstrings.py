@@ -189,7 +189,8 @@ REFERENCED = ('contact_sim.drop:SinusoidalPlate', 'contact_sim.drop:CommandedPla
               'contact_sim.calibration:corrected_restitution_table',
               'contact_sim.coupling:NormalCoupling', 'contact_sim.coupling:friction_impulse',
               'contact_sim.coupling:touch_time', 'contact_sim.coupling.mujoco:CoupledContacts',
-              'contact_sim.coupling.pybullet:CoupledContacts')
+              'contact_sim.coupling.pybullet:CoupledContacts',
+              'contact_sim.coupling.drake:CoupledContacts')
 
 
 @pytest.mark.parametrize('target', REFERENCED)
