@@ -190,7 +190,9 @@ REFERENCED = ('contact_sim.drop:SinusoidalPlate', 'contact_sim.drop:CommandedPla
               'contact_sim.coupling:NormalCoupling', 'contact_sim.coupling:friction_impulse',
               'contact_sim.coupling:touch_time', 'contact_sim.coupling.mujoco:CoupledContacts',
               'contact_sim.coupling.pybullet:CoupledContacts',
-              'contact_sim.coupling.drake:CoupledContacts')
+              'contact_sim.coupling.drake:CoupledContacts',
+              'contact_sim.coupling.mujoco:coupled_restitution',
+              'contact_sim.coupling.pybullet:coupled_restitution')
 
 
 @pytest.mark.parametrize('target', REFERENCED)

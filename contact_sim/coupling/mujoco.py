@@ -255,3 +255,59 @@ def _tangents(normal):
     norm = math.sqrt(a * a + b * b + c * c)
     a, b, c = a / norm, b / norm, c / norm
     return np.array([[a, b, c], [y * c - z * b, z * a - x * c, x * b - y * a]])
+
+
+def coupled_restitution(contact, radius, mass, speeds, timestep, integrator='implicitfast'):
+    """The e(v) the coupling gives in MuJoCo: a free sphere thrown at a plane, gravity off, one
+    throw a speed (``contact-sim audit mujoco ... --coupled``).
+
+    Parameters
+    ----------
+    contact : Contact
+        The contact coupled in.
+    radius, mass : float
+        The sphere's radius (m) and mass (kg), > 0.
+    speeds : array_like of float
+        Impact speeds, m/s, > 0.
+    timestep : float
+        MuJoCo's step, s, > 0.
+    integrator : str, optional
+        'Euler', 'implicit' or 'implicitfast' (default).
+
+    Returns
+    -------
+    numpy.ndarray
+        e at each speed: the rebound speed over the impact speed, read from MuJoCo's velocity a
+        whole step after the impact.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> from contact_sim.coupling.mujoco import coupled_restitution
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> e = coupled_restitution(contact, 0.0127, 0.0674, [0.1, 1.0], 1e-3)
+    >>> print(f"{e[0]:.4f} {e[1]:.4f}")
+    0.8220 0.7381
+    """
+    radius, mass = require_positive('radius', radius), require_positive('mass', mass)
+    timestep = require_positive('timestep', timestep)
+    out = []
+    for speed in np.atleast_1d(np.asarray(speeds, dtype=float)).tolist():
+        speed = require_positive('speeds', speed)
+        xml = (f'<mujoco><option timestep="{timestep!r}" gravity="0 0 0" integrator='
+               f'"{integrator}"/><worldbody><geom name="floor" type="plane" size="1 1 0.1"/>'
+               f'<body pos="0 0 {radius + 3.5 * speed * timestep!r}"><freejoint/><geom '
+               f'name="ball" type="sphere" size="{radius!r}" mass="{mass!r}"/></body>'
+               '</worldbody></mujoco>')
+        model = mujoco.MjModel.from_xml_string(xml)
+        data = mujoco.MjData(model)
+        data.qvel[2] = -speed
+        coupled = CoupledContacts(model, data, [('ball', 'floor', contact)])
+        for _ in range(1_000_000):
+            coupled.step()
+            if coupled.pairs[0].coupling.impacts:
+                break
+        coupled.step()          # a whole step of flight: MuJoCo's velocity is the exact one
+        out.append(data.qvel[2] / speed)
+    return np.array(out)

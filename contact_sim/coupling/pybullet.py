@@ -233,3 +233,63 @@ def _tangents(normal):
     norm = math.sqrt(a * a + b * b + c * c)
     a, b, c = a / norm, b / norm, c / norm
     return np.array([[a, b, c], [y * c - z * b, z * a - x * c, x * b - y * a]])
+
+
+def coupled_restitution(contact, radius, mass, speeds, timestep):
+    """The e(v) the coupling gives in PyBullet: a free sphere thrown at a plane, gravity off, one
+    throw a speed (``contact-sim audit pybullet ... --coupled``).
+
+    Parameters
+    ----------
+    contact : Contact
+        The contact coupled in.
+    radius, mass : float
+        The sphere's radius (m) and mass (kg), > 0.
+    speeds : array_like of float
+        Impact speeds, m/s, > 0.
+    timestep : float
+        PyBullet's step, s, > 0.
+
+    Returns
+    -------
+    numpy.ndarray
+        e at each speed, read from PyBullet's velocity a whole step after the impact.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> from contact_sim.coupling.pybullet import coupled_restitution
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> e = coupled_restitution(contact, 0.0127, 0.0674, [0.1, 1.0], 1.0 / 240.0)
+    >>> print(f"{e[0]:.4f} {e[1]:.4f}")
+    0.8220 0.7381
+    """
+    radius, mass = require_positive('radius', radius), require_positive('mass', mass)
+    timestep = require_positive('timestep', timestep)
+    out = []
+    client = pybullet.connect(pybullet.DIRECT)
+    try:
+        for speed in np.atleast_1d(np.asarray(speeds, dtype=float)).tolist():
+            speed = require_positive('speeds', speed)
+            pybullet.resetSimulation(physicsClientId=client)
+            pybullet.setGravity(0, 0, 0, physicsClientId=client)
+            pybullet.setTimeStep(timestep, physicsClientId=client)
+            floor = pybullet.createMultiBody(0, pybullet.createCollisionShape(
+                pybullet.GEOM_PLANE, physicsClientId=client), physicsClientId=client)
+            ball = pybullet.createMultiBody(mass, pybullet.createCollisionShape(
+                pybullet.GEOM_SPHERE, radius=radius, physicsClientId=client),
+                basePosition=(0.0, 0.0, radius + 3.5 * speed * timestep), physicsClientId=client)
+            pybullet.changeDynamics(ball, -1, linearDamping=0, angularDamping=0,
+                                    physicsClientId=client)
+            pybullet.resetBaseVelocity(ball, (0.0, 0.0, -speed), physicsClientId=client)
+            coupled = CoupledContacts(client, [(ball, floor, contact)])
+            for _ in range(1_000_000):
+                coupled.step()
+                if coupled.impacts:
+                    break
+            coupled.step()      # a whole step of flight: PyBullet's velocity is the exact one
+            out.append(pybullet.getBaseVelocity(ball, physicsClientId=client)[0][2] / speed)
+    finally:
+        pybullet.disconnect(client)
+    return np.array(out)
