@@ -12,12 +12,12 @@ from contact_sim._lazy import lazy_exports
 
 # where each public name lives, imported on first use (``contact_sim._lazy``); no engine here
 _EXPORTS = {
-    'core': ('ACCELERATION_RTOL', 'REST_ENERGY', 'TOLERANCE', 'CoupledImpact', 'CouplingStep',
+    'core': ('ACCELERATION_RTOL', 'HOSTS', 'REST_ENERGY', 'TOLERANCE', 'CoupledImpact', 'CouplingStep',
              'NormalCoupling'),
     'flight': ('parabola', 'touch_time'),
     'friction': ('friction_impulse',),
 }
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
-__all__ = ['ACCELERATION_RTOL', 'REST_ENERGY', 'TOLERANCE', 'CoupledImpact', 'CouplingStep',
+__all__ = ['ACCELERATION_RTOL', 'HOSTS', 'REST_ENERGY', 'TOLERANCE', 'CoupledImpact', 'CouplingStep',
            'NormalCoupling', 'friction_impulse', 'parabola', 'touch_time']

@@ -35,7 +35,7 @@ from dataclasses import dataclass
 from contact_sim.coupling.flight import parabola, touch_time
 from contact_sim.model import require_contact
 from contact_sim.phase import Forcing, contact_phase
-from contact_sim.validation import require_positive, require_real
+from contact_sim.validation import InputError, require_positive, require_real
 
 # the carried exact state goes on while the host's gap and normal velocity are within these of
 # what the last step made them (relative to the contact's scales, and absolute floors)
@@ -45,6 +45,8 @@ TOLERANCE = 1e-9
 REST_ENERGY = 1e-12
 # the host's acceleration counts as unchanged within this relative difference
 ACCELERATION_RTOL = 1e-9
+# how a host moves its positions over a step (``NormalCoupling``'s ``host``)
+HOSTS = ('semi_implicit', 'continuous')
 
 
 @dataclass(frozen=True)
@@ -97,6 +99,10 @@ class CouplingStep:
         Whether the contact force is on at the step's end.
     touched : bool
         Whether the contact force was on at any time in the step.
+    force_rate : float
+        N/s, a ``'continuous'`` host's only (0 otherwise): the force over the step is
+        impulse / dt + force_rate (t - t₀ - dt / 2), t₀ the step's start, which moves such a
+        host's gap and velocity to the exact ones at the step's end.
     """
 
     impulse: float
@@ -105,6 +111,7 @@ class CouplingStep:
     penetration_rate: float
     in_contact: bool
     touched: bool
+    force_rate: float = 0.0
 
 
 _NO_CONTACT = CouplingStep(0.0, (), math.nan, math.nan, False, False)
@@ -133,11 +140,16 @@ class NormalCoupling:
     tolerance : float, optional
         Relative tolerance (of the contact's length and speed scales) within which the host's
         gap and velocity count as the ones the last step made; default ``TOLERANCE``.
+    host : str, optional
+        How the host moves its positions over a step: ``'semi_implicit'`` (default: with the
+        step's new velocity, as MuJoCo, PyBullet and Drake's discrete plant do) or
+        ``'continuous'`` (an integrator that follows a force given over the step, as Drake's
+        continuous plant: the step then also gives ``force_rate``).
 
     Raises
     ------
     InputError
-        Keyed ``contact`` (not a ``Contact``) or ``tolerance`` (not a number > 0).
+        Keyed ``contact`` (not a ``Contact``), ``tolerance`` (not a number > 0) or ``host``.
 
     Examples
     --------
@@ -154,9 +166,16 @@ class NormalCoupling:
     0.647460 N
     """
 
-    def __init__(self, contact, tolerance=TOLERANCE):
+    def __init__(self, contact, tolerance=TOLERANCE, host='semi_implicit'):
         self.contact = require_contact(contact)
         self.tolerance = require_positive('tolerance', tolerance)
+        if host not in HOSTS:
+            raise InputError('host', host, '{n[host]} = {value} is unknown: allowed one of '
+                             + ', '.join(repr(h) for h in HOSTS))
+        self.host = host
+        # the exact velocity at a step's start from a flying host's: the semi-implicit host's is
+        # the mean over its last step, v + a dt / 2 (see the module doc)
+        self._lead = 0.5 if host == 'semi_implicit' else 0.0
         self.impacts = []
         self._carried = None
 
@@ -236,14 +255,24 @@ class NormalCoupling:
             touched = True
             self._start_phase(c, mass, t)
         c.time = t_end
-        host_v = (c.z - zh) / dt
-        impulse = mass * (vh + a * dt - host_v)
-        if impulse < 0.0:       # a contact cannot pull: the host goes its own way
-            impulse, host_v = 0.0, vh + a * dt
-        c.host_z, c.host_v = zh + dt * host_v, host_v
+        rate = 0.0
+        if self._lead:
+            host_v = (c.z - zh) / dt
+            impulse = mass * (vh + a * dt - host_v)
+            if impulse < 0.0:       # a contact cannot pull: the host goes its own way
+                impulse, host_v = 0.0, vh + a * dt
+            c.host_z, c.host_v = zh + dt * host_v, host_v
+        else:                       # a force linear over the step: both z and ż exact
+            impulse = mass * (vh + a * dt - c.zdot)
+            moment = mass * (zh + vh * dt + 0.5 * a * dt * dt - c.z)
+            rate = (0.5 * impulse * dt - moment) * 12.0 / (dt * dt * dt)
+            c.host_z, c.host_v = c.z, c.zdot
+            if impulse < 0.0:
+                impulse, rate = 0.0, 0.0
+                c.host_z, c.host_v = zh + vh * dt + 0.5 * a * dt * dt, vh + a * dt
         self.impacts.extend(new_impacts)
         out = CouplingStep(impulse, tuple(new_impacts), c.z, c.zdot, c.mode != 'flight',
-                           touched)
+                           touched, rate)
         if c.mode == 'flight' and not touched and math.isinf(
                 touch_time(self.contact, c.z, c.zdot, a, 2.0 * dt)):
             self._carried = None        # out of reach: the host's own flight is exact
@@ -257,14 +286,14 @@ class NormalCoupling:
     def _touches_from_host(self, zh, vh, a, dt):
         """Whether a flight from the host's state (no state carried) touches within the step;
         a state already in contact counts."""
-        return math.isfinite(touch_time(self.contact, zh, vh + 0.5 * a * dt, a, dt))
+        return math.isfinite(touch_time(self.contact, zh, vh + self._lead * a * dt, a, dt))
 
     def _from_host(self, time, zh, vh, a, dt):
         """The exact state from the host's alone: in flight the host's velocity is the mean over
         its last step (exact velocity v + a dt / 2); in contact it is taken as it is."""
         if self._force_on(zh, vh, a):
             return _Carried(time, zh, vh, 'contact', a, zh, vh)
-        return _Carried(time, zh, vh + 0.5 * a * dt, 'flight', a, zh, vh)
+        return _Carried(time, zh, vh + self._lead * a * dt, 'flight', a, zh, vh)
 
     def _reconcile(self, c, zh, vh, a, mass):
         """Go on with the carried state if the host is where the last step put it; else move the

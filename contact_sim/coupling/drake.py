@@ -1,8 +1,7 @@
 """The coupling in Drake: ``CoupledContacts(plant, pairs)``, a ``LeafSystem`` whose output goes
 to the plant's applied spatial force input port.
 
-Each pair names two bodies of a finalized discrete ``MultibodyPlant`` (by ``RigidBody`` or by
-name): a sphere body and the world (a floor: the plane z = ``floor_height`` of the world, normal
+Each pair names two bodies of a finalized ``MultibodyPlant`` (by ``RigidBody`` or by name): a sphere body and the world (a floor: the plane z = ``floor_height`` of the world, normal
 +z) or another sphere body; the radii are given with the pair, ``(body_a, body_b, contact,
 radius_a, radius_b)`` (0 for the world's floor).  The system reads the plant's state (connect
 ``plant.get_state_output_port()`` to ``get_input_port()``), and at each of the plant's steps
@@ -14,23 +13,27 @@ out), then ``NormalCoupling.step`` and friction, and outputs impulse / dt as an
 ``ExternallyAppliedSpatialForce`` on each body at the contact point.
 
 The discrete plant steps the velocities with the applied forces and then the positions with
-the new velocities, as the coupling assumes.  A continuous plant integrates a held force
-differently (its positions would lag the exact ones): it is refused.  The pair's own collision
+the new velocities (``NormalCoupling``'s ``'semi_implicit'`` host): the output is computed once
+per plant step, keyed on the context's time.  A continuous plant (``time_step`` = 0) is coupled
+at the ``period`` given: a periodic update at each period's start plans the step (the
+``'continuous'`` host), and the output is the force linear in time over the period that brings
+the plant's gap and velocity to the exact ones at its end (exact for an integrator of order 3
+or more on a free body; the tangential impulse is held constant).  The pair's own collision
 is the user's to leave out (register no collision geometry for the coupled bodies, or filter the
-pair in the scene graph).  The output is computed once per plant step, keyed on the context's
-time.  Units: SI.
+pair in the scene graph).  Units: SI.
 """
 import numpy as np
 from pydrake.common.value import AbstractValue
 from pydrake.multibody.math import SpatialForce
 from pydrake.multibody.plant import ExternallyAppliedSpatialForce
-from pydrake.multibody.tree import JacobianWrtVariable
+from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
 from pydrake.systems.framework import LeafSystem
 
 from contact_sim.coupling.core import NormalCoupling
 from contact_sim.coupling.friction import friction_impulse
 from contact_sim.model import require_contact
-from contact_sim.validation import InputError, require_nonnegative, require_real
+from contact_sim.validation import (InputError, require_nonnegative, require_positive,
+                                    require_real)
 
 
 class CoupledContacts(LeafSystem):
@@ -39,7 +42,7 @@ class CoupledContacts(LeafSystem):
     Parameters
     ----------
     plant : pydrake.multibody.plant.MultibodyPlant
-        A finalized discrete plant (``time_step`` > 0).
+        A finalized plant, discrete (``time_step`` > 0) or continuous.
     pairs : sequence of (body, body, Contact, float, float)
         (body_a, body_b, contact, radius_a, radius_b): bodies as ``RigidBody`` or names, the
         radii of their spheres in m (0: the world's floor, z = ``floor_height``).
@@ -47,11 +50,15 @@ class CoupledContacts(LeafSystem):
         Coulomb's μ of every pair, >= 0 (default 0).
     floor_height : float, optional
         The world floor's height, m (default 0).
+    period : float, optional
+        The coupling's step, s, > 0: needed for a continuous plant; a discrete plant's is its
+        ``time_step``.
 
     Raises
     ------
     InputError
-        Keyed ``plant`` (continuous: the step this coupling cannot serve; not finalized),
+        Keyed ``plant`` (not finalized), ``period`` (a continuous plant without one, or one
+        that is not a discrete plant's ``time_step``),
         ``pairs`` (no such body, no sphere, no degree of freedom, a bad radius), ``friction`` or
         ``floor_height``.
 
@@ -81,17 +88,23 @@ class CoupledContacts(LeafSystem):
     e = 0.726
     """
 
-    def __init__(self, plant, pairs, friction=0.0, floor_height=0.0):
+    def __init__(self, plant, pairs, friction=0.0, floor_height=0.0, period=None):
         LeafSystem.__init__(self)
         if not plant.is_finalized():
             raise InputError('plant', 'not finalized', '{n[plant]} is {value}: allowed a '
                              'finalized MultibodyPlant', value='not finalized')
-        if not plant.time_step() > 0.0:
-            raise InputError('plant', plant.time_step(), '{n[plant]} is continuous (time_step = '
-                             '{value}): allowed a discrete plant, time_step > 0 (a continuous '
-                             "plant's integrator moves the positions with a held force "
-                             'differently from the step the coupling serves)')
-        self.plant, self.dt = plant, float(plant.time_step())
+        self.continuous = not plant.time_step() > 0.0
+        if self.continuous:
+            if period is None:
+                raise InputError('period', None, '{n[period]} is missing: a continuous plant '
+                                 '(time_step = 0) needs the coupling\'s step, period > 0 (s)')
+            self.dt = require_positive('period', period)
+        else:
+            if period is not None and require_positive('period', period) != plant.time_step():
+                raise InputError('period', period, '{n[period]} = {value}: allowed the '
+                                 "discrete plant's time_step, %r" % plant.time_step())
+            self.dt = float(plant.time_step())
+        self.plant = plant
         self.friction = require_nonnegative('friction', friction)
         self.floor_height = require_real('floor_height', floor_height)
         try:
@@ -108,6 +121,9 @@ class CoupledContacts(LeafSystem):
         self.DeclareAbstractOutputPort(
             'applied_spatial_force',
             lambda: AbstractValue.Make([ExternallyAppliedSpatialForce()]), self._output)
+        if self.continuous:     # the plan of a step, made at its start: (t₀, rows)
+            self._plan = self.DeclareAbstractState(AbstractValue.Make((0.0, [])))
+            self.DeclarePeriodicUnrestrictedUpdateEvent(self.dt, 0.0, self._update)
 
     def _body(self, value, index):
         plant = self.plant
@@ -142,7 +158,8 @@ class CoupledContacts(LeafSystem):
                              'freedom: allowed a pair that can move' % index)
         if radii[0] == 0.0:         # the sphere first
             a, b, radii = b, a, radii[::-1]
-        return a, b, radii[0], radii[1], NormalCoupling(contact)
+        return a, b, radii[0], radii[1], NormalCoupling(
+            contact, host='continuous' if self.continuous else 'semi_implicit')
 
     @property
     def impacts(self):
@@ -151,12 +168,26 @@ class CoupledContacts(LeafSystem):
 
     def _output(self, context, output):
         t = float(context.get_time())
+        if self.continuous:     # the step's linear force at t
+            t0, rows = context.get_abstract_state(0).get_value()
+            late = t - t0 - 0.5 * self.dt
+            output.set_value([_force(body, p, mean + late * rate) for body, p, mean, rate in rows])
+            return
         if self._memo[0] != t:
             state = self.get_input_port().Eval(context)
-            self._memo = (t, self._forces(t, state))
+            self._memo = (t, [_force(body, p, mean) for body, p, mean, _
+                              in self._forces(t, state)])
         output.set_value(self._memo[1])
 
+    def _update(self, context, state):
+        """A continuous plant's step starts: plan its forces from the plant's state."""
+        t = float(context.get_time())
+        rows = self._forces(t, self.get_input_port().Eval(context))
+        state.get_mutable_abstract_state(0).set_value((t, rows))
+
     def _forces(self, t, state):
+        """(body index, contact point in the body's frame, mean force N, force rate N/s) rows of
+        the step from t (s) at the plant's state."""
         plant, ctx, dt = self.plant, self._context, self.dt
         plant.SetPositionsAndVelocities(ctx, state)
         v = plant.GetVelocities(ctx)
@@ -189,15 +220,13 @@ class CoupledContacts(LeafSystem):
                 free = velocity + dt * acceleration + inverse @ impulse
                 impulse = impulse + basis.T @ friction_impulse(
                     step.impulse, basis @ free, basis @ inverse @ basis.T, self.friction)
+            rate = step.force_rate * normal
             for body, sign in ((sphere, 1.0), (other, -1.0)):
                 if body.index() == plant.world_body().index():
                     continue
                 pose = plant.EvalBodyPoseInWorld(ctx, body)
-                force = ExternallyAppliedSpatialForce()
-                force.body_index = body.index()
-                force.p_BoBq_B = pose.inverse().multiply(point)
-                force.F_Bq_W = SpatialForce(np.zeros(3), sign * impulse / dt)
-                forces.append(force)
+                forces.append((int(body.index()), pose.inverse().multiply(point),
+                               sign * impulse / dt, sign * rate))
         return forces
 
     def _jacobian(self, body, point):
@@ -208,6 +237,14 @@ class CoupledContacts(LeafSystem):
         return plant.CalcJacobianTranslationalVelocity(
             ctx, JacobianWrtVariable.kV, body.body_frame(), pose.inverse().multiply(point),
             plant.world_frame(), plant.world_frame())
+
+
+def _force(body_index, point, force):
+    """The ``ExternallyAppliedSpatialForce`` of ``force`` (N, world) at ``point`` (body frame)."""
+    out = ExternallyAppliedSpatialForce()
+    out.body_index, out.p_BoBq_B = BodyIndex(body_index), point
+    out.F_Bq_W = SpatialForce(np.zeros(3), force)
+    return out
 
 
 def _moves(plant, body):

@@ -22,3 +22,19 @@ def apexes(times, gaps, impacts, count):
     """The highest gap between successive impacts (m), for the first ``count`` of them."""
     touch = [i.time for i in impacts]
     return [float(gaps[(times > touch[k]) & (times < touch[k + 1])].max()) for k in range(count)]
+
+
+def run_continuous_host(coupling, mass, gap, gap_rate, acceleration, dt, steps, t0=0.0):
+    """As ``run_host`` for a host that integrates the step's force exactly: the force
+    impulse / dt + force_rate (t - t₀ - dt/2) under the constant acceleration, in closed form."""
+    out = np.empty((4, steps))
+    y, v, t = float(gap), float(gap_rate), float(t0)
+    for i in range(steps):
+        step = coupling.step(t, y, v, mass, acceleration, dt)
+        mean, rate = step.impulse / dt / mass, step.force_rate / mass
+        # y'' = acceleration + mean + rate (s - dt/2), s from 0 to dt (the force pushes +gap)
+        y = y + v * dt + 0.5 * (acceleration + mean) * dt * dt + rate * dt ** 3 * (1 / 6 - 1 / 4)
+        v = v + (acceleration + mean) * dt
+        t = t0 + (i + 1) * dt
+        out[:, i] = t, y, v, step.impulse
+    return out

@@ -26,7 +26,7 @@ def test_audit_mujoco_coupled(capsys, tmp_path):
     assert code == 0 and 'coupled' in out
     rows = _rows(out)
     assert len(rows) == 3
-    for speed, target, model, _, _, coupled in rows:
+    for _, target, _, _, _, coupled in rows:
         assert abs(coupled - target) < 0.005
     assert max(abs(r[2] - r[1]) for r in rows) > 0.01      # the model's own contact misses
 

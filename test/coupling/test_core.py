@@ -8,7 +8,7 @@ import pytest
 import contact_sim as cs
 from contact_sim.coupling import NormalCoupling, touch_time
 
-from .host import apexes, run_host
+from .host import apexes, run_continuous_host, run_host
 
 G = 9.81
 STEEL = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron', radius=0.0127,
@@ -140,3 +140,29 @@ def test_bad_construction_names_its_field():
     with pytest.raises(cs.InputError) as refused:
         NormalCoupling(STEEL, tolerance=0.0)
     assert refused.value.field == 'tolerance'
+
+
+@pytest.mark.parametrize('dt', [1e-3, 2e-3])
+def test_a_continuous_host_follows_the_exact_state(dt, exact_drop):
+    """A host that integrates the step's linear force exactly (Drake's continuous plant) ends
+    every step at the exact gap and velocity: apexes, rest and throws as the exact ones."""
+    coupling = NormalCoupling(STEEL, host='continuous')
+    times, gaps, rates, impulses = run_continuous_host(coupling, MASS, 1.0, 0.0, -G, dt,
+                                                       int(4.0 / dt))
+    heights = apexes(times, gaps, coupling.impacts, 10)
+    for k, (h, h_exact) in enumerate(zip(heights, exact_drop.apex_heights)):
+        assert abs(h - h_exact) <= max(0.01 * h_exact, coupling.impacts[k].speed_out * dt)
+    z0 = STEEL.static_penetration(MASS * G)
+    assert np.max(np.abs(-gaps[times > 3.0] - z0)) < 1e-15
+    for speed, e in zip(SPEEDS, cs.restitution(STEEL, MASS, SPEEDS)):
+        for phase in PHASES:
+            coupling = NormalCoupling(STEEL, host='continuous')
+            out = run_continuous_host(coupling, MASS, speed * dt * (3.0 + phase), -speed, 0.0,
+                                      dt, 8)
+            assert abs(out[2, -1] / speed - e) < 1e-6
+
+
+def test_an_unknown_host_is_refused():
+    with pytest.raises(cs.InputError) as refused:
+        NormalCoupling(STEEL, host='rk4')
+    assert refused.value.field == 'host'

@@ -18,12 +18,16 @@ PHASES = np.arange(8) / 8.0
 DT = 1e-3
 
 
-def build(bodies, pairs, gravity=G, dt=DT, friction=0.0):
-    """A discrete plant with free spheres ``bodies`` ((name, mass, radius)), the coupling over
-    ``pairs`` (names; 'world' is the floor) wired in; returns (simulator, plant, context,
-    coupled, {name: body})."""
+PLANTS = ['discrete', 'continuous']
+
+
+def build(bodies, pairs, gravity=G, dt=DT, friction=0.0, plant_kind='discrete'):
+    """A plant (discrete at dt, or continuous with the coupling's period dt) with free spheres
+    ``bodies`` ((name, mass, radius)), the coupling over ``pairs`` (names; 'world' is the
+    floor) wired in; returns (simulator, plant, context, coupled, {name: body})."""
     builder = pydrake.DiagramBuilder()
-    plant, _ = pydrake.AddMultibodyPlantSceneGraph(builder, time_step=dt)
+    continuous = plant_kind == 'continuous'
+    plant, _ = pydrake.AddMultibodyPlantSceneGraph(builder, time_step=0.0 if continuous else dt)
     plant.mutable_gravity_field().set_gravity_vector([0.0, 0.0, -gravity])
     made = {name: plant.AddRigidBody(name, pydrake.SpatialInertia.SolidSphereWithMass(m, r))
             for name, m, r in bodies}
@@ -31,7 +35,8 @@ def build(bodies, pairs, gravity=G, dt=DT, friction=0.0):
     radius = {name: r for name, _, r in bodies}
     rows = [(a, plant.world_body() if b == 'world' else b, contact, radius[a],
              radius.get(b, 0.0)) for a, b, contact in pairs]
-    coupled = builder.AddSystem(CoupledContacts(plant, rows, friction=friction))
+    coupled = builder.AddSystem(CoupledContacts(plant, rows, friction=friction,
+                                                period=dt if continuous else None))
     builder.Connect(plant.get_state_output_port(), coupled.get_input_port())
     builder.Connect(coupled.get_output_port(), plant.get_applied_spatial_force_input_port())
     simulator = pydrake.Simulator(builder.Build())
@@ -51,10 +56,11 @@ def velocity(plant, context, body):
 
 
 @pytest.mark.slow
-def test_drop_of_the_readme_ball():
+@pytest.mark.parametrize('plant_kind', PLANTS)
+def test_drop_of_the_readme_ball(plant_kind):
     exact = cs.simulate_drop(STEEL, MASS, height=1.0)
-    simulator, plant, context, coupled, bodies = build([('ball', MASS, R)],
-                                                       [('ball', 'world', STEEL)], friction=0.3)
+    simulator, plant, context, coupled, bodies = build(
+        [('ball', MASS, R)], [('ball', 'world', STEEL)], friction=0.3, plant_kind=plant_kind)
     ball = bodies['ball']
     place(plant, context, ball, (0.0, 0.0, 1.0 + R))
     rest_from = exact.permanent_contact_time + 0.1
@@ -72,10 +78,11 @@ def test_drop_of_the_readme_ball():
     assert np.max(np.abs(-heights[times > rest_from] - z0)) < 1e-6
 
 
+@pytest.mark.parametrize('plant_kind', PLANTS)
 @pytest.mark.parametrize('contact', [STEEL, HUNT], ids=['azad_featherstone', 'hunt_crossley'])
-def test_throws_at_every_phase_of_the_step(contact):
-    simulator, plant, context, coupled, bodies = build([('ball', MASS, R)],
-                                                       [('ball', 'world', contact)], gravity=0.0)
+def test_throws_at_every_phase_of_the_step(contact, plant_kind):
+    simulator, plant, context, coupled, bodies = build(
+        [('ball', MASS, R)], [('ball', 'world', contact)], gravity=0.0, plant_kind=plant_kind)
     ball = bodies['ball']
     exact = cs.restitution(contact, MASS, SPEEDS)
     start = simulator.get_context().get_time()
@@ -93,12 +100,14 @@ def test_throws_at_every_phase_of_the_step(contact):
             assert abs(coupled.impacts[-1].restitution - e) < 0.005
 
 
-def test_two_free_spheres_head_on():
+@pytest.mark.parametrize('plant_kind', PLANTS)
+def test_two_free_spheres_head_on(plant_kind):
     r2, m2 = 0.02, 0.5
     contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'steel', radius=R,
                                         plate_radius=r2, damping_factor=8.87e5)
     simulator, plant, context, coupled, bodies = build(
-        [('a', MASS, R), ('b', m2, r2)], [('a', 'b', contact)], gravity=0.0)
+        [('a', MASS, R), ('b', m2, r2)], [('a', 'b', contact)], gravity=0.0,
+        plant_kind=plant_kind)
     place(plant, context, bodies['a'], (0.0, 0.0, 0.0), (2.0, 0.0, 0.0))
     place(plant, context, bodies['b'], (R + r2 + 0.0031, 0.0, 0.0), (-0.5, 0.0, 0.0))
     simulator.AdvanceTo(12 * DT)
@@ -130,9 +139,12 @@ def test_bad_input_names_its_field():
     plant, _ = pydrake.AddMultibodyPlantSceneGraph(builder, time_step=0.0)
     plant.AddRigidBody('ball', pydrake.SpatialInertia.SolidSphereWithMass(MASS, R))
     plant.Finalize()
-    with pytest.raises(cs.InputError) as refused:
+    with pytest.raises(cs.InputError) as refused:     # continuous: the step must be given
         CoupledContacts(plant, [('ball', plant.world_body(), STEEL, R, 0.0)])
-    assert refused.value.field == 'plant'
+    assert refused.value.field == 'period'
+    with pytest.raises(cs.InputError) as refused:
+        CoupledContacts(plant, [('ball', plant.world_body(), STEEL, R, 0.0)], period=-1e-3)
+    assert refused.value.field == 'period'
     builder = pydrake.DiagramBuilder()
     plant, _ = pydrake.AddMultibodyPlantSceneGraph(builder, time_step=DT)
     plant.AddRigidBody('ball', pydrake.SpatialInertia.SolidSphereWithMass(MASS, R))
