@@ -192,7 +192,8 @@ REFERENCED = ('contact_sim.drop:SinusoidalPlate', 'contact_sim.drop:CommandedPla
               'contact_sim.coupling.pybullet:CoupledContacts',
               'contact_sim.coupling.drake:CoupledContacts',
               'contact_sim.coupling.mujoco:coupled_restitution',
-              'contact_sim.coupling.pybullet:coupled_restitution')
+              'contact_sim.coupling.pybullet:coupled_restitution',
+              'contact_sim.coupling:engine_restitution')
 
 
 @pytest.mark.parametrize('target', REFERENCED)

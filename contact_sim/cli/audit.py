@@ -22,13 +22,9 @@ def _pybullet():
 def _coupled(engine, target, model):
     """The e(v) the coupling (``contact_sim.coupling``) gives the model's sphere (its radius,
     mass and step; MuJoCo's integrator) with the target's contact, at the target's speeds."""
-    if engine == 'mujoco':
-        from contact_sim.coupling.mujoco import coupled_restitution
-        return coupled_restitution(target.contact, model.radius, model.mass, target.speeds,
-                                   model.timestep, model.integrator)
-    from contact_sim.coupling.pybullet import coupled_restitution
-    return coupled_restitution(target.contact, model.radius, model.mass, target.speeds,
-                               model.timestep)
+    from contact_sim.coupling import engine_restitution     # the engine: when run
+    return engine_restitution(engine, target.contact, model.radius, model.mass, target.speeds,
+                              model.timestep, getattr(model, 'integrator', None))
 
 
 # engine -> (read the model's contact and measure its e(v), imported when run; the option

@@ -14,10 +14,12 @@ from contact_sim._lazy import lazy_exports
 _EXPORTS = {
     'core': ('ACCELERATION_RTOL', 'HOSTS', 'REST_ENERGY', 'TOLERANCE', 'CoupledImpact', 'CouplingStep',
              'NormalCoupling'),
+    'engines': ('ENGINES', 'engine_restitution'),
     'flight': ('parabola', 'touch_time'),
     'friction': ('friction_impulse',),
 }
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
-__all__ = ['ACCELERATION_RTOL', 'HOSTS', 'REST_ENERGY', 'TOLERANCE', 'CoupledImpact', 'CouplingStep',
-           'NormalCoupling', 'friction_impulse', 'parabola', 'touch_time']
+__all__ = ['ACCELERATION_RTOL', 'ENGINES', 'HOSTS', 'REST_ENERGY', 'TOLERANCE', 'CoupledImpact',
+           'CouplingStep', 'NormalCoupling', 'engine_restitution', 'friction_impulse', 'parabola',
+           'touch_time']

@@ -200,12 +200,16 @@ class CoupledContacts:
         normal = self._normal(pair, centre)
         point = centre - pair.radius * normal
         mujoco.mj_jac(m, d, pair.jac_s, pair.jacr, point, pair.body_s)
-        mujoco.mj_jac(m, d, pair.jac_o, pair.jacr, point, pair.body_o)
-        jac = pair.jac_s - pair.jac_o               # the sphere's point relative to the other's
+        if pair.body_o:         # the sphere's point relative to the other's
+            mujoco.mj_jac(m, d, pair.jac_o, pair.jacr, point, pair.body_o)
+            jac = pair.jac_s - pair.jac_o
+        else:                   # the world does not move
+            jac = pair.jac_s
         response = pair.response
         mujoco.mj_solveM(m, d, response, jac)      # M⁻¹ Jᵀ, row by row
         inverse = jac @ response.T                  # J M⁻¹ Jᵀ (3 x 3)
-        w_n = float(normal @ inverse @ normal)
+        along = inverse @ normal                    # the point's velocity per unit impulse
+        w_n = float(normal @ along)
         if not w_n > 0.0:
             raise InputError('pairs', pair.index, '{n[pairs]}[{value}]: the contact point cannot '
                              'move along the normal (no degree of freedom): allowed a pair whose '
@@ -213,14 +217,17 @@ class CoupledContacts:
         velocity, acceleration = jac @ d.qvel, jac @ smooth
         step = pair.coupling.step(float(d.time), float(dist), float(normal @ velocity),
                                   1.0 / w_n, float(normal @ acceleration), dt)
+        if step.impulse == 0.0:
+            return
         impulse = step.impulse * normal
-        if self.friction > 0.0 and step.impulse > 0.0:
-            basis = _tangents(normal)
-            free = velocity + dt * acceleration + inverse @ impulse    # without friction
-            impulse = impulse + basis.T @ friction_impulse(
-                step.impulse, basis @ free, basis @ inverse @ basis.T, self.friction)
-        if step.impulse > 0.0 or self.friction > 0.0:
-            applied += jac.T @ (impulse / dt)
+        if self.friction > 0.0:
+            free = velocity + dt * acceleration + step.impulse * along    # without friction
+            slide = free - float(free @ normal) * normal
+            if float(slide @ slide) > 0.0:          # sliding: Coulomb's tangential impulse
+                basis = _tangents(normal)
+                impulse = impulse + basis.T @ friction_impulse(
+                    step.impulse, basis @ free, basis @ inverse @ basis.T, self.friction)
+        applied += jac.T @ (impulse / dt)
 
     def _normal(self, pair, centre):
         """The unit normal from the other geom to the sphere."""
