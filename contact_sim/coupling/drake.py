@@ -36,6 +36,10 @@ from contact_sim.validation import (InputError, require_nonnegative, require_pos
                                     require_real)
 
 
+# a pair whose gap is beyond this (m) and that carries no state is not looked at further
+REACH = 0.05
+
+
 class CoupledContacts(LeafSystem):
     """Drake stepped with the package's exact contacts between body pairs.
 
@@ -53,12 +57,15 @@ class CoupledContacts(LeafSystem):
     period : float, optional
         The coupling's step, s, > 0: needed for a continuous plant; a discrete plant's is its
         ``time_step``.
+    reach : float, optional
+        A pair farther apart than this (m) and carrying no contact state costs its poses only;
+        > 0 (default ``REACH``); it must exceed the distance the bodies close in one step.
 
     Raises
     ------
     InputError
         Keyed ``plant`` (not finalized), ``period`` (a continuous plant without one, or one
-        that is not a discrete plant's ``time_step``),
+        that is not a discrete plant's ``time_step``), ``reach``,
         ``pairs`` (no such body, no sphere, no degree of freedom, a bad radius), ``friction`` or
         ``floor_height``.
 
@@ -88,7 +95,7 @@ class CoupledContacts(LeafSystem):
     e = 0.726
     """
 
-    def __init__(self, plant, pairs, friction=0.0, floor_height=0.0, period=None):
+    def __init__(self, plant, pairs, friction=0.0, floor_height=0.0, period=None, reach=REACH):
         LeafSystem.__init__(self)
         if not plant.is_finalized():
             raise InputError('plant', 'not finalized', '{n[plant]} is {value}: allowed a '
@@ -106,6 +113,7 @@ class CoupledContacts(LeafSystem):
             self.dt = float(plant.time_step())
         self.plant = plant
         self.friction = require_nonnegative('friction', friction)
+        self.reach = require_positive('reach', reach)
         self.floor_height = require_real('floor_height', floor_height)
         try:
             rows = [tuple(p) for p in pairs]
@@ -190,10 +198,7 @@ class CoupledContacts(LeafSystem):
         the step from t (s) at the plant's state."""
         plant, ctx, dt = self.plant, self._context, self.dt
         plant.SetPositionsAndVelocities(ctx, state)
-        v = plant.GetVelocities(ctx)
-        mass_matrix = plant.CalcMassMatrix(ctx)
-        smooth = np.linalg.solve(mass_matrix, plant.CalcGravityGeneralizedForces(ctx)
-                                 - plant.CalcBiasTerm(ctx))
+        dynamics = None
         forces = []
         for sphere, other, r_s, r_o, coupling in self.pairs:
             centre = plant.EvalBodyPoseInWorld(ctx, sphere).translation()
@@ -205,6 +210,14 @@ class CoupledContacts(LeafSystem):
                 dist = float(np.linalg.norm(d))
                 normal = d / dist
                 gap = dist - r_s - r_o
+            if gap > self.reach and not coupling.carrying:
+                continue                # out of reach: no dynamics evaluated
+            if dynamics is None:
+                mass_matrix = plant.CalcMassMatrix(ctx)
+                v = plant.GetVelocities(ctx)
+                smooth = np.linalg.solve(mass_matrix, plant.CalcGravityGeneralizedForces(ctx)
+                                         - plant.CalcBiasTerm(ctx))
+                dynamics = True
             point = centre - r_s * normal
             jac = self._jacobian(sphere, point) - self._jacobian(other, point)
             inverse = jac @ np.linalg.solve(mass_matrix, jac.T)
