@@ -114,7 +114,8 @@ class CouplingStep:
     force_rate: float = 0.0
 
 
-_NO_CONTACT = CouplingStep(0.0, (), math.nan, math.nan, False, False)
+# flights and contact phases one host step may hold before it is refused as stuck
+MAX_SEGMENTS = 100_000
 
 
 class _Carried:
@@ -227,8 +228,9 @@ class NormalCoupling:
         if c is not None and not math.isclose(c.time, time, rel_tol=1e-12, abs_tol=1e-3 * dt):
             c = self._carried = None            # the host's clock jumped: start again
         if c is None:
-            if not self._touches_from_host(zh, vh, a, dt):
-                return _NO_CONTACT
+            if not self._touches_from_host(zh, vh, a, dt):    # the host's own flight is exact
+                z, zdot = parabola(zh, vh + self._lead * a * dt, a, dt)
+                return CouplingStep(0.0, (), z, zdot, False, False)
             c = self._carried = self._from_host(time, zh, vh, a, dt)
         else:
             self._reconcile(c, zh, vh, a, mass)
@@ -236,7 +238,12 @@ class NormalCoupling:
         new_impacts = []
         t_end = time + dt
         t = time
-        while True:
+        for segment in range(MAX_SEGMENTS + 1):
+            if segment == MAX_SEGMENTS:
+                self._carried = None
+                raise RuntimeError(f'coupled contact stuck: {MAX_SEGMENTS} flights and contact '
+                                   f'phases inside one step at t = {t!r} s, z = {c.z!r} m, '
+                                   f'rate = {c.zdot!r} m/s')
             if c.mode == 'rest':
                 break
             if c.mode == 'contact':

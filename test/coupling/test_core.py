@@ -166,3 +166,11 @@ def test_an_unknown_host_is_refused():
     with pytest.raises(cs.InputError) as refused:
         NormalCoupling(STEEL, host='rk4')
     assert refused.value.field == 'host'
+
+
+def test_a_step_out_of_reach_returns_finite_numbers():
+    out = NormalCoupling(STEEL).step(0.0, 0.5, -1.0, MASS, -G, 1e-3)
+    assert out.impulse == 0.0 and not out.touched and not NormalCoupling(STEEL).carrying
+    assert math.isfinite(out.penetration) and math.isfinite(out.penetration_rate)
+    assert out.penetration == pytest.approx(-(0.5 - 1e-3 * (1.0 + 0.5 * G * 1e-3)
+                                              - 0.5 * G * 1e-6), rel=1e-12)
