@@ -161,3 +161,22 @@ def test_bad_input_names_its_field():
     with pytest.raises(cs.InputError) as refused:
         CoupledContacts(plant, [('ball', world, STEEL, R, 0.0)], friction=-1.0)
     assert refused.value.field == 'friction'
+
+
+@pytest.mark.slow
+def test_the_example_drops_in_pybullet_and_drake():
+    """examples/coupled_engines_drop.py: the first apexes in PyBullet and both Drake plants."""
+    import importlib.util
+    from pathlib import Path
+    pytest.importorskip('pybullet')
+    path = Path(__file__).resolve().parents[2] / 'examples' / 'coupled_engines_drop.py'
+    spec = importlib.util.spec_from_file_location('coupled_engines_drop', path)
+    example = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(example)
+    exact = cs.simulate_drop(STEEL, MASS, height=1.0).apex_heights[:3]
+    for heights in (example.pybullet_drop(1.0 / 240.0, 2.2),
+                    example.drake_drop(1e-3, 2.2, continuous=False),
+                    example.drake_drop(1e-3, 2.2, continuous=True)):
+        assert len(heights) >= 3
+        for h, h_exact in zip(heights, exact):
+            assert h == pytest.approx(h_exact, rel=0.01)
