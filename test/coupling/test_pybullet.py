@@ -145,3 +145,12 @@ def test_bad_input_names_its_field(client):
     with pytest.raises(cs.InputError) as refused:
         CoupledContacts(client, [(ball, floor, STEEL)], friction=-1.0)
     assert refused.value.field == 'friction'
+
+
+def test_sub_steps_are_a_step_the_coupling_cannot_serve(client):
+    floor, ball = scene(client, 1e-3, 0.1)
+    pybullet.setPhysicsEngineParameter(numSubSteps=4, physicsClientId=client)
+    coupled = CoupledContacts(client, [(ball, floor, STEEL)])
+    with pytest.raises(cs.InputError) as refused:
+        coupled.step()
+    assert refused.value.field == 'numSubSteps'
