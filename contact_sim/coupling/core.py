@@ -27,7 +27,12 @@ exact parabola, whose velocity at the step's start is v + a dt / 2.
 
 The impulse of a step is the contact force weighted by the triangle of two host steps centred
 on the step's start (the leapfrog's window), so it is >= 0 and its sum over a contact is the
-contact's impulse.  Units: SI.
+contact's impulse.
+
+A host that integrates a given force over its step instead (``host='continuous'``: Drake's
+continuous plant) gets the force impulse / dt + ``force_rate`` (t - t₀ - dt / 2), linear over the
+step, whose two numbers bring both its gap and its velocity to the exact ones at the step's end;
+its velocity is then the exact one.  Units: SI.
 """
 import math
 from dataclasses import dataclass
