@@ -186,7 +186,14 @@ REFERENCED = ('contact_sim.drop:SinusoidalPlate', 'contact_sim.drop:CommandedPla
               'contact_sim.drop:bifurcation_diagram', 'contact_sim.drop:period_one_threshold',
               'contact_sim.drop:period_doubling_threshold', 'contact_sim.calibration:BounceFit',
               'contact_sim.calibration:bounce_times_from_audio',
-              'contact_sim.calibration:corrected_restitution_table')
+              'contact_sim.calibration:corrected_restitution_table',
+              'contact_sim.coupling:NormalCoupling', 'contact_sim.coupling:friction_impulse',
+              'contact_sim.coupling:touch_time', 'contact_sim.coupling.mujoco:CoupledContacts',
+              'contact_sim.coupling.pybullet:CoupledContacts',
+              'contact_sim.coupling.drake:CoupledContacts',
+              'contact_sim.coupling.mujoco:coupled_restitution',
+              'contact_sim.coupling.pybullet:coupled_restitution',
+              'contact_sim.coupling:engine_restitution')
 
 
 @pytest.mark.parametrize('target', REFERENCED)

@@ -13,7 +13,8 @@ import pytest
 PACKAGE = Path(__file__).resolve().parents[1] / 'contact_sim'
 # bottom up; a module may import its own layer and the layers below
 LAYERS = {'validation': 0, '_lazy': 0, 'model': 1, 'phase': 2, 'flight': 2, 'impact': 3, 'drop': 4,
-          'calibration': 5, 'export': 5, 'cli': 6, 'ros': 6}
+          'calibration': 5, 'export': 5, 'cli': 6, 'ros': 6,
+          'coupling': 4}
 FRONT_ENDS = {'cli', 'ros'}
 MAX_LINES = 500
 GENERATED = {'phase/_dop853_coefficients.py'}

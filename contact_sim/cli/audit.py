@@ -19,6 +19,14 @@ def _pybullet():
     return lambda args: link_contact(args.model, args.link, args.timestep), audit_link
 
 
+def _coupled(engine, target, model):
+    """The e(v) the coupling (``contact_sim.coupling``) gives the model's sphere (its radius,
+    mass and step; MuJoCo's integrator) with the target's contact, at the target's speeds."""
+    from contact_sim.coupling import engine_restitution     # the engine: when run
+    return engine_restitution(engine, target.contact, model.radius, model.mass, target.speeds,
+                              model.timestep, getattr(model, 'integrator', None))
+
+
 # engine -> (read the model's contact and measure its e(v), imported when run; the option
 # naming the sphere)
 AUDITS = {'mujoco': (_mujoco, '--geom'), 'pybullet': (_pybullet, '--link')}
@@ -49,6 +57,9 @@ def add_parser(sub):
                         "the model's")
     p.add_argument('--law', choices=LAW_NAMES,
                    help='the target force law (default azad_featherstone)')
+    p.add_argument('--coupled', action='store_true',
+                   help='also the e(v) with the target contact coupled into the engine '
+                        '(contact_sim.coupling, docs/coupling.md), at the model\'s step')
     add_speed_options(p, (0.1, 10.0), 10)
     p.set_defaults(run=run, params_file=None, plot=None)
 
@@ -69,14 +80,25 @@ def run(args):
     _, suggestion = export_of(args)
     target = suggestion.target
     model_e = measure(contact, target.speeds)
+    coupled = None
+    if getattr(args, 'coupled', False):
+        try:
+            coupled = _coupled(args.engine, target, contact)
+        except ValueError as error:   # InputError (RK4): spelled as this command's arguments
+            raise ValueError(error.render(names) if hasattr(error, 'render') else str(error)) \
+                from None
     print(f'# {args.model}, {option[2:]} {getattr(args, option[2:])}: {contact.describe()}')
     print(f'# model e measured; max |error| = '
           f'{float(np.max(np.abs(model_e - target.restitution))):.4f}; the export\'s '
-          f'suggestion: {suggestion.max_abs_error:.4f}')
+          f'suggestion: {suggestion.max_abs_error:.4f}' + (
+              '' if coupled is None else f'; coupled: '
+              f'{float(np.max(np.abs(coupled - target.restitution))):.4f}'))
     print(f'# {"speed (m/s)":>13} {"target e":>10} {"model e":>10} {"error":>10} '
-          f'{"suggested":>10}')
-    for v, t, m, s in zip(target.speeds, target.restitution, model_e,
-                          suggestion.engine_restitution):
-        print(f'{v:15.6g} {t:10.5f} {m:10.5f} {m - t:+10.5f} {s:10.5f}')
+          f'{"suggested":>10}' + ('' if coupled is None else f' {"coupled":>10}'))
+    extra = coupled if coupled is not None else [None] * len(target.speeds)
+    for v, t, m, s, c in zip(target.speeds, target.restitution, model_e,
+                             suggestion.engine_restitution, extra):
+        print(f'{v:15.6g} {t:10.5f} {m:10.5f} {m - t:+10.5f} {s:10.5f}'
+              + ('' if c is None else f' {c:10.5f}'))
     print_snippet(suggestion)
     return 0

@@ -1,0 +1,277 @@
+"""The coupling in Drake: ``CoupledContacts(plant, pairs)``, a ``LeafSystem`` whose output goes
+to the plant's applied spatial force input port.
+
+Each pair names two bodies of a finalized ``MultibodyPlant`` (by ``RigidBody`` or by name): a sphere body and the world (a floor: the plane z = ``floor_height`` of the world, normal
++z) or another sphere body; the radii are given with the pair, ``(body_a, body_b, contact,
+radius_a, radius_b)`` (0 for the world's floor).  The system reads the plant's state (connect
+``plant.get_state_output_port()`` to ``get_input_port()``), and at each of the plant's steps
+evaluates, in a plant context of its own: the gap and normal from the bodies' poses, the contact
+point's relative velocity and translational Jacobian (``CalcJacobianTranslationalVelocity``),
+the effective mass along the normal (``CalcMassMatrix``), the rest of the system's normal
+acceleration J M⁻¹ (τ_g − C v) (``CalcGravityGeneralizedForces``, ``CalcBiasTerm``; J̇v left
+out), then ``NormalCoupling.step`` and friction, and outputs impulse / dt as an
+``ExternallyAppliedSpatialForce`` on each body at the contact point.
+
+The discrete plant steps the velocities with the applied forces and then the positions with
+the new velocities (``NormalCoupling``'s ``'semi_implicit'`` host): the output is computed once
+per plant step, keyed on the context's time.  A continuous plant (``time_step`` = 0) is coupled
+at the ``period`` given: a periodic update at each period's start plans the step (the
+``'continuous'`` host), and the output is the force linear in time over the period that brings
+the plant's gap and velocity to the exact ones at its end (exact for an integrator of order 3
+or more on a free body; the tangential impulse is held constant).  The pair's own collision
+is the user's to leave out (register no collision geometry for the coupled bodies, or filter the
+pair in the scene graph).  Units: SI.
+"""
+import numpy as np
+from pydrake.common.value import AbstractValue
+from pydrake.multibody.math import SpatialForce
+from pydrake.multibody.plant import ExternallyAppliedSpatialForce
+from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
+from pydrake.systems.framework import LeafSystem
+
+from contact_sim.coupling.core import NormalCoupling
+from contact_sim.coupling.friction import friction_impulse
+from contact_sim.model import require_contact
+from contact_sim.validation import (InputError, require_nonnegative, require_positive,
+                                    require_real)
+
+
+# a pair whose gap is beyond this (m) and that carries no state is not looked at further
+REACH = 0.05
+
+
+class CoupledContacts(LeafSystem):
+    """Drake stepped with the package's exact contacts between body pairs.
+
+    Parameters
+    ----------
+    plant : pydrake.multibody.plant.MultibodyPlant
+        A finalized plant, discrete (``time_step`` > 0) or continuous.
+    pairs : sequence of (body, body, Contact, float, float)
+        (body_a, body_b, contact, radius_a, radius_b): bodies as ``RigidBody`` or names, the
+        radii of their spheres in m (0: the world's floor, z = ``floor_height``).
+    friction : float, optional
+        Coulomb's μ of every pair, >= 0 (default 0).
+    floor_height : float, optional
+        The world floor's height, m (default 0).
+    period : float, optional
+        The coupling's step, s, > 0: needed for a continuous plant; a discrete plant's is its
+        ``time_step``.
+    reach : float, optional
+        A pair farther apart than this (m) and carrying no contact state costs its poses only;
+        > 0 (default ``REACH``); it must exceed the distance the bodies close in one step.
+
+    Raises
+    ------
+    InputError
+        Keyed ``plant`` (not finalized), ``period`` (a continuous plant without one, or one
+        that is not a discrete plant's ``time_step``), ``reach``,
+        ``pairs`` (no such body, no sphere, no degree of freedom, a bad radius), ``friction`` or
+        ``floor_height``.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> from pydrake.all import (AddMultibodyPlantSceneGraph, DiagramBuilder, Simulator,
+    ...                          SpatialInertia, RigidTransform)
+    >>> from contact_sim.coupling.drake import CoupledContacts
+    >>> builder = DiagramBuilder()
+    >>> plant, _ = AddMultibodyPlantSceneGraph(builder, time_step=1e-3)
+    >>> ball = plant.AddRigidBody('ball', SpatialInertia.SolidSphereWithMass(0.0669, 0.0127))
+    >>> plant.Finalize()
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> coupled = builder.AddSystem(CoupledContacts(
+    ...     plant, [('ball', plant.world_body(), contact, 0.0127, 0.0)]))
+    >>> _ = builder.Connect(plant.get_state_output_port(), coupled.get_input_port())
+    >>> _ = builder.Connect(coupled.get_output_port(),
+    ...                     plant.get_applied_spatial_force_input_port())
+    >>> diagram = builder.Build()
+    >>> simulator = Simulator(diagram)
+    >>> context = plant.GetMyMutableContextFromRoot(simulator.get_mutable_context())
+    >>> plant.SetFreeBodyPose(context, ball, RigidTransform([0, 0, 0.1]))
+    >>> _ = simulator.AdvanceTo(0.3)
+    >>> print(f"e = {coupled.impacts[0].restitution:.3f}")
+    e = 0.726
+    """
+
+    def __init__(self, plant, pairs, friction=0.0, floor_height=0.0, period=None, reach=REACH):
+        LeafSystem.__init__(self)
+        if not plant.is_finalized():
+            raise InputError('plant', 'not finalized', '{n[plant]} is {value}: allowed a '
+                             'finalized MultibodyPlant', value='not finalized')
+        self.continuous = not plant.time_step() > 0.0
+        if self.continuous:
+            if period is None:
+                raise InputError('period', None, '{n[period]} is missing: a continuous plant '
+                                 '(time_step = 0) needs the coupling\'s step, period > 0 (s)')
+            self.dt = require_positive('period', period)
+        else:
+            if period is not None and require_positive('period', period) != plant.time_step():
+                raise InputError('period', period, '{n[period]} = {value}: allowed the '
+                                 "discrete plant's time_step, %r" % plant.time_step())
+            self.dt = float(plant.time_step())
+        self.plant = plant
+        self.friction = require_nonnegative('friction', friction)
+        self.reach = require_positive('reach', reach)
+        self.floor_height = require_real('floor_height', floor_height)
+        try:
+            rows = [tuple(p) for p in pairs]
+        except TypeError:
+            raise InputError('pairs', pairs, '{n[pairs]} = {value} is not a sequence: allowed '
+                             '(body, body, Contact, radius, radius) rows') from None
+        if not rows:
+            raise InputError('pairs', pairs, '{n[pairs]} is empty: allowed one or more rows')
+        self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
+        self._context = plant.CreateDefaultContext()
+        self._memo = (None, [])
+        self.DeclareVectorInputPort('plant_state', plant.num_multibody_states())
+        self.DeclareAbstractOutputPort(
+            'applied_spatial_force',
+            lambda: AbstractValue.Make([ExternallyAppliedSpatialForce()]), self._output)
+        if self.continuous:     # the plan of a step, made at its start: (t₀, rows)
+            self._plan = self.DeclareAbstractState(AbstractValue.Make((0.0, [])))
+            self.DeclarePeriodicUnrestrictedUpdateEvent(self.dt, 0.0, self._update)
+
+    def _body(self, value, index):
+        plant = self.plant
+        if isinstance(value, str):
+            if not plant.HasBodyNamed(value):
+                raise InputError('pairs', value, '{n[pairs]}[%d] names {value}, which is no body '
+                                 'of the plant: allowed the names of its bodies' % index)
+            return plant.GetBodyByName(value)
+        if hasattr(value, 'index') and hasattr(value, 'body_frame'):
+            return value
+        raise InputError('pairs', value, '{n[pairs]}[%d] = {value}: allowed a RigidBody or a '
+                         'body name' % index)
+
+    def _pair(self, row, index):
+        if len(row) != 5:
+            raise InputError('pairs', row, '{n[pairs]}[%d] = {value}: allowed (body, body, '
+                             'Contact, radius, radius)' % index)
+        a, b = self._body(row[0], index), self._body(row[1], index)
+        contact = require_contact(row[2], 'pairs')
+        radii = [require_nonnegative('pairs', r) for r in row[3:]]
+        world = self.plant.world_body().index()
+        for body, radius in ((a, radii[0]), (b, radii[1])):
+            if radius == 0.0 and body.index() != world:
+                raise InputError('pairs', body.name(), '{n[pairs]}[%d]: body {value} has radius '
+                                 '0: allowed 0 for the world (its floor) only' % index)
+        if radii[0] == 0.0 and radii[1] == 0.0:
+            raise InputError('pairs', row[:2], '{n[pairs]}[%d] has no sphere: allowed a sphere '
+                             'against the floor or another sphere' % index)
+        free = [body.index() != world and _moves(self.plant, body) for body in (a, b)]
+        if not any(free):
+            raise InputError('pairs', row[:2], '{n[pairs]}[%d]: neither body has a degree of '
+                             'freedom: allowed a pair that can move' % index)
+        if radii[0] == 0.0:         # the sphere first
+            a, b, radii = b, a, radii[::-1]
+        return a, b, radii[0], radii[1], NormalCoupling(
+            contact, host='continuous' if self.continuous else 'semi_implicit')
+
+    @property
+    def impacts(self):
+        """Every impact of every pair so far (``CoupledImpact``), in time order."""
+        return sorted((i for p in self.pairs for i in p[4].impacts), key=lambda i: i.time)
+
+    def _output(self, context, output):
+        t = float(context.get_time())
+        if self.continuous:     # the step's linear force at t
+            t0, rows = context.get_abstract_state(0).get_value()
+            late = t - t0 - 0.5 * self.dt
+            output.set_value([_force(body, p, mean + late * rate) for body, p, mean, rate in rows])
+            return
+        if self._memo[0] != t:
+            state = self.get_input_port().Eval(context)
+            self._memo = (t, [_force(body, p, mean) for body, p, mean, _
+                              in self._forces(t, state)])
+        output.set_value(self._memo[1])
+
+    def _update(self, context, state):
+        """A continuous plant's step starts: plan its forces from the plant's state."""
+        t = float(context.get_time())
+        rows = self._forces(t, self.get_input_port().Eval(context))
+        state.get_mutable_abstract_state(0).set_value((t, rows))
+
+    def _forces(self, t, state):
+        """(body index, contact point in the body's frame, mean force N, force rate N/s) rows of
+        the step from t (s) at the plant's state."""
+        plant, ctx, dt = self.plant, self._context, self.dt
+        plant.SetPositionsAndVelocities(ctx, state)
+        dynamics = None
+        forces = []
+        for sphere, other, r_s, r_o, coupling in self.pairs:
+            centre = plant.EvalBodyPoseInWorld(ctx, sphere).translation()
+            if r_o == 0.0:
+                normal = np.array([0.0, 0.0, 1.0])
+                gap = centre[2] - self.floor_height - r_s
+            else:
+                d = centre - plant.EvalBodyPoseInWorld(ctx, other).translation()
+                dist = float(np.linalg.norm(d))
+                normal = d / dist
+                gap = dist - r_s - r_o
+            if gap > self.reach and not coupling.carrying:
+                continue                # out of reach: no dynamics evaluated
+            if dynamics is None:
+                mass_matrix = plant.CalcMassMatrix(ctx)
+                v = plant.GetVelocities(ctx)
+                smooth = np.linalg.solve(mass_matrix, plant.CalcGravityGeneralizedForces(ctx)
+                                         - plant.CalcBiasTerm(ctx))
+                dynamics = True
+            point = centre - r_s * normal
+            jac = self._jacobian(sphere, point) - self._jacobian(other, point)
+            inverse = jac @ np.linalg.solve(mass_matrix, jac.T)
+            w_n = float(normal @ inverse @ normal)
+            velocity, acceleration = jac @ v, jac @ smooth
+            step = coupling.step(t, float(gap), float(normal @ velocity), 1.0 / w_n,
+                                 float(normal @ acceleration), dt)
+            if step.impulse == 0.0:
+                continue
+            impulse = step.impulse * normal
+            if self.friction > 0.0:
+                basis = _tangents(normal)
+                free = velocity + dt * acceleration + inverse @ impulse
+                impulse = impulse + basis.T @ friction_impulse(
+                    step.impulse, basis @ free, basis @ inverse @ basis.T, self.friction)
+            rate = step.force_rate * normal
+            for body, sign in ((sphere, 1.0), (other, -1.0)):
+                if body.index() == plant.world_body().index():
+                    continue
+                pose = plant.EvalBodyPoseInWorld(ctx, body)
+                forces.append((int(body.index()), pose.inverse().multiply(point),
+                               sign * impulse / dt, sign * rate))
+        return forces
+
+    def _jacobian(self, body, point):
+        plant, ctx = self.plant, self._context
+        if body.index() == plant.world_body().index():
+            return np.zeros((3, plant.num_velocities()))
+        pose = plant.EvalBodyPoseInWorld(ctx, body)
+        return plant.CalcJacobianTranslationalVelocity(
+            ctx, JacobianWrtVariable.kV, body.body_frame(), pose.inverse().multiply(point),
+            plant.world_frame(), plant.world_frame())
+
+
+def _force(body_index, point, force):
+    """The ``ExternallyAppliedSpatialForce`` of ``force`` (N, world) at ``point`` (body frame)."""
+    out = ExternallyAppliedSpatialForce()
+    out.body_index, out.p_BoBq_B = BodyIndex(body_index), point
+    out.F_Bq_W = SpatialForce(np.zeros(3), force)
+    return out
+
+
+def _moves(plant, body):
+    """Whether a joint with a degree of freedom (a free body's floating one included) moves
+    the body."""
+    joints = [i for i in plant.GetJointIndices() if plant.get_joint(i).num_velocities() > 0]
+    return bool(joints) and body.index() in set(plant.GetBodiesKinematicallyAffectedBy(joints))
+
+
+def _tangents(normal):
+    """Two unit tangents (rows) orthogonal to the normal and to each other."""
+    x, y, z = (float(v) for v in normal)
+    a, b, c = (0.0, z, -y) if abs(x) < 0.9 else (-z, 0.0, x)
+    norm = (a * a + b * b + c * c) ** 0.5
+    a, b, c = a / norm, b / norm, c / norm
+    return np.array([[a, b, c], [y * c - z * b, z * a - x * c, x * b - y * a]])
+

@@ -1,0 +1,320 @@
+"""The coupling in MuJoCo: ``CoupledContacts(model, data, pairs).step()`` in place of ``mj_step``.
+
+Each pair names a sphere geom and another geom (a plane, a box, a mesh or another sphere).  At
+every step, between ``mj_step1`` (positions, velocities, MuJoCo's own collisions) and
+``mj_step2`` (forces, constraints, the integrator):
+
+* the gap along the normal from MuJoCo's geometry (``mj_geomDistance``); the normal is the
+  plane's axis, the line of centres of two spheres, or from the other geom's nearest point to
+  the sphere's centre;
+* the contact point's relative velocity and its Jacobian (``mj_jac`` on both bodies), the
+  effective mass along the normal 1 / (n J M⁻¹ Jᵀ n) (``mj_solveM``) and the rest of the
+  system's normal acceleration n J q̈_smooth (``mj_fwdActuation``, ``mj_fwdAcceleration``: the
+  unconstrained acceleration with gravity, actuators, passive and applied forces; J̇q̇ is left
+  out: zero for a free sphere on a plane, the centripetal term of an arm, which the next step
+  sees as the host's divergence and takes in);
+* ``contact_sim.coupling.NormalCoupling`` gives the normal impulse of the step, friction its
+  tangential impulse (``friction_impulse``), and Jᵀ(impulse / dt) is added to ``qfrc_applied``
+  for ``mj_step2`` (and taken off again after it: the user's own ``qfrc_applied`` stays).
+
+MuJoCo's own contact of a coupled sphere is switched off by setting its geom's ``contype`` and
+``conaffinity`` to 0: the sphere then collides in MuJoCo with nothing, and every geom it may
+touch must be named in a pair.  The Euler, implicit and implicitfast integrators step positions
+with the new velocities, as the coupling assumes; RK4 (which ``mj_step2`` does not run) is
+refused.  Units: SI.
+"""
+import math
+
+import mujoco
+import numpy as np
+
+from contact_sim.coupling.core import NormalCoupling
+from contact_sim.coupling.friction import friction_impulse
+from contact_sim.model import require_contact
+from contact_sim.validation import InputError, require_nonnegative, require_positive
+
+# a pair whose gap is beyond this (m) and that carries no state is not looked at further
+REACH = 0.05
+_SPHERE, _PLANE = int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_PLANE)
+_SERVED = {int(mujoco.mjtIntegrator.mjINT_EULER), int(mujoco.mjtIntegrator.mjINT_IMPLICIT),
+           int(mujoco.mjtIntegrator.mjINT_IMPLICITFAST)}
+
+
+class _Pair:
+    """One coupled pair: the sphere geom, the other geom, their bodies and the coupling."""
+
+    def __init__(self, model, sphere, other, contact, index):
+        self.sphere, self.other = sphere, other
+        self.body_s, self.body_o = int(model.geom_bodyid[sphere]), int(model.geom_bodyid[other])
+        self.radius = float(model.geom_size[sphere, 0])
+        self.other_type = int(model.geom_type[other])
+        self.coupling = NormalCoupling(contact)
+        self.index = index
+        nv = model.nv
+        self.jac_s, self.jac_o = np.zeros((3, nv)), np.zeros((3, nv))
+        self.jacr = np.zeros((3, nv))
+        self.response = np.zeros((3, nv))
+        self.fromto = np.zeros(6)
+
+
+class CoupledContacts:
+    """MuJoCo stepped with the package's exact contacts between named geom pairs.
+
+    Parameters
+    ----------
+    model : mujoco.MjModel
+        The model (its coupled spheres' ``contype`` and ``conaffinity`` are set to 0).
+    data : mujoco.MjData
+        The data the steps advance.
+    pairs : sequence of (str, str, Contact)
+        (geom, geom, contact): one of the two a sphere geom, the other a plane, box, mesh or
+        sphere geom, by name.
+    friction : float, optional
+        Coulomb's μ of every pair, >= 0 (default 0: frictionless).
+    reach : float, optional
+        A pair farther apart than this (m) and carrying no contact state costs one distance
+        query a step; > 0 (default ``REACH``).  It must exceed the distance a body closes in
+        one step.
+
+    Raises
+    ------
+    InputError
+        Keyed ``pairs`` (not a sequence of (name, name, Contact), a name of no geom, no sphere
+        in a pair, both geoms on bodies without degrees of freedom), ``friction``, ``reach`` or
+        ``integrator`` (RK4: the step this coupling cannot serve).
+
+    Examples
+    --------
+    >>> import mujoco
+    >>> import contact_sim as cs
+    >>> from contact_sim.coupling.mujoco import CoupledContacts
+    >>> xml = '''<mujoco><option timestep="0.001"/><worldbody>
+    ...   <geom name="floor" type="plane" size="1 1 0.1"/>
+    ...   <body pos="0 0 0.1"><freejoint/><geom name="ball" type="sphere" size="0.0127"
+    ...     mass="0.0669"/></body></worldbody></mujoco>'''
+    >>> model = mujoco.MjModel.from_xml_string(xml)
+    >>> data = mujoco.MjData(model)
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> coupled = CoupledContacts(model, data, [('ball', 'floor', contact)])
+    >>> for _ in range(300):
+    ...     coupled.step()
+    >>> impact = coupled.impacts[0]
+    >>> print(f"{impact.speed_in:.3f} m/s in, e = {impact.restitution:.3f}")
+    1.309 m/s in, e = 0.726
+    """
+
+    def __init__(self, model, data, pairs, friction=0.0, reach=REACH):
+        if int(model.opt.integrator) not in _SERVED:
+            raise InputError('integrator', model.opt.integrator,
+                             '{n[integrator]} = {value}: allowed Euler, implicit or implicitfast '
+                             '(RK4 evaluates the forces four times a step; the coupling gives one '
+                             'impulse a step)', value=str(mujoco.mjtIntegrator(model.opt.integrator)))
+        self.model, self.data = model, data
+        self.friction = require_nonnegative('friction', friction)
+        self.reach = require_positive('reach', reach)
+        try:
+            rows = [tuple(p) for p in pairs]
+        except TypeError:
+            raise InputError('pairs', pairs, '{n[pairs]} = {value} is not a sequence: allowed '
+                             '(geom, geom, Contact) triples') from None
+        if not rows:
+            raise InputError('pairs', pairs, '{n[pairs]} is empty: allowed one or more '
+                             '(geom, geom, Contact) triples')
+        self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
+        for pair in self.pairs:
+            model.geom_contype[pair.sphere] = 0
+            model.geom_conaffinity[pair.sphere] = 0
+        self._applied = np.zeros(model.nv)
+
+    def _pair(self, row, index):
+        model = self.model
+        if len(row) != 3:
+            raise InputError('pairs', row, '{n[pairs]}[%d] = {value}: allowed a (geom, geom, '
+                             'Contact) triple' % index)
+        ids = []
+        for name in row[:2]:
+            gid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, str(name)) \
+                if isinstance(name, str) else -1
+            if gid < 0:
+                raise InputError('pairs', name, '{n[pairs]}[%d] names {value}, which is no geom '
+                                 'of the model: allowed the names of its geoms' % index)
+            ids.append(gid)
+        contact = require_contact(row[2], 'pairs')
+        types = [int(model.geom_type[g]) for g in ids]
+        if _SPHERE not in types:
+            raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value} has no sphere geom: '
+                             'allowed a sphere against a plane, box, mesh or sphere' % index)
+        sphere, other = (ids[0], ids[1]) if types[0] == _SPHERE else (ids[1], ids[0])
+        if types[0] == _SPHERE and types[1] == _SPHERE and model.body_dofnum[
+                model.geom_bodyid[ids[0]]] == 0:
+            sphere, other = ids[1], ids[0]
+        dofs = [int(model.body_dofnum[model.geom_bodyid[g]]) for g in ids]
+        moving = [_moves(model, int(model.geom_bodyid[g])) for g in ids]
+        if not any(moving):
+            raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value}: neither geom\'s body '
+                             'has a degree of freedom (body dofs %s): allowed a pair that can '
+                             'move' % (index, dofs))
+        return _Pair(model, sphere, other, contact, index)
+
+    @property
+    def impacts(self):
+        """Every impact of every pair so far (``CoupledImpact``), in time order."""
+        return sorted((i for p in self.pairs for i in p.coupling.impacts), key=lambda i: i.time)
+
+    def step(self):
+        """One MuJoCo step with the coupled contacts (in place of ``mujoco.mj_step``)."""
+        m, d = self.model, self.data
+        mujoco.mj_step1(m, d)
+        applied = self._applied
+        applied[:] = 0.0
+        smooth = None
+        for pair in self.pairs:
+            dist = mujoco.mj_geomDistance(m, d, pair.sphere, pair.other, self.reach,
+                                          pair.fromto)
+            if dist >= self.reach and not pair.coupling.carrying:
+                continue
+            if smooth is None:
+                smooth = self._smooth_acceleration()
+            self._couple(pair, dist, smooth, applied)
+        if smooth is None:
+            mujoco.mj_step2(m, d)
+            return
+        d.qfrc_applied += applied
+        try:
+            mujoco.mj_step2(m, d)
+        finally:
+            d.qfrc_applied -= applied
+
+    def _smooth_acceleration(self):
+        """The unconstrained acceleration q̈_smooth (without the coupled forces)."""
+        m, d = self.model, self.data
+        mujoco.mj_fwdActuation(m, d)
+        mujoco.mj_fwdAcceleration(m, d)
+        return d.qacc_smooth.copy()
+
+    def _couple(self, pair, dist, smooth, applied):
+        m, d = self.model, self.data
+        dt = m.opt.timestep
+        centre = d.geom_xpos[pair.sphere]
+        normal = self._normal(pair, centre)
+        point = centre - pair.radius * normal
+        mujoco.mj_jac(m, d, pair.jac_s, pair.jacr, point, pair.body_s)
+        if pair.body_o:         # the sphere's point relative to the other's
+            mujoco.mj_jac(m, d, pair.jac_o, pair.jacr, point, pair.body_o)
+            jac = pair.jac_s - pair.jac_o
+        else:                   # the world does not move
+            jac = pair.jac_s
+        response = pair.response
+        mujoco.mj_solveM(m, d, response, jac)      # M⁻¹ Jᵀ, row by row
+        inverse = jac @ response.T                  # J M⁻¹ Jᵀ (3 x 3)
+        along = inverse @ normal                    # the point's velocity per unit impulse
+        w_n = float(normal @ along)
+        if not w_n > 0.0:
+            raise InputError('pairs', pair.index, '{n[pairs]}[{value}]: the contact point cannot '
+                             'move along the normal (no degree of freedom): allowed a pair whose '
+                             'bodies can move apart')
+        velocity, acceleration = jac @ d.qvel, jac @ smooth
+        step = pair.coupling.step(float(d.time), float(dist), float(normal @ velocity),
+                                  1.0 / w_n, float(normal @ acceleration), dt)
+        if step.impulse == 0.0:
+            return
+        impulse = step.impulse * normal
+        if self.friction > 0.0:
+            free = velocity + dt * acceleration + step.impulse * along    # without friction
+            slide = free - float(free @ normal) * normal
+            if float(slide @ slide) > 0.0:          # sliding: Coulomb's tangential impulse
+                basis = _tangents(normal)
+                impulse = impulse + basis.T @ friction_impulse(
+                    step.impulse, basis @ free, basis @ inverse @ basis.T, self.friction)
+        applied += jac.T @ (impulse / dt)
+
+    def _normal(self, pair, centre):
+        """The unit normal from the other geom to the sphere."""
+        d = self.data
+        if pair.other_type == _PLANE:
+            return d.geom_xmat[pair.other].reshape(3, 3)[:, 2].copy()
+        if pair.other_type == _SPHERE:
+            n = centre - d.geom_xpos[pair.other]
+        else:       # from the other geom's nearest point (fromto's second half: the sphere is
+            n = centre - pair.fromto[3:]    # passed first) to the sphere's centre
+        length = math.sqrt(float(n @ n))
+        return n / length if length > 0.0 else np.array([0.0, 0.0, 1.0])
+
+
+def _moves(model, body):
+    """Whether the body or one of its ancestors has a degree of freedom."""
+    while body > 0:
+        if model.body_dofnum[body] > 0:
+            return True
+        body = int(model.body_parentid[body])
+    return False
+
+
+def _tangents(normal):
+    """Two unit tangents (rows) orthogonal to the normal and to each other (plain arithmetic:
+    numpy's cross costs tens of µs a call)."""
+    x, y, z = (float(v) for v in normal)
+    if abs(x) < 0.9:        # n × (1, 0, 0)
+        a, b, c = 0.0, z, -y
+    else:                   # n × (0, 1, 0)
+        a, b, c = -z, 0.0, x
+    norm = math.sqrt(a * a + b * b + c * c)
+    a, b, c = a / norm, b / norm, c / norm
+    return np.array([[a, b, c], [y * c - z * b, z * a - x * c, x * b - y * a]])
+
+
+def coupled_restitution(contact, radius, mass, speeds, timestep, integrator='implicitfast'):
+    """The e(v) the coupling gives in MuJoCo: a free sphere thrown at a plane, gravity off, one
+    throw a speed (``contact-sim audit mujoco ... --coupled``).
+
+    Parameters
+    ----------
+    contact : Contact
+        The contact coupled in.
+    radius, mass : float
+        The sphere's radius (m) and mass (kg), > 0.
+    speeds : array_like of float
+        Impact speeds, m/s, > 0.
+    timestep : float
+        MuJoCo's step, s, > 0.
+    integrator : str, optional
+        'Euler', 'implicit' or 'implicitfast' (default).
+
+    Returns
+    -------
+    numpy.ndarray
+        e at each speed: the rebound speed over the impact speed, read from MuJoCo's velocity a
+        whole step after the impact.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> from contact_sim.coupling.mujoco import coupled_restitution
+    >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
+    ...                                     radius=0.0127, damping_factor=8.87e5)
+    >>> e = coupled_restitution(contact, 0.0127, 0.0674, [0.1, 1.0], 1e-3)
+    >>> print(f"{e[0]:.4f} {e[1]:.4f}")
+    0.8220 0.7381
+    """
+    radius, mass = require_positive('radius', radius), require_positive('mass', mass)
+    timestep = require_positive('timestep', timestep)
+    out = []
+    for speed in np.atleast_1d(np.asarray(speeds, dtype=float)).tolist():
+        speed = require_positive('speeds', speed)
+        xml = (f'<mujoco><option timestep="{timestep!r}" gravity="0 0 0" integrator='
+               f'"{integrator}"/><worldbody><geom name="floor" type="plane" size="1 1 0.1"/>'
+               f'<body pos="0 0 {radius + 3.5 * speed * timestep!r}"><freejoint/><geom '
+               f'name="ball" type="sphere" size="{radius!r}" mass="{mass!r}"/></body>'
+               '</worldbody></mujoco>')
+        model = mujoco.MjModel.from_xml_string(xml)
+        data = mujoco.MjData(model)
+        data.qvel[2] = -speed
+        coupled = CoupledContacts(model, data, [('ball', 'floor', contact)])
+        for _ in range(1_000_000):
+            coupled.step()
+            if coupled.pairs[0].coupling.impacts:
+                break
+        coupled.step()          # a whole step of flight: MuJoCo's velocity is the exact one
+        out.append(data.qvel[2] / speed)
+    return np.array(out)
