@@ -19,6 +19,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
 from . import harness  # noqa: E402
+from .domains import claim_domain  # noqa: E402
 from .harness import (  # noqa: E402
     TIMEOUT, NODE, TOPICS, TYPE_NAMES, executable, clean_shm, Process, assert_clean_exit,
     stamp_ns, domain_node)
@@ -27,7 +28,7 @@ from .harness import (  # noqa: E402
 @pytest.fixture(scope='module')
 def own_domain(ros_env):
     """Environment and a client context in another ROS domain (no module node there)."""
-    env = {**ros_env, 'ROS_DOMAIN_ID': str(120 + int(ros_env['ROS_DOMAIN_ID']) % 101)}
+    env = {**ros_env, 'ROS_DOMAIN_ID': str(claim_domain())}
     context, node, executor = domain_node(int(env['ROS_DOMAIN_ID']), 'contact_sim_test_watch')
     clock = []
     node.create_subscription(Clock, '/clock', lambda m: clock.append(stamp_ns(m.clock)),
