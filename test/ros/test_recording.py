@@ -51,7 +51,7 @@ def own_domain(ros_env):
             if future.done():
                 return float(re.search(r'at t = ([0-9.]+) s', future.result().message).group(1))
             reset_client.remove_pending_request(future)
-    yield env, clock, spin_until, reset_drop, acks
+    yield env, clock, spin_until, reset_drop, acks, node
     node.destroy_node()
     context.try_shutdown()
 
@@ -99,7 +99,7 @@ def test_a_recorded_flat_out_run_holds_every_sample_of_every_topic(own_domain, w
     """Flat out, the recorder's keep-all subscriptions and its ~/recorded acknowledgements make
     the node wait for it: from a ~/reset on, the bag holds every sample the node published (the
     same engine replayed here gives the stamps and values), for more than 60 simulated s."""
-    env, clock, spin_until, reset_drop, _ = own_domain
+    env, clock, spin_until, reset_drop, _, _ = own_domain
     bag = workdir / 'flat_out'
     recorder = Process('contact_sim_record', ['-o', str(bag)], env, workdir)
     spin_until(lambda: 'recording' in recorder.output(), 'the recorder to start')
@@ -153,7 +153,7 @@ def test_a_recorded_flat_out_run_holds_every_sample_of_every_topic(own_domain, w
 @pytest.mark.slow
 def test_a_recorder_killed_with_sigkill_loses_at_most_a_second_and_recovers(own_domain,
                                                                             workdir):
-    env, clock, spin_until, _, acks = own_domain
+    env, clock, spin_until, _, acks, _ = own_domain
     bag = workdir / 'killed'
     clock.clear()   # (from an earlier node in this domain)
     acks.clear()
@@ -197,7 +197,7 @@ def test_a_flat_out_node_stopped_first_leaves_nothing_it_published_out_of_the_ba
     ended 3 simulated s before the last tick the node had published). The bag holds every tick
     from the first (t = 0.01 s) to the last the node published, which the node names at its stop
     and which is at least the last /clock this test saw, on every per-tick topic."""
-    env, clock, spin_until, _, _ = own_domain
+    env, clock, spin_until, _, _, _ = own_domain
     bag = workdir / 'node_first'
     clock.clear()
     recorder = Process('contact_sim_record', ['-o', str(bag)], env, workdir)
@@ -234,3 +234,37 @@ def test_a_flat_out_node_stopped_first_leaves_nothing_it_published_out_of_the_ba
                       node.output())
     assert match, node.output()
     assert set(ends.values()) == {cs_msgs.to_ns(float(match.group(1)))}, ends
+
+
+@pytest.mark.slow
+def test_a_killed_recorder_is_noticed_before_the_graph_forgets_it(own_domain, workdir):
+    """Issue 33: after its recorder was killed, a flat-out node froze ~20 s (until the graph
+    dropped the killed participant) and a node stopped then waited 10.7 s without a word. The
+    recorder's liveliness lease (1.5 s) tells the node: it says the recorder is gone and runs on
+    while the graph still shows the killed recorder, and its stop does not wait for it."""
+    env, clock, spin_until, _, acks, watch = own_domain
+    clock.clear()
+    acks.clear()
+    recorder = Process('contact_sim_record', ['-o', str(workdir / 'lost')], env, workdir)
+    spin_until(lambda: 'recording' in recorder.output(), 'the recorder to start')
+    node = Process('contact_sim_node', ['--ros-args', '-p', 'real_time_factor:=0.0'], env,
+                   workdir)
+    progress = cs_msgs.PROGRESS.resolve(NODE)
+    try:
+        spin_until(lambda: 'paced by a recorder' in node.output() and acks and acks[-1] > 1e9,
+                   'the node paced by the recorder')
+        os.killpg(recorder.popen.pid, signal.SIGKILL)
+        recorder.popen.wait(TIMEOUT)
+        clean_shm(recorder.started)
+        spin_until(lambda: 'the recorder is gone' in node.output() and clock,
+                   'the node to notice')
+        killed_at = clock[-1]
+        spin_until(lambda: clock[-1] > killed_at + 5e9, '5 more simulated seconds')
+        assert watch.get_publishers_info_by_topic(progress), \
+            'the graph forgot the recorder first: this test shows nothing'
+    finally:
+        if recorder.popen.poll() is None:
+            recorder.stop()
+        code, output = node.stop()
+    assert code == 0 and 'Traceback' not in output, output
+    assert 'stopping after' not in output and 'waiting for the recorder' not in output, output
