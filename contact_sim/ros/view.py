@@ -18,7 +18,7 @@ from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
 
 from contact_sim.drop import sphere_motion
 
-from .diagnostics import PERIOD, Progress, diagnostics_msg, mode_of, rates
+from .diagnostics import PERIOD, Progress, Schedule, diagnostics_msg, mode_of, rates
 from .markers import markers_msg
 from .messages import VIEW_TOPICS, to_ns
 
@@ -40,7 +40,13 @@ class View:
         self.ticks = 0        # ticks published since the start
         self.steps = 0        # integrator steps of the drops before the running one
         self._before = self._progress()
-        node.create_timer(PERIOD, self.publish_diagnostics, clock=node._steady)
+        self._schedule = Schedule(self._before.wall)
+        # the timer for a node that does not tick (paused); the loop asks after each engine
+        # call too (``publish_batch``): flat out, rclpy's events executor delivers this timer
+        # late and in bursts (28 in 0.75 s, then none for 12 s; issue 33). Both go by
+        # ``_schedule``. (A timer of PERIOD / 10 here stalled every timer of a flat-out node
+        # after its start, measured: keep it at PERIOD.)
+        node.create_timer(PERIOD, self._diagnostics_if_due, clock=node._steady)
 
     def _publish(self, key, msg):
         try:
@@ -50,7 +56,9 @@ class View:
                 raise
 
     def publish_batch(self, batch, offset):
-        """The markers of an engine call's ticks (``DropSimulation.advance_ticks``)."""
+        """The markers of an engine call's ticks (``DropSimulation.advance_ticks``), and
+        /diagnostics if due."""
+        self._diagnostics_if_due()
         n = batch.ticks
         if not n:
             return
@@ -94,14 +102,19 @@ class View:
         due = (time.monotonic() - node._anchor_wall) * model.real_time_factor
         return max(0.0, due - (node._sim.time - node._anchor_sim))
 
+    def _diagnostics_if_due(self):
+        if self._schedule.due(time.monotonic()):
+            self.publish_diagnostics()
+
     def publish_diagnostics(self):
         """/diagnostics over the wall time since the last one."""
         node = self._node
         after = self._progress()
         achieved, steps, ticks = rates(self._before, after)
+        period = after.wall - self._before.wall
         self._before = after
         model = node._model
         target = math.inf if model.fast else model.real_time_factor
         self._publish('diagnostics', diagnostics_msg(
             to_ns(after.simulated), node.get_fully_qualified_name(), target, achieved,
-            self.lag(), steps, ticks, mode_of(node._sim), node._pace.recorders() > 0))
+            self.lag(), steps, ticks, mode_of(node._sim), node._pace.recorders() > 0, period))
