@@ -188,7 +188,6 @@ def test_every_bench_table_the_benchmarks_page_includes_is_there_and_written_by_
 
 @pytest.mark.ros
 def test_node_tables_list_every_parameter_and_topic():
-    pytest.importorskip('sphinx')
     sys.path.insert(0, str(DOCS / '_ext'))
     try:
         ext = load(DOCS / '_ext' / 'contact_sim_docs.py', 'contact_sim_docs')
@@ -206,7 +205,6 @@ def test_node_tables_list_every_parameter_and_topic():
 
 
 def test_docstring_notation_is_escaped_outside_literals_and_examples():
-    pytest.importorskip('sphinx')
     ext = load(DOCS / '_ext' / 'contact_sim_docs.py', 'contact_sim_docs')
     lines = textwrap.dedent('''\
         a call (ns, *values) with |v0| <= 1 and ``|x|`` kept

@@ -12,7 +12,7 @@ import subprocess
 
 import pytest
 
-rclpy = pytest.importorskip('rclpy')
+import rclpy  # noqa: E402,F401  (pinned: a missing install fails here)
 
 from .harness import NODE, PROGRESS_TIMEOUT, TIMEOUT, Process, assert_clean_exit  # noqa: E402
 
