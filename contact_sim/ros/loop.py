@@ -210,7 +210,7 @@ class TickLoop:
                 if not self._out.wait_for_readers('impact', IMPACT_WAIT):
                     log.warning('stopping: a reader of ~/impact did not acknowledge every '
                                 f'impact within {IMPACT_WAIT:g} s')
-            if self._pace.recorded_ns is not None:
+            if self._pace.recorded_ns is not None and self._pace.recorders() > 0:
                 log.info(f'stopping: the recorder has every tick published, to t = '
                          f'{self._out.tick_ns * 1e-9:.3f} s')
             return True

@@ -38,10 +38,13 @@ class Outbox:
 
 class Pace:
     def __init__(self):
-        self.unacked, self.recorded_ns = 300, 4_000_000_000
+        self.unacked, self.recorded_ns, self.live = 300, 4_000_000_000, 1
 
     def drained(self):
-        return self.unacked == 0
+        return self.unacked == 0 or self.live == 0
+
+    def recorders(self):
+        return self.live
 
     def unacknowledged(self):
         return self.unacked
@@ -92,3 +95,14 @@ def test_the_wait_for_impact_readers_is_said_before_it_begins(stopping):
     assert any('waiting up to' in t and '~/impact' in t for t in texts)
     assert any('did not acknowledge every impact' in t for t in texts)
     assert node._out.waits == [('impact', 0.0), ('impact', loop.IMPACT_WAIT)]
+
+
+def test_a_recorder_gone_meanwhile_is_not_said_to_have_everything(stopping):
+    # measured: a real-time node stopped 0.5 s after its recorder was killed logged, once the
+    # recorder's liveliness ran out, that the recorder had every tick
+    node, logger, _ = stopping
+    done = loop.TickLoop.drain(node)
+    assert not done()
+    node._pace.live = 0
+    assert done()
+    assert not any('has every tick' in text for _, text in logger.lines)
