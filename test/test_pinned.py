@@ -58,3 +58,22 @@ def test_in_ci_an_allowed_skip_stays_a_skip():
             'test_a_users_node_in_the_callers_domain_receives_nothing_from_a_test_run')
     done = _pytest([test], CI='true', CONTACT_SIM_ISOLATION_PROBE='1')
     assert done.returncode == 0 and '1 skipped' in done.stdout, done.stdout[-2000:]
+
+
+def test_the_allow_list_names_a_test_and_its_one_reason():
+    import importlib.util
+    from types import SimpleNamespace
+    spec = importlib.util.spec_from_file_location('suite_conftest', ROOT / 'test' / 'conftest.py')
+    conftest = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(conftest)
+    test = ('test/test_packaging.py::'
+            'test_deactivate_restores_the_environment_and_activating_twice_adds_nothing[set]')
+
+    def skipped(reason):
+        return SimpleNamespace(skipped=True, longrepr=('file', 1, f'Skipped: {reason}'))
+    ci = {'CI': 'true'}
+    allowed = skipped("needs the checkout's .venv made by scripts/setup.sh (not in a workspace)")
+    assert conftest.skip_refused(test, allowed, ci) is None
+    assert conftest.skip_refused(test, skipped('rclpy is not installed'), ci)
+    assert conftest.skip_refused('test/test_x.py::test_y', allowed, ci)
+    assert conftest.skip_refused('test/test_x.py::test_y', allowed, {}) is None   # not in CI
