@@ -71,6 +71,9 @@ PATH="$VIRTUAL_ENV/lib/contact_sim:$PATH"
 export AMENT_PREFIX_PATH PATH
 HOOK
 fi
-# compile the contact engine's numba kernels once (10-20 s): they are cached in contact_sim/__pycache__
-.venv/bin/python -c 'import contact_sim.phase.compiled'
+# numba's cache: cleared if a source it compiles from changed since it was stamped (numba checks a
+# kernel's own file only: scripts/numba_cache.py); then the node's kernels compiled once, running
+# its engine as it does (contact_sim.ros.precompile), and cached in contact_sim/**/__pycache__
+.venv/bin/python scripts/numba_cache.py
+.venv/bin/python -m contact_sim.ros.precompile
 echo "contact_sim is set up: source .venv/bin/activate"

@@ -188,7 +188,6 @@ def test_every_bench_table_the_benchmarks_page_includes_is_there_and_written_by_
 
 @pytest.mark.ros
 def test_node_tables_list_every_parameter_and_topic():
-    pytest.importorskip('sphinx')
     sys.path.insert(0, str(DOCS / '_ext'))
     try:
         ext = load(DOCS / '_ext' / 'contact_sim_docs.py', 'contact_sim_docs')
@@ -205,8 +204,34 @@ def test_node_tables_list_every_parameter_and_topic():
         assert f'| `{topic.name}` | `{topic.type_name}` |' in topics
 
 
+@pytest.mark.ros
+def test_range_refusals_quoted_in_the_docs_are_the_nodes():
+    """Issue 33: docs/node.md quoted `Max: inf` for gravity where the node says 1e6. The node's
+    page includes rclpy's refusals generated from the node; any other quote matches the range
+    the node declares (as rclpy prints it: min and max of the descriptor, str() of floats)."""
+    from contact_sim.ros.params import PARAMETERS
+    ranges = {spec.name: spec.range for spec in PARAMETERS if spec.range is not None}
+    assert '_generated/ros_range_refusals.md' in (DOCS / 'node.md').read_text()
+    quotes = [(page.name, *m) for page in [*DOCS.glob('*.md'), ROOT / 'README.md']
+              for m in re.findall(r'Parameter (\w+) out of range\s+Min: ([^,]+), Max: ([^,`]+)',
+                                  page.read_text())]
+    for page, name, low, high in quotes:
+        lo, hi = sorted(float(v) for v in ranges[name])
+        assert (low.strip(), high.strip()) == (str(lo), str(hi)), (page, name, low, high)
+
+
+@pytest.mark.ros
+def test_the_nodes_help_points_to_the_page_with_the_parameter_table():
+    # issue 33: --help named docs/ros.md, which has no parameter table
+    from contact_sim.ros.startup import USAGE
+    pages_named = re.findall(r'docs/(\w+)\.md', USAGE)
+    assert pages_named == ['node']
+    node = (DOCS / 'node.md').read_text()
+    section = node[node.index('\n## Parameters\n'):]
+    assert '_generated/ros_parameters.md' in section.split('\n## ')[1]
+
+
 def test_docstring_notation_is_escaped_outside_literals_and_examples():
-    pytest.importorskip('sphinx')
     ext = load(DOCS / '_ext' / 'contact_sim_docs.py', 'contact_sim_docs')
     lines = textwrap.dedent('''\
         a call (ns, *values) with |v0| <= 1 and ``|x|`` kept

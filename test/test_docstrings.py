@@ -154,7 +154,7 @@ def test_there_are_at_least_thirty_examples():
 ROS_API = ('contact_sim.ros.node:ContactSimNode', 'contact_sim.ros.node:StartupError',
            'contact_sim.ros.node:main', 'contact_sim.ros.recorder:Recorder',
            'contact_sim.ros.recorder:record_main', 'contact_sim.ros.recorder:recover_main',
-           'contact_sim.ros.recorder:record_parser')
+           'contact_sim.ros.record_options:record_parser')
 
 
 @pytest.mark.ros

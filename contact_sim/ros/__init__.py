@@ -13,6 +13,7 @@
   given the drop, its settings, the model and the stamp offset it runs;
 - ``outbox``: the node's publishers and its wait for reliable readers (``Outbox``);
 - ``plate_command``: ``~/plate_command`` messages as the core's commands (``read_plate_command``);
-- ``recorder``: ``contact_sim_record`` (``Recorder``, ``record_main``, ``--recover``);
+- ``recorder``: ``contact_sim_record`` (``Recorder``, ``record_main``, ``--recover``), its
+  command line checked by ``record_options``;
 - ``bag``: rosbag2 files with the ``rosbags`` library (no ROS import), crash-safe, recoverable.
 """

@@ -11,7 +11,9 @@ values (strings, as diagnostic_msgs has them; numbers in SI units, ``repr`` of a
 * ``integrator_steps_per_second``: integrator steps of the contact phases per wall s;
 * ``ticks_per_second``: ticks published per wall s;
 * ``mode``: ``flight``, ``contact``, ``rest`` or ``carried`` (``mode_of``);
-* ``paced_by_recorder``: ``true`` while a recorder paces the node (``pacing``).
+* ``paced_by_recorder``: ``true`` while a recorder paces the node (``pacing``);
+* ``period``: s of wall time the rates are measured over (since the last message: about
+  ``PERIOD``, more for a node that cannot keep up; ``Schedule``).
 """
 import math
 from dataclasses import dataclass
@@ -21,9 +23,10 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from .messages import time_msg
 
 PERIOD = 1.0      # s of wall time between messages
+EARLY = 0.05      # s: a message may come this much before its time (a timer's jitter), no more
 LAG_WARN = 0.5    # s of simulated time behind schedule before the level is WARN
 KEYS = ('real_time_factor', 'real_time_factor_achieved', 'lag', 'integrator_steps_per_second',
-        'ticks_per_second', 'mode', 'paced_by_recorder')
+        'ticks_per_second', 'mode', 'paced_by_recorder', 'period')
 
 
 def mode_of(sim):
@@ -34,6 +37,41 @@ def mode_of(sim):
     if sim.in_contact:
         return 'rest' if sim.settle_time is not None else 'contact'
     return 'flight'
+
+
+class Schedule:
+    """When /diagnostics is due: once every ``period`` s of wall time, on a grid (a late message
+    does not move the next one), never twice within a period, whoever asks (the node's timer,
+    which an executor flooded by a flat-out loop delivers late and in bursts, and the loop
+    itself after each engine call).
+
+    Parameters
+    ----------
+    start : float
+        s (steady clock): the grid's origin; the first message is due a period later.
+    period : float, optional
+        s (default ``PERIOD``).
+
+    Examples
+    --------
+    >>> schedule = Schedule(0.0)
+    >>> [schedule.due(t) for t in (0.5, 0.97, 0.98, 1.5, 3.2, 3.25, 4.0, 4.2)]
+    [False, True, False, False, True, False, False, True]
+    """
+
+    def __init__(self, start, period=PERIOD):
+        self.period = period
+        self._next = start + period
+
+    def due(self, now):
+        """Whether a message is due at ``now`` (s); if so, it counts as sent."""
+        if now < self._next - EARLY:
+            return False
+        # the next on the grid; a run more than a period late starts a new grid from now
+        self._next += self.period
+        if self._next <= now:
+            self._next = now + self.period
+        return True
 
 
 @dataclass(frozen=True)
@@ -64,7 +102,7 @@ def rates(before, after):
 
 
 def diagnostics_msg(ns, name, real_time_factor, achieved, lag, steps_per_second,
-                    ticks_per_second, mode, paced):
+                    ticks_per_second, mode, paced, period=PERIOD):
     """The DiagnosticArray of one period.
 
     Parameters
@@ -83,6 +121,8 @@ def diagnostics_msg(ns, name, real_time_factor, achieved, lag, steps_per_second,
         ``mode_of`` the drop.
     paced : bool
         Whether a recorder paces the node.
+    period : float, optional
+        s of wall time the rates are measured over (default ``PERIOD``).
 
     Returns
     -------
@@ -101,7 +141,7 @@ def diagnostics_msg(ns, name, real_time_factor, achieved, lag, steps_per_second,
         message=(f'{lag:.3g} s behind real time' if late else
                  f'{achieved:.3g} x real time, {mode}'))
     values = (real_time_factor, achieved, lag, steps_per_second, ticks_per_second, mode,
-              'true' if paced else 'false')
+              'true' if paced else 'false', period)
     status.values = [KeyValue(key=key, value=value if isinstance(value, str) else repr(
         float(value))) for key, value in zip(KEYS, values)]
     msg = DiagnosticArray(status=[status])

@@ -56,6 +56,7 @@ WAKE_PERIOD = 0.02       # s: in real time the node wakes at most every 20 ms (5
 MAX_LAG = 2.0            # s behind real time before the node skips ahead (and says so, once)
 TICK_MESSAGES = 8        # messages of a tick without contact points (3 sample, 4 state, /clock)
 IMPACT_WAIT = 2.0        # s: at a stop, the wait for reliable readers' acknowledgements of ~/impact
+DRAIN_TIMEOUT = 8.0      # s: at a stop, the wait for readers and a recorder, at most (then a warning)
 WATCH_PERIOD = 0.5       # s: a paused node checks this often whether its recorder has gone
 
 
@@ -199,23 +200,48 @@ class TickLoop:
 
     def drain(self):
         """At a stop: tick no more, finish the tick begun, and return a predicate that holds
-        once everything published is out and a recorder has acknowledged it
-        (``startup.spin_until_signal``'s ``drain``)."""
+        once everything published is out and a recorder has acknowledged it, or once
+        ``DRAIN_TIMEOUT`` s have passed (``startup.spin_until_signal``'s ``drain``). Each thing
+        it waits for is logged once, when the wait for it begins, and a wait given up is a
+        warning naming what is missing: a stop never waits silently."""
         self._stopping = True
         self._timer.cancel()
         if self._mid_tick():
             self._run_ticks(self._tick + 1, math.inf)
+        log, said = self._node.get_logger(), set()
+        give_up = time.monotonic() + DRAIN_TIMEOUT
+
+        def say(what, text):
+            if what not in said:
+                said.add(what)
+                log.info(f'stopping: {text} (at most {DRAIN_TIMEOUT:g} s in all; Ctrl-C again '
+                         'to stop now)')
 
         def done():
+            if time.monotonic() > give_up:
+                log.warning(f'stopping after {DRAIN_TIMEOUT:g} s of waiting: '
+                            f'{self._out.pending_count()} messages not sent to a reliable '
+                            f'reader, {self._pace.unacknowledged()} not acknowledged by the '
+                            f'recorder (published to t = {self._out.tick_ns * 1e-9:.3f} s)')
+                return True
             if self._out.pending and not self._out.send_pending():
+                say('readers', f'waiting for a reliable reader to have room for '
+                    f'{self._out.pending_count()} messages')
                 return False
             if not self._pace.drained():
-                return False
-            self._out.wait_for_readers('impact', IMPACT_WAIT)
-            if self._pace.recorded_ns is not None:
-                self._node.get_logger().info(
-                    f'stopping: the recorder has every tick published, to t = '
+                say('recorder', f'waiting for the recorder to acknowledge '
+                    f'{self._pace.unacknowledged()} messages, to t = '
                     f'{self._out.tick_ns * 1e-9:.3f} s')
+                return False
+            if not self._out.wait_for_readers('impact', 0.0):
+                say('impact', f'waiting up to {IMPACT_WAIT:g} s for the readers of ~/impact to '
+                    'acknowledge it')
+                if not self._out.wait_for_readers('impact', IMPACT_WAIT):
+                    log.warning('stopping: a reader of ~/impact did not acknowledge every '
+                                f'impact within {IMPACT_WAIT:g} s')
+            if self._pace.recorded_ns is not None and self._pace.recorders() > 0:
+                log.info(f'stopping: the recorder has every tick published, to t = '
+                         f'{self._out.tick_ns * 1e-9:.3f} s')
             return True
         return done
 

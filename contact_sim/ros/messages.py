@@ -18,7 +18,9 @@ import numpy as np
 from builtin_interfaces.msg import Time
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseStamped, TwistStamped, Vector3Stamped, WrenchStamped
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.duration import Duration
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, LivelinessPolicy, QoSProfile, \
+    ReliabilityPolicy
 from rclpy.serialization import deserialize_message, serialize_message
 from rosgraph_msgs.msg import Clock as ClockMsg
 from std_msgs.msg import Float64MultiArray, MultiArrayDimension, MultiArrayLayout
@@ -431,9 +433,14 @@ VIEW_TOPICS = (
 # The recorder's acknowledgement (not recorded): the simulated time up to which it has recorded
 # every per-tick topic. The node, running as fast as possible, stays within a lead of it
 # (``pacing``). Transient-local: a node that matches the recorder late gets its last word.
+# Liveliness AUTOMATIC with a lease of RECORDER_LEASE s: the middleware asserts the recorder's
+# writer every 2/3 of it from its own thread, so a recorder killed (SIGKILL, a crash) is known to
+# be gone within the lease, where the graph keeps it for the participant's lease of 20 s.
+RECORDER_LEASE = 1.5   # s
 PROGRESS = Topic('recorded', '~/recorded', ClockMsg, QoSProfile(
     history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
-    durability=DurabilityPolicy.TRANSIENT_LOCAL), 'progress', stamp_ns=_clock_ns)
+    durability=DurabilityPolicy.TRANSIENT_LOCAL, liveliness=LivelinessPolicy.AUTOMATIC,
+    liveliness_lease_duration=Duration(seconds=RECORDER_LEASE)), 'progress', stamp_ns=_clock_ns)
 _BY_TYPE = {topic.msg_type: topic for topic in TOPICS}
 
 

@@ -89,10 +89,16 @@ class Outbox:
 
     def wait_for_readers(self, key, timeout):
         """Wait at most ``timeout`` s until every reliable reader of ``key`` has acknowledged
-        what it was sent (the middleware's own acknowledgement: used at a stop)."""
+        what it was sent (the middleware's own acknowledgement: used at a stop); whether they
+        all have (True without a reader)."""
         publisher = self._pub.get(key)
         if publisher is not None and publisher.get_subscription_count():
-            publisher.wait_for_all_acked(Duration(seconds=timeout))
+            return publisher.wait_for_all_acked(Duration(seconds=timeout))
+        return True
+
+    def pending_count(self):
+        """Messages waiting for a reliable reader's room (``pending``)."""
+        return len(self.pending)
 
     def send(self, key, data):
         """Publish, or keep ``data`` for the next turn if a reliable reader has had no room for

@@ -32,18 +32,32 @@ The protocol (the recorder's side is ``recorder.Recorder.report``):
    the settling up to ~2,700: only a count of messages bounds the burst.
 4. At the start, a node running as fast as possible publishes nothing for ``START_GRACE`` s of
    wall time unless it has discovered a recorder (then it waits for its ``READY_NS``), so that a
-   recorder started first records from t = 0.
+   recorder started first records from t = 0. The recorder says ``READY_NS`` once its readers
+   have matched the node's writers; the node's writers may match the readers later (DDS
+   discovery goes both ways, each at its own pace), and a writer sends nothing to a reader it
+   has not matched: what the node published meanwhile never reached the bag (ticks 1-32, a
+   lead's worth, missing under load, issue 33). So a recorder found, the node also waits until
+   its own writers have matched every subscription the graph shows on each topic it records
+   (those whose QoS can match; the recorder's among them: ``unmatched``), at most
+   ``MATCH_WAIT`` s (then it says which topics it gave up on and goes on).
 5. At a stop of the node (``drained``), it publishes nothing more and waits until the recorder
    has acknowledged everything it published, so a node stopped first leaves nothing out of the
    bag. At a stop of the recorder, the recorder's acknowledgement stands still until it is gone
    (``recorder.Recorder.cut``).
+6. A recorder killed is gone for the graph only after its participant's lease (about 20 s; the
+   node froze that long): ``~/recorded`` has liveliness AUTOMATIC with a lease of
+   ``messages.RECORDER_LEASE`` s, and the node counts a recorder whose liveliness is lost as gone
+   at once (logged), within the lease.
 """
 import math
 import os
 import time
 from collections import deque
 
-from .messages import PROGRESS
+from rclpy.event_handler import SubscriptionEventCallbacks
+from rclpy.qos import QoSCompatibility, qos_check_compatible
+
+from .messages import PROGRESS, RECORDER_LEASE, TOPICS
 
 LEAD_MESSAGES = 256   # unacknowledged messages on the paced topics (< the 512 of a shm port)
 CALL_MESSAGES = LEAD_MESSAGES // 2   # messages of one engine call while paced (as ticks)
@@ -56,6 +70,7 @@ ASYNC_LEAD_MESSAGES = 512
 START_GRACE = 3.0     # s of wall time a flat-out node waits at its start for a recorder
 READY_NS = 0          # an acknowledgement of nothing: the recorder is ready
 MISSES = 2            # looks in a row without a recorder before it counts as gone
+MATCH_WAIT = 10.0     # s of wall time a node waits for its writers to match a recorder found
 
 
 def lead_messages(environ=os.environ):
@@ -97,10 +112,15 @@ class RecorderPace:
     def __init__(self, node, sent, on_room, lead=None):
         self.lead = lead_messages() if lead is None else lead   # messages ahead at most
         self.call = self.lead // 2    # messages of one engine call while paced
-        self._subscription = node.create_subscription(PROGRESS.msg_type, PROGRESS.name,
-                                                      self._on_ack, PROGRESS.qos)
+        self._subscription = node.create_subscription(
+            PROGRESS.msg_type, PROGRESS.name, self._on_ack, PROGRESS.qos,
+            event_callbacks=SubscriptionEventCallbacks(liveliness=self._on_liveliness))
+        self._node = node
         self._sent, self._on_room = sent, on_room
         self._logger = node.get_logger()
+        self._not_alive = 0       # recorders matched whose liveliness is lost (killed)
+        self._matched = False     # this node's writers have matched the recorder's readers
+        self._match_since = None  # when the wait for them began (s, steady clock)
         self._marks = deque()     # (stamp ns, messages sent up to it), not yet acknowledged
         self._acked = 0           # messages sent that the recorder has acknowledged
         self.recorded_ns = None   # the recorder's last acknowledgement (ns); None: none yet
@@ -111,8 +131,65 @@ class RecorderPace:
         self._unpaced_said = False
 
     def recorders(self):
-        """The number of recorders pacing this node (publishers of ``~/recorded``)."""
-        return self._subscription.get_publisher_count()
+        """The number of recorders pacing this node: publishers of ``~/recorded``, less those
+        whose liveliness is lost."""
+        return max(0, self._subscription.get_publisher_count() - self._not_alive)
+
+    def _on_liveliness(self, info):
+        """A recorder's liveliness changed: one lost (killed) is gone at once (the graph keeps
+        it for its participant's lease, ~20 s)."""
+        self._not_alive = info.not_alive_count
+        if info.not_alive_count_change > 0 and self._present and self.recorders() == 0:
+            self._present, self._missed = False, MISSES
+            self._logger.warning(
+                f'the recorder is gone (no sign of life for {RECORDER_LEASE:g} s, killed?): '
+                'publishing unpaced; what it had not acknowledged may be missing from its bag')
+            self._on_room()
+
+    def unmatched(self):
+        """The topics recorded (``messages.TOPICS``) on which this node's writer has not yet
+        matched every subscription the graph shows whose QoS can match, or on which the graph
+        shows no subscription of the recorder yet (/clock excepted: ``--no-clock``).
+
+        Returns
+        -------
+        list of str
+            Full topic names (empty once every one is matched).
+        """
+        node = self._node
+        recorders = {(i.node_namespace, i.node_name) for i in
+                     node.get_publishers_info_by_topic(self._subscription.topic_name)}
+        recorded = {topic.resolve(node.get_fully_qualified_name()) for topic in TOPICS}
+        waiting = []
+        for publisher in node.publishers:
+            name = publisher.topic_name
+            if name not in recorded:
+                continue
+            readers = node.get_subscriptions_info_by_topic(name)
+            mine = any((i.node_namespace, i.node_name) in recorders for i in readers)
+            can_match = sum(1 for i in readers if qos_check_compatible(
+                publisher.qos_profile, i.qos_profile)[0] != QoSCompatibility.ERROR)
+            if (not mine and name != '/clock') or publisher.get_subscription_count() < can_match:
+                waiting.append(name)
+        return waiting
+
+    def _writers_matched(self):
+        """Whether this node's writers have matched the recorder (``unmatched``), or the wait
+        for them has run out (``MATCH_WAIT``, logged with the topics given up on)."""
+        if self._matched:
+            return True
+        now = time.monotonic()
+        if self._match_since is None:
+            self._match_since = now
+        waiting = self.unmatched()
+        if waiting and now - self._match_since < MATCH_WAIT:
+            return False
+        self._matched = True
+        if waiting:
+            self._logger.warning(f'the recorder has not matched {", ".join(waiting)} after '
+                                 f'{MATCH_WAIT:g} s: publishing; its bag may miss what goes out '
+                                 'there before it does')
+        return True
 
     def watch(self):
         """Look whether a recorder is there (a graph query, ~tens of us: done by a timer, every
@@ -134,6 +211,7 @@ class RecorderPace:
             if self.recorded_ns is not None:   # the recorder went away: a next one starts afresh
                 self.recorded_ns = None
                 self._marks.clear()
+            self._matched, self._match_since = False, None
             if time.monotonic() < self._grace_until:
                 return 0
             if not self._unpaced_said:
@@ -141,7 +219,7 @@ class RecorderPace:
                 self._logger.info(f'no recorder found within {START_GRACE:g} s: publishing '
                                   'unpaced (a recorder started now records from where it joins)')
             return math.inf
-        if self.recorded_ns is None:
+        if self.recorded_ns is None or not self._writers_matched():
             return 0
         return self.lead - (self._sent() - self._acked)
 
@@ -156,12 +234,17 @@ class RecorderPace:
         """True when no recorder waits for anything this node has published."""
         return self.recorders() == 0 or self.recorded_ns is None or self._acked >= self._sent()
 
+    def unacknowledged(self):
+        """Messages published that a recorder has not acknowledged yet (0 without one)."""
+        return 0 if self.drained() else self._sent() - self._acked
+
     def _on_ack(self, msg):
         ns = PROGRESS.stamp_ns(msg)
         self._present = True
         if self.recorded_ns is None:
             self._logger.info(f'paced by a recorder (its first acknowledgement '
                               f'{time.monotonic() - self._started:.2f} s after the start)')
+            self._matched, self._match_since = False, None   # a new recorder: match it first
         if ns == READY_NS or self.recorded_ns is None:
             # ready; or a recorder found again after it was missed (what went out meanwhile has
             # no note to release it: waiting for one would stall the node for good)

@@ -8,7 +8,6 @@ bag is flushed to disk at least every ``FLUSH_PERIOD`` s (``bag.BagWriter.flush`
 SIGKILL at most the last second is lost, and ``contact_sim_record --recover BAG`` writes the
 missing index and metadata (``bag.recover_bag``). A clean stop makes a consistent cut (``cut``).
 """
-import argparse
 import sys
 import time
 from functools import partial
@@ -20,9 +19,13 @@ from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
 from rclpy.utilities import remove_ros_args
 
+from contact_sim.validation import InputError
+
 from .messages import PROGRESS, RECORD_QOS, TOPICS, clock_msg
 from .pacing import READY_NS
 from .params import NODE_NAME
+from .record_options import OPTION_NAMES, check_options, check_output, \
+    record_parser  # noqa: F401  (record_parser: the command line, also reached from here)
 from .startup import spin_until_signal
 
 FLUSH_PERIOD = 0.5  # s of wall time between flushes of the bag to disk
@@ -350,42 +353,6 @@ class Recorder(Node):
         self.get_logger().info(f'wrote {self.bag.path}: {counts}')
 
 
-def record_parser():
-    """The command line of ``contact_sim_record``.
-
-    Returns
-    -------
-    argparse.ArgumentParser
-        Options ``-o/--output``, ``-s/--storage``, ``--node``, ``--no-clock``, ``--duration``
-        (s of wall time) and ``--recover BAG``.
-
-    Examples
-    --------
-    >>> from contact_sim.ros.recorder import record_parser
-    >>> options = record_parser().parse_args(['-o', 'drop_bag', '--duration', '5'])
-    >>> options.output, options.storage, options.duration
-    ('drop_bag', 'mcap', 5.0)
-    """
-    parser = argparse.ArgumentParser(
-        prog='contact_sim_record',
-        description='Record a contact_sim node\'s topics and /clock to a rosbag2 file (MCAP by '
-                    'default) with the rosbags library; stop with Ctrl-C.')
-    parser.add_argument('-o', '--output', default=None,
-                        help='bag directory to create (default: contact_sim_YYYY_MM_DD-HH_MM_SS)')
-    parser.add_argument('-s', '--storage', choices=('mcap', 'sqlite3'), default='mcap',
-                        help='storage format (default: mcap)')
-    parser.add_argument('--node', default=f'/{NODE_NAME}',
-                        help='fully qualified name of the node to record (default: /contact_sim)')
-    parser.add_argument('--no-clock', action='store_true', help='do not record /clock')
-    parser.add_argument('--duration', type=float, default=None,
-                        help='stop after this many wall-clock seconds (default: until Ctrl-C)')
-    parser.add_argument('--recover', metavar='BAG', default=None,
-                        help='do not record: make the bag BAG that a killed recorder left '
-                             'readable (rewrites its index and writes metadata.yaml), like '
-                             '`ros2 bag reindex`')
-    return parser
-
-
 def record_main(args=None):
     """Run the ``contact_sim_record`` executable: record until SIGINT/SIGTERM or ``--duration``.
 
@@ -393,7 +360,7 @@ def record_main(args=None):
     ----------
     args : list of str, optional
         A full argument vector like ``sys.argv`` (program name first; options of
-        ``record_parser``, then any ``--ros-args``); default: ``sys.argv``.
+        ``record_options.record_parser``, then any ``--ros-args``); default: ``sys.argv``.
 
     Returns
     -------
@@ -414,7 +381,13 @@ def record_main(args=None):
     options = record_parser().parse_args(remove_ros_args(argv)[1:])
     if options.recover is not None:
         return recover_main(options.recover)
-    output = options.output or time.strftime('contact_sim_%Y_%m_%d-%H_%M_%S')
+    try:   # every option checked before ROS starts and before a bag is made
+        check_options(options)
+        output = check_output(time.strftime('contact_sim_%Y_%m_%d-%H_%M_%S')
+                              if options.output is None else options.output)
+    except InputError as error:
+        print(f'contact_sim_record: error: {error.render(OPTION_NAMES)}', file=sys.stderr)
+        return 2
     rclpy.init(args=argv, signal_handler_options=SignalHandlerOptions.NO)
     recorder = None
     code = 0
@@ -427,7 +400,7 @@ def record_main(args=None):
                 f'earlier on those topics')
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
-    except ValueError as error:  # e.g. the output directory exists
+    except (OSError, ValueError) as error:  # e.g. the output directory made meanwhile
         print(f'contact_sim_record: error: {error}', file=sys.stderr)
         code = 2
     finally:

@@ -17,8 +17,9 @@ usage: contact_sim_node [-h] [--ros-args [-p NAME:=VALUE ...] [--params-file FIL
 
 Simulate a sphere dropped on a plate (compliant contact, Azad & Featherstone 2014) and publish its
 contact wrench, state, impacts, markers and diagnostics stamped with simulated time, until
-Ctrl-C or SIGTERM. Every parameter is described by `ros2 param describe /contact_sim NAME` and in
-docs/ros.md; config/default.yaml spells out the defaults.
+Ctrl-C or SIGTERM. Every parameter, with its range and rule, is in the parameter table of
+docs/node.md ("Parameters"; built from the code) and in `ros2 param describe /contact_sim NAME`;
+config/default.yaml spells out the defaults.
 
 options:
   -h, --help  show this message and exit (without starting ROS)

@@ -17,7 +17,7 @@ import rclpy
 
 from contact_sim.drop import sphere_motion
 
-from .diagnostics import PERIOD, Progress, diagnostics_msg, mode_of, rates
+from .diagnostics import PERIOD, Progress, Schedule, diagnostics_msg, mode_of, rates
 from .markers import markers_msg
 from .messages import VIEW_TOPICS, to_ns
 from .rclpy_private import RCLError
@@ -46,7 +46,13 @@ class View:
         self.ticks = 0        # ticks published since the start
         self.steps = 0        # integrator steps of the drops before the running one
         self._before = None   # the progress at the last diagnostics (None: before the start)
-        node.create_timer(PERIOD, self.publish_diagnostics, clock=clock)
+        self._schedule = None  # when /diagnostics is due (made at the start, ``begin``)
+        # the timer for a node that does not tick (paused); the loop asks after each engine
+        # call too (``publish_batch``): flat out, rclpy's events executor delivers this timer
+        # late and in bursts (28 in 0.75 s, then none for 12 s; issue 33). Both go by
+        # ``_schedule``. (A timer of PERIOD / 10 here stalled every timer of a flat-out node
+        # after its start, measured: keep it at PERIOD.)
+        node.create_timer(PERIOD, self._diagnostics_if_due, clock=clock)
 
     def _publish(self, key, msg):
         try:
@@ -58,7 +64,9 @@ class View:
     def publish_batch(self, batch, offset, model, settings):
         """The markers of an engine call's ticks (``DropSimulation.advance_ticks``), stamped
         ``offset`` + the drop's time, drawn from ``model`` (``params.Model``: frame_id, the
-        radii, the weight) at the pace of ``settings`` (``params.LoopSettings``)."""
+        radii, the weight) at the pace of ``settings`` (``params.LoopSettings``), and
+        /diagnostics if due."""
+        self._diagnostics_if_due()
         n = batch.ticks
         if not n:
             return
@@ -87,6 +95,7 @@ class View:
         """The loop has started: the diagnostics count from now (called once, by the loop)."""
         if self._before is None:
             self._before = self._progress()
+            self._schedule = Schedule(self._before.wall)
 
     def reset(self, old_sim):
         """A new drop (~/reset): its integrator steps count on from the old one's."""
@@ -97,6 +106,10 @@ class View:
         return Progress(time.monotonic(), loop.offset + loop.sim.time,
                         self.steps + loop.sim.total_steps, self.ticks)
 
+    def _diagnostics_if_due(self):
+        if self._schedule is not None and self._schedule.due(time.monotonic()):
+            self.publish_diagnostics()
+
     def publish_diagnostics(self):
         """/diagnostics over the wall time since the last one."""
         loop = self._loop
@@ -104,9 +117,10 @@ class View:
             return    # the loop has not started
         after = self._progress()
         achieved, steps, ticks = rates(self._before, after)
+        period = after.wall - self._before.wall
         self._before = after
         settings = loop.settings
         target = math.inf if settings.fast else settings.real_time_factor
         self._publish('diagnostics', diagnostics_msg(
             to_ns(after.simulated), self._node.get_fully_qualified_name(), target, achieved,
-            loop.lag(), steps, ticks, mode_of(loop.sim), loop.paced()))
+            loop.lag(), steps, ticks, mode_of(loop.sim), loop.paced(), period))

@@ -128,6 +128,33 @@ def interfaces_table():
     return '\n'.join(rows) + '\n'
 
 
+RANGE_EXAMPLES = (('gravity', -1.0), ('gravity', 1e7), ('stiffness', 1e308))
+
+
+def range_refusals():
+    """rclpy's own refusals of values outside a parameter's declared range, as the node gives
+    them (a node built in this process, each value set on it and refused)."""
+    import rclpy
+    from rclpy.context import Context
+    from rclpy.parameter import Parameter
+
+    from contact_sim.ros.node import ContactSimNode
+    os.environ.setdefault('ROS_LOG_DIR', tempfile.mkdtemp(prefix='contact_sim_docs_'))
+    context = Context()
+    rclpy.init(context=context, args=[], domain_id=200 + os.getpid() % 30)
+    try:
+        node = ContactSimNode(context=context)
+        lines = []
+        for name, value in RANGE_EXAMPLES:
+            (result,) = node.set_parameters([Parameter(name, value=value)])
+            assert not result.successful, (name, value)
+            lines.append(f'- `{name}` = `{value!r}`: `{result.reason}`')
+        node.destroy_node()
+    finally:
+        rclpy.shutdown(context=context)
+    return '\n'.join(lines) + '\n'
+
+
 def _write(path, text):
     path.parent.mkdir(parents=True, exist_ok=True)
     if not path.exists() or path.read_text() != text:
@@ -138,7 +165,7 @@ def generate(app):
     everything = app.builder.name == 'html'
     started = time.perf_counter()
     tables = {'ros_parameters.md': parameters_table, 'ros_topics.md': topics_table,
-              'ros_interfaces.md': interfaces_table}
+              'ros_interfaces.md': interfaces_table, 'ros_range_refusals.md': range_refusals}
     for name, make in tables.items():
         if everything or not (GENERATED / name).exists():
             _write(GENERATED / name, make())

@@ -115,7 +115,7 @@ def test_an_executor_refusing_work_midway_leaves_nothing_submitted_to_run():
 
 
 def test_sweep_on_a_local_dask_cluster():
-    distributed = pytest.importorskip('distributed', reason='optional extra: dask[distributed]')
+    import distributed
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                   dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:

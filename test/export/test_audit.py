@@ -5,7 +5,7 @@ import pytest
 from contact_sim.export import audit, geom_contact
 from contact_sim.validation import InputError
 
-mujoco = pytest.importorskip('mujoco')
+import mujoco  # noqa: E402
 
 MODEL = """<mujoco><option timestep="0.0005" gravity="0 0 0"/><worldbody><geom type="plane" size="1 1 0.1"/>
 <body pos="0 0 0.1"><freejoint/><geom name="ball" type="sphere" size="0.0127" mass="0.0673549"

@@ -69,7 +69,7 @@ def test_linear_engine_stays_half_the_targets_spread_away():
 
 def mujoco_throw(mjcf_geom, timestep, speed, gap):
     """This test's own MuJoCo throw: the snippet's geom as the ball, over a plane."""
-    mujoco = pytest.importorskip('mujoco')
+    import mujoco
     geom = mjcf_geom.replace('<geom ', '<geom pos="0 0 0" ')
     xml = (f'<mujoco><option timestep="{timestep}" gravity="0 0 0"/><worldbody>'
            f'<geom type="plane" size="2 2 0.1"/><body pos="0 0 {RADIUS + gap}"><freejoint/>'
@@ -100,7 +100,7 @@ def test_mujoco_gives_what_the_export_says(timestep):
 
 def pybullet_throw(parameters, mass, speed):
     """This test's own PyBullet throw with the export's changeDynamics arguments."""
-    p = pytest.importorskip('pybullet')
+    import pybullet as p
     client = p.connect(p.DIRECT)
     try:
         p.setGravity(0, 0, 0, physicsClientId=client)

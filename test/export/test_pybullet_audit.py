@@ -6,7 +6,7 @@ import pytest
 from contact_sim.export import audit_link, link_contact
 from contact_sim.validation import InputError
 
-p = pytest.importorskip('pybullet')
+import pybullet as p  # noqa: E402
 
 INERTIAL = ('<inertial><mass value="{mass}"/><inertia ixx="4e-6" iyy="4e-6" izz="4e-6" ixy="0" '
             'ixz="0" iyz="0"/></inertial>')

@@ -2,13 +2,14 @@
 package scope ends with its last test): one environment and one client for the package, and one
 ``contact_sim_node`` process on its built-in defaults that serves every test asking for ``sim``.
 
-Isolation: the caller's ROS_DOMAIN_ID when it is set (a CI runner or a developer who keeps
-parallel runs apart), else one derived from this process's pid; localhost-only discovery and a
-temporary ROS_LOG_DIR. Under pytest-xdist every worker runs a shared node of its own, so only the
-first worker (gw0) takes the caller's domain and each other one a domain derived from it (two
-``/contact_sim`` nodes in one domain would mix their topics and yield /clock to each other).
-Tests that need a domain of their own derive it from the package's. Every wait is on a
-condition with a deadline, never a fixed sleep. Tests that change the node put it back.
+Isolation (``domains``): every ROS process of a test run is in a domain claimed for its pytest
+process alone, never the caller's ROS_DOMAIN_ID nor one in use on this machine, with
+localhost-only discovery and no static peers, and a temporary ROS_LOG_DIR: nothing a user runs
+on any domain sees the tests' traffic, and xdist workers and concurrent runs each have their own
+domain (each runs a shared node of its own: two ``/contact_sim`` nodes in one domain would mix
+their topics and yield /clock to each other). Tests that need a domain of their own claim one
+more. Every wait is on a condition with a deadline, never a fixed sleep. Tests that change the
+node put it back.
 """
 import os
 import tempfile
@@ -16,26 +17,7 @@ from pathlib import Path
 
 import pytest
 
-
-def caller_domain():
-    """The caller's ROS_DOMAIN_ID (a whole number, as ROS reads it), or None when unset."""
-    value = os.environ.get('ROS_DOMAIN_ID', '').strip()
-    return value if value.isdigit() else None
-
-
-def worker_index(config):
-    """The pytest-xdist worker's number (``gw1`` -> 1); 0 outside xdist."""
-    workerinput = getattr(config, 'workerinput', None)
-    return int(workerinput['workerid'].removeprefix('gw')) if workerinput else 0
-
-
-def package_domain(config):
-    """The ROS domain of this process's tests (see the module's docstring), as a string."""
-    caller = caller_domain()
-    if caller is None:
-        return str(1 + os.getpid() % 101)
-    index = worker_index(config)
-    return caller if index == 0 else str((int(caller) + 17 * index - 1) % 101 + 1)
+from .domains import claim_domain, isolated_env
 
 
 @pytest.fixture(scope='package')
@@ -45,18 +27,18 @@ def workdir():
 
 
 @pytest.fixture(scope='package')
-def ros_env(workdir, pytestconfig):
+def ros_env(workdir):
     """Environment for every ROS process of this package, the test process included."""
     saved = dict(os.environ)
-    os.environ.update({
-        'ROS_DOMAIN_ID': package_domain(pytestconfig),
-        'ROS_AUTOMATIC_DISCOVERY_RANGE': 'LOCALHOST',
+    env = isolated_env(claim_domain(), saved)
+    env.update({
         'ROS_LOG_DIR': str(workdir / 'ros_log'),
         'RCUTILS_LOGGING_BUFFERED_STREAM': '0',
         'RCUTILS_COLORIZED_OUTPUT': '0',
         'PYTHONUNBUFFERED': '1',
     })
-    os.environ.pop('ROS_LOCALHOST_ONLY', None)
+    os.environ.clear()
+    os.environ.update(env)
     yield dict(os.environ)
     os.environ.clear()
     os.environ.update(saved)
@@ -64,7 +46,8 @@ def ros_env(workdir, pytestconfig):
 
 @pytest.fixture(scope='package')
 def client(ros_env):
-    rclpy = pytest.importorskip('rclpy')
+    import rclpy
+
     from .harness import Client
     rclpy.init()
     client = Client()

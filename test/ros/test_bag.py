@@ -7,7 +7,6 @@ import sys
 import pytest
 import yaml
 
-pytest.importorskip('rosbags', reason='the optional recording extra (pip install rosbags)')
 from rosbags.highlevel import AnyReader  # noqa: E402
 from rosbags.typesys import Stores, get_typestore  # noqa: E402
 
@@ -88,8 +87,8 @@ def test_metadata_is_what_ros2_bag_info_reads(tmp_path):
 
 def test_type_hashes_match_the_installed_ros_interfaces(tmp_path):
     """The bag's RIHS01 type hashes are the ones ROS 2 Kilted's own interfaces declare."""
-    packages = pytest.importorskip('ament_index_python.packages')
-    serialization = pytest.importorskip('rclpy.serialization')
+    from ament_index_python import packages
+    from rclpy import serialization
     from geometry_msgs.msg import PoseStamped, TwistStamped, Vector3Stamped, WrenchStamped
     from rosgraph_msgs.msg import Clock
     from std_msgs.msg import Float64MultiArray
@@ -112,7 +111,7 @@ def test_type_hashes_match_the_installed_ros_interfaces(tmp_path):
 
 
 def test_cdr_from_rclpy_is_stored_verbatim_and_decodes(tmp_path):
-    serialization = pytest.importorskip('rclpy.serialization')
+    from rclpy import serialization
     from geometry_msgs.msg import WrenchStamped
     msg = WrenchStamped()
     msg.header.stamp.sec, msg.header.stamp.nanosec = 3, 250

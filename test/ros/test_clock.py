@@ -3,14 +3,14 @@
 another publisher of /clock says so and does not publish it, so /clock never goes backwards.
 """
 
-import pytest
 
-rclpy = pytest.importorskip('rclpy')
+import rclpy  # noqa: E402,F401  (pinned: a missing install fails here)
 
 from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
 
 from . import harness  # noqa: E402
+from .domains import claim_domain  # noqa: E402
 from .harness import Process, assert_clean_exit, domain_node, stamp_ns  # noqa: E402
 
 MESSAGE = '/contact_sim publishes /clock already: this node does not'
@@ -20,7 +20,7 @@ TIMEOUT = 60.0
 def test_namespaced_instances_leave_clock_to_one_and_it_never_goes_backwards(ros_env, workdir):
     # in a domain of its own (the module's node, which other tests read /clock from, never sees
     # these instances): /contact_sim and three instances whose names sort after it
-    env = {**ros_env, 'ROS_DOMAIN_ID': str(221 + int(ros_env['ROS_DOMAIN_ID']) % 11)}
+    env = {**ros_env, 'ROS_DOMAIN_ID': str(claim_domain())}
     context, watch, executor = domain_node(int(env['ROS_DOMAIN_ID']), 'contact_sim_clock_watch')
     clock = []
 

@@ -4,13 +4,13 @@ lag, the integrator steps per second and the mode, all present and finite.
 """
 import math
 
-import pytest
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 
-rclpy = pytest.importorskip('rclpy')
+from contact_sim.ros import diagnostics as cs_diag
 
-from contact_sim.ros import diagnostics as cs_diag  # noqa: E402
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus  # noqa: E402
-from .harness import DEEP, NODE, PROGRESS_TIMEOUT, reset  # noqa: E402
+from .domains import claim_domain
+from .harness import DEEP, NODE, PROGRESS_TIMEOUT, Process, assert_clean_exit, domain_node, \
+    reset, spin_until
 
 
 def test_rates_over_wall_time():
@@ -47,3 +47,33 @@ def test_diagnostics_report_the_rate_lag_steps_and_mode(sim, client):
                for v in later)
     assert any(float(next(kv.value for kv in s.values
                           if kv.key == 'integrator_steps_per_second')) > 0.0 for s in statuses)
+
+
+def test_a_flat_out_node_says_its_rate_once_a_wall_second(ros_env, workdir):
+    """Issue 33: flat out, /diagnostics came as a burst of 28 in 0.75 s, then nothing for 12 s,
+    and paced, a second message 10-20 ms after the first read `0 x real time`. Here, a flat-out
+    node of its own (no recorder: unpaced after its grace): once it ticks, every message has a
+    rate above zero, measured over a wall second or more (the period each message states)."""
+    env = {**ros_env, 'ROS_DOMAIN_ID': str(claim_domain())}
+    context, watch, executor = domain_node(int(env['ROS_DOMAIN_ID']), 'contact_sim_diag_watch')
+    received = []
+    watch.create_subscription(DiagnosticArray, '/diagnostics', lambda m: received.append(
+        {kv.key: kv.value for kv in m.status[0].values}), DEEP)
+    node = Process('contact_sim_node', ['--ros-args', '-p', 'real_time_factor:=0.0'], env,
+                   workdir)
+    try:
+        def ticking():
+            return [i for i, v in enumerate(received) if float(v['ticks_per_second']) > 0]
+        spin_until(executor, lambda: len(received) - (ticking() or [len(received)])[0] >= 6,
+                   'six /diagnostics after the node began to tick', PROGRESS_TIMEOUT)
+    finally:
+        assert_clean_exit(node)
+        context.try_shutdown()
+    start = ticking()[0]
+    later = received[start + 1:start + 6]   # (the first of them may span the start's pause)
+    for values in later:
+        assert values['real_time_factor'] == 'inf'
+        assert float(values['real_time_factor_achieved']) > 0.0, values
+        assert float(values['ticks_per_second']) > 0.0, values
+        # measured over a wall second or more, as the node says: never a burst
+        assert float(values['period']) >= cs_diag.PERIOD - cs_diag.EARLY, values

@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-rclpy = pytest.importorskip('rclpy')
+import rclpy  # noqa: E402,F401  (pinned: a missing install fails here)
 
 from contact_sim.ros import markers as cs_markers  # noqa: E402
 from contact_sim.ros import messages as cs_msgs  # noqa: E402

@@ -5,7 +5,6 @@ import math
 import numpy as np
 import pytest
 
-pytest.importorskip('rclpy')
 
 from contact_sim import Samples  # noqa: E402
 from contact_sim.ros import messages as cs_msgs  # noqa: E402

@@ -12,7 +12,7 @@ import subprocess
 import pytest
 import yaml
 
-rclpy = pytest.importorskip('rclpy')
+import rclpy  # noqa: E402,F401  (pinned: a missing install fails here)
 
 import contact_sim as cs  # noqa: E402
 from contact_sim.ros import params as cs_params  # noqa: E402

@@ -6,7 +6,7 @@ import time
 import pytest
 import yaml
 
-rclpy = pytest.importorskip('rclpy')
+import rclpy  # noqa: E402,F401  (pinned: a missing install fails here)
 
 from .harness import (  # noqa: E402
     PROGRESS_TIMEOUT, NODE, stamp_ns, reset, PLATE_COMMAND_YAML, fill_message, rosout_has)

@@ -13,7 +13,7 @@ import time
 
 import pytest
 
-rclpy = pytest.importorskip('rclpy')
+import rclpy  # noqa: E402,F401  (pinned: a missing install fails here)
 
 from .harness import NODE, PROGRESS_TIMEOUT, TIMEOUT, Process, assert_clean_exit  # noqa: E402
 

@@ -6,7 +6,6 @@ from types import SimpleNamespace
 
 import pytest
 
-pytest.importorskip('rclpy')
 
 from contact_sim.ros import loop, pacing  # noqa: E402
 

@@ -7,10 +7,9 @@ load).
 Issue 22: a dump of a node with ``initial_height 0.3`` and ``stiffness 5e4`` did not load one by
 one into a fresh node (the stiffness was checked against the running 1 m drop and refused).
 """
-import pytest
 import yaml
 
-rclpy = pytest.importorskip('rclpy')
+import rclpy  # noqa: E402,F401  (pinned: a missing install fails here)
 
 from rcl_interfaces.msg import Parameter  # noqa: E402
 from rcl_interfaces.srv import ListParameters, SetParameters  # noqa: E402

@@ -6,7 +6,7 @@ import re
 import pytest
 import yaml
 
-rclpy = pytest.importorskip('rclpy')
+import rclpy  # noqa: E402,F401  (pinned: a missing install fails here)
 
 from .harness import NODE, PLATE_COMMAND_YAML, fill_message, readme  # noqa: E402
 

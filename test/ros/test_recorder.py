@@ -11,7 +11,7 @@ import time
 import numpy as np
 import pytest
 
-rclpy = pytest.importorskip('rclpy')
+import rclpy  # noqa: E402,F401  (pinned: a missing install fails here)
 
 import contact_sim as cs  # noqa: E402
 from contact_sim.ros import messages as cs_msgs  # noqa: E402

@@ -11,7 +11,7 @@ import time
 import numpy as np
 import pytest
 
-rclpy = pytest.importorskip('rclpy')
+import rclpy  # noqa: E402,F401  (pinned: a missing install fails here)
 
 from contact_sim.ros import messages as cs_msgs  # noqa: E402
 from contact_sim.ros import params as cs_params  # noqa: E402
@@ -19,6 +19,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy  # noqa: E402
 from rosgraph_msgs.msg import Clock  # noqa: E402
 from std_srvs.srv import Trigger  # noqa: E402
 from . import harness  # noqa: E402
+from .domains import claim_domain  # noqa: E402
 from .harness import (  # noqa: E402
     TIMEOUT, NODE, TOPICS, TYPE_NAMES, executable, clean_shm, Process, assert_clean_exit,
     stamp_ns, domain_node)
@@ -27,7 +28,7 @@ from .harness import (  # noqa: E402
 @pytest.fixture(scope='module')
 def own_domain(ros_env):
     """Environment and a client context in another ROS domain (no module node there)."""
-    env = {**ros_env, 'ROS_DOMAIN_ID': str(120 + int(ros_env['ROS_DOMAIN_ID']) % 101)}
+    env = {**ros_env, 'ROS_DOMAIN_ID': str(claim_domain())}
     context, node, executor = domain_node(int(env['ROS_DOMAIN_ID']), 'contact_sim_test_watch')
     clock = []
     node.create_subscription(Clock, '/clock', lambda m: clock.append(stamp_ns(m.clock)),
@@ -50,7 +51,7 @@ def own_domain(ros_env):
             if future.done():
                 return float(re.search(r'at t = ([0-9.]+) s', future.result().message).group(1))
             reset_client.remove_pending_request(future)
-    yield env, clock, spin_until, reset_drop, acks
+    yield env, clock, spin_until, reset_drop, acks, node
     node.destroy_node()
     context.try_shutdown()
 
@@ -98,7 +99,7 @@ def test_a_recorded_flat_out_run_holds_every_sample_of_every_topic(own_domain, w
     """Flat out, the recorder's keep-all subscriptions and its ~/recorded acknowledgements make
     the node wait for it: from a ~/reset on, the bag holds every sample the node published (the
     same engine replayed here gives the stamps and values), for more than 60 simulated s."""
-    env, clock, spin_until, reset_drop, _ = own_domain
+    env, clock, spin_until, reset_drop, _, _ = own_domain
     bag = workdir / 'flat_out'
     recorder = Process('contact_sim_record', ['-o', str(bag)], env, workdir)
     spin_until(lambda: 'recording' in recorder.output(), 'the recorder to start')
@@ -152,7 +153,7 @@ def test_a_recorded_flat_out_run_holds_every_sample_of_every_topic(own_domain, w
 @pytest.mark.slow
 def test_a_recorder_killed_with_sigkill_loses_at_most_a_second_and_recovers(own_domain,
                                                                             workdir):
-    env, clock, spin_until, _, acks = own_domain
+    env, clock, spin_until, _, acks, _ = own_domain
     bag = workdir / 'killed'
     clock.clear()   # (from an earlier node in this domain)
     acks.clear()
@@ -196,7 +197,7 @@ def test_a_flat_out_node_stopped_first_leaves_nothing_it_published_out_of_the_ba
     ended 3 simulated s before the last tick the node had published). The bag holds every tick
     from the first (t = 0.01 s) to the last the node published, which the node names at its stop
     and which is at least the last /clock this test saw, on every per-tick topic."""
-    env, clock, spin_until, _, _ = own_domain
+    env, clock, spin_until, _, _, _ = own_domain
     bag = workdir / 'node_first'
     clock.clear()
     recorder = Process('contact_sim_record', ['-o', str(bag)], env, workdir)
@@ -233,3 +234,37 @@ def test_a_flat_out_node_stopped_first_leaves_nothing_it_published_out_of_the_ba
                       node.output())
     assert match, node.output()
     assert set(ends.values()) == {cs_msgs.to_ns(float(match.group(1)))}, ends
+
+
+@pytest.mark.slow
+def test_a_killed_recorder_is_noticed_before_the_graph_forgets_it(own_domain, workdir):
+    """Issue 33: after its recorder was killed, a flat-out node froze ~20 s (until the graph
+    dropped the killed participant) and a node stopped then waited 10.7 s without a word. The
+    recorder's liveliness lease (1.5 s) tells the node: it says the recorder is gone and runs on
+    while the graph still shows the killed recorder, and its stop does not wait for it."""
+    env, clock, spin_until, _, acks, watch = own_domain
+    clock.clear()
+    acks.clear()
+    recorder = Process('contact_sim_record', ['-o', str(workdir / 'lost')], env, workdir)
+    spin_until(lambda: 'recording' in recorder.output(), 'the recorder to start')
+    node = Process('contact_sim_node', ['--ros-args', '-p', 'real_time_factor:=0.0'], env,
+                   workdir)
+    progress = cs_msgs.PROGRESS.resolve(NODE)
+    try:
+        spin_until(lambda: 'paced by a recorder' in node.output() and acks and acks[-1] > 1e9,
+                   'the node paced by the recorder')
+        os.killpg(recorder.popen.pid, signal.SIGKILL)
+        recorder.popen.wait(TIMEOUT)
+        clean_shm(recorder.started)
+        spin_until(lambda: 'the recorder is gone' in node.output() and clock,
+                   'the node to notice')
+        killed_at = clock[-1]
+        spin_until(lambda: clock[-1] > killed_at + 5e9, '5 more simulated seconds')
+        assert watch.get_publishers_info_by_topic(progress), \
+            'the graph forgot the recorder first: this test shows nothing'
+    finally:
+        if recorder.popen.poll() is None:
+            recorder.stop()
+        code, output = node.stop()
+    assert code == 0 and 'Traceback' not in output, output
+    assert 'stopping after' not in output and 'waiting for the recorder' not in output, output
