@@ -92,10 +92,15 @@ def add_parser(sub):
     p.add_argument('--column', action='append', metavar='COL',
                    help='read only this column of the CSV files: its header or its number from '
                         '1 (repeatable; default every time column)')
-    p.add_argument('--group-by', metavar='COL',
-                   help='a long table of trials: one sequence per value of this column (its '
-                        'header or number from 1), the times from --column or the first time '
-                        'column; a height in the value (80cm) is that sequence\'s')
+    p.add_argument('--group-by', metavar='COL[,COL...]',
+                   help='a long table of trials: one sequence per combination of the values of '
+                        'these columns (headers or numbers from 1, separated by commas: '
+                        'ball,height_cm,trial), the times from --column or the first time '
+                        'column; a height in a value (80cm, or 80 under height_cm) is that '
+                        'sequence\'s')
+    p.add_argument('--where', action='append', metavar='COL=VALUE',
+                   help='read only the rows whose column COL (header or number from 1) holds '
+                        'VALUE, e.g. --where ball=golf (repeatable: every condition holds)')
     p.add_argument('--height', action='append', type=_float_list, metavar='H',
                    help='release height in m of each sequence, in order (repeatable)')
     p.add_argument('--height-error', type=float, default=0.01, metavar='DH',
@@ -135,7 +140,8 @@ def add_parser(sub):
 def _sequences(args):
     from contact_sim.calibration import (ImpactTimes, bounce_times_from_audio,   # the engine:
                                          height_from_label, read_impact_times)   # after parsing
-    sequences = []
+    sequences, notes = [], []
+    where = _where(args.where)
     for path in args.data:
         if str(path).lower().endswith('.wav'):
             onsets = bounce_times_from_audio(path)
@@ -143,7 +149,10 @@ def _sequences(args):
                 str(path).rsplit('/', 1)[-1]), f'{path} (audio)'))
         else:
             sequences.extend(read_impact_times(path, columns=args.column,
-                                               group_by=args.group_by))
+                                               group_by=args.group_by, where=where,
+                                               notes=notes))
+    for note in notes:
+        print(f'# read: {note}')
     if args.height:
         if len(args.height) != len(sequences):
             raise ValueError(f'height is given {len(args.height)} time(s) for '
@@ -151,6 +160,24 @@ def _sequences(args):
         sequences = [ImpactTimes(s.times, require_positive('height', h), s.name)
                      for s, h in zip(sequences, args.height)]
     return sequences
+
+
+def _where(conditions):
+    """--where COL=VALUE conditions as a mapping column -> value (None without any)."""
+    if not conditions:
+        return None
+    where = {}
+    for text in conditions:
+        column, sep, value = text.partition('=')
+        if not sep or not column.strip() or not value.strip():
+            raise ValueError(f'--where = {text!r} is not COL=VALUE: allowed a column (header '
+                             'or number from 1), =, and the value its rows hold, e.g. '
+                             '--where ball=golf')
+        if column.strip() in where:
+            raise ValueError(f'--where names the column {column.strip()!r} twice: allowed one '
+                             'value per column')
+        where[column.strip()] = value.strip()
+    return where
 
 
 def _stiffness(args, laws):
@@ -206,7 +233,7 @@ def run(args):
         write_params(args.save_params, fit, args)
         print(f'# node parameters written to {args.save_params}')
     if not fit.trustworthy:
-        why = fit.best.message if not fit.best.success else fit.adequacy.reason
+        why = fit_status(fit.best) if not fit.best.success else fit.adequacy.reason
         print(f'contact-sim: warning: the best fit ({fit.best.law.name}) is not to be trusted: '
               f'{why}', file=sys.stderr)
         return UNTRUSTED_FIT
@@ -244,14 +271,16 @@ def print_report(fit, sequences, args, k_source, table):
         if fit.fit_drag:
             print(f'  drag coefficient C_d = {f.drag_coefficient:.4f} '
                   f'{_interval(f.drag_interval, level, ".4f")}')
-        print(f'  fit: converged ({f.message})' if f.success else f'  fit: FAILED: {f.message}')
+        print(f'  fit: {fit_status(f)}')
     if math.isfinite(fit.delta_aic):
         verdict = ('supported' if fit.speed_dependent else 'NOT supported') \
-            if fit.adequacy.adequate else 'undecided (no law describes the recording)'
+            if fit.adequacy.adequate else 'undecided (the best law does not describe the ' \
+            'recording)'
         print(f'speed-dependent restitution: {verdict} (constant-restitution AIC minus the best '
               f'speed-dependent law\'s: {fit.delta_aic:.2f}; needs > 10)')
-    print(f'model adequacy: {"adequate" if fit.adequacy.adequate else "INADEQUATE"}: '
-          f'{fit.adequacy.reason}')
+    word = 'INADEQUATE' if not fit.adequacy.adequate else 'not judged' \
+        if fit.adequacy.judged_on == 'none' else 'adequate'
+    print(f'model adequacy ({fit.adequacy.judged_on}): {word}: {fit.adequacy.reason}')
     best = fit.best
     print(f'timing noise (robust estimate): {best.noise * 1e3:.4f} ms')
     down = fit.downweighted()
@@ -274,10 +303,28 @@ def print_report(fit, sequences, args, k_source, table):
         print_holdout(fit)
 
 
+def fit_status(law_fit):
+    """``converged (solver message)``, ``ILL-DETERMINED: why`` or ``FAILED: why``."""
+    if law_fit.success:
+        return f'converged ({law_fit.message})'
+    return f'{law_fit.status.upper()}: {law_fit.message}'
+
+
 def print_holdout(fit):
-    """The hold-out check: the held-out clicks of each sequence predicted by each law."""
-    print('# hold-out: the last clicks of each sequence predicted by the laws fitted on the '
-          'earlier ones')
+    """The hold-out check: each law fitted on the earlier clicks beside its fit on all of them,
+    and the held-out clicks of each sequence predicted by the former."""
+    level = f'{100 * fit.confidence:g}%'
+    print('# hold-out: each law fitted on the earlier clicks of each sequence (training) '
+          'predicts the last ones; the fit on all the clicks (above) is the one reported, '
+          'plotted and saved')
+    for h in fit.holdout:
+        full = next(f for f in fit.fits if f.law is h.law)
+        train = h.fit
+        drag = (f', C_d {train.drag_coefficient:.4f} (all: {full.drag_coefficient:.4f})'
+                if fit.fit_drag else '')
+        print(f'{h.law.name}: training lambda = {train.damping:.6e} '
+              f'{_interval(train.damping_interval, level)} (all clicks: {full.damping:.6e}){drag}'
+              f', training rms {train.rms * 1e3:.4f} ms, fit: {fit_status(train)}')
     print(f'# {"seq":>3} {"held out":>8} ' + ' '.join(f'{h.law.name + " (ms)":>22}'
                                                        for h in fit.holdout))
     for j, seq in enumerate(fit.holdout[0].held):
@@ -308,7 +355,7 @@ def write_params(path, fit, args):
     lines = ['# contact calibrated by `contact-sim bounces` from ' + ', '.join(args.data),
              f'# {best.law.name}: rms timing residual {best.rms * 1e3:.4f} ms; lambda '
              f'{_interval(best.damping_interval, f"{fit.confidence * 100:g}%")}; fit '
-             f'{"converged" if best.success else "FAILED: " + best.message}',
+             f'{fit_status(best)}',
              'contact_sim:', '  ros__parameters:',
              f'    contact_law: {best.law.name}']
     values = {'stiffness': best.stiffness, 'damping': best.damping, 'sphere_mass': fit.mass,
