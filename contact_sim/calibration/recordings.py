@@ -187,8 +187,7 @@ def parse_impact_times(text, source='data', columns=None, group_by=None, where=N
     if len(lines) > MAX_ROWS:
         raise InputError('data', source, '{n[data]} = {value} has %d lines: allowed at most %d'
                          % (len(lines), MAX_ROWS))
-    longest = max((len(ln) for ln in lines), default=0)
-    if longest > MAX_LINE:
+    if (longest := max((len(ln) for ln in lines), default=0)) > MAX_LINE:
         raise InputError('data', source, '{n[data]} = {value} has a line of %d characters: '
                          'allowed at most %d' % (longest, MAX_LINE))
     delimiter, decimal_comma = _dialect(lines)
@@ -205,14 +204,15 @@ class NoTimes(ValueError):
     """A table (a sheet) that holds no impact times, or not the columns asked for."""
 
 
-def _parse_rows(rows, decimal_comma, source, columns, group_by, where=None, notes=None):
-    """``parse_impact_times`` on rows of cell texts."""
+def _parse_rows(rows, decimal_comma, source, columns, group_by, where, notes, some=False):
+    """``parse_impact_times`` on rows of cell texts (``some``: of ``columns``, those there)."""
     notes = [] if notes is None else notes
     if columns is not None and (isinstance(columns, (str, bytes))
                                 or not hasattr(columns, '__iter__')):
         raise InputError('column', columns, '{n[column]} = {value} is not a list: allowed a '
                          'list of headers or numbers from 1')
-    rows = [[c.strip() for c in row] for row in rows if any(c.strip() for c in row)]
+    rows = [[c.strip() for c in row] for row in rows]     # empty rows end blocks of times
+    rows = rows[next((n for n, row in enumerate(rows) if any(row)), len(rows)):]
     if not rows:
         raise NoTimes(f'{source} has no impact times: allowed one column of times (s) per '
                       'sequence, or a phyphox Acoustic Stopwatch export')
@@ -237,7 +237,7 @@ def _parse_rows(rows, decimal_comma, source, columns, group_by, where=None, note
         return sequences
     if group_by is not None:
         return _grouped(rows, labels, width, decimal_comma, source, columns, group_by, notes)
-    chosen = _selected(columns, labels, width, source) if columns else [
+    chosen = _selected(columns, labels, width, source, some) if columns else [
         i for i in range(width) if not _INTERVAL.search(labels[i])]
     timed = [i for i in chosen if _TIME.search(labels[i])]
     if not columns and timed and len(timed) < len(chosen):   # only the columns headed as times
@@ -289,9 +289,8 @@ def _parse_rows(rows, decimal_comma, source, columns, group_by, where=None, note
 def _same(cell, wanted, decimal_comma):
     """Whether a cell holds the value ``wanted``: numbers as numbers, text without case."""
     a, b = _number(cell, decimal_comma), _number(str(wanted), decimal_comma)
-    if a is not None and b is not None:
-        return a == b
-    return cell.strip().lower() == str(wanted).strip().lower()
+    return a == b if a is not None and b is not None else \
+        cell.strip().lower() == str(wanted).strip().lower()
 
 
 def _filtered(rows, labels, width, decimal_comma, source, where, notes):
@@ -403,11 +402,10 @@ def _counts_events(values):
     return len(values) >= 2 and values[0] in (0.0, 1.0) and bool(np.all(np.diff(values) == 1.0))
 
 
-def _selected(columns, labels, width, source):
+def _selected(columns, labels, width, source, some=False):
     """Column positions (from 0) of ``columns``: each a header (case and spaces aside) or a
-    number from 1."""
-    names = [lab.strip().lower() for lab in labels]
-    chosen = []
+    number from 1 (with ``some``, those of them there are, at least one)."""
+    names, chosen, missing = [lab.strip().lower() for lab in labels], [], []
     for wanted in columns:
         text = str(wanted).strip()
         if text.lower() in names:
@@ -415,9 +413,11 @@ def _selected(columns, labels, width, source):
         elif text.isdigit() and 1 <= int(text) <= width:
             chosen.append(int(text) - 1)
         else:
-            headers = ', '.join(repr(lab) for lab in labels if lab) or 'none'
-            raise NoTimes(f'column = {text!r} is not in {source}: allowed a header '
-                             f'({headers}) or a number 1 to {width}')
+            missing.append(text)
+    if missing and not (some and chosen):
+        headers = ', '.join(repr(lab) for lab in labels if lab) or 'none'
+        raise NoTimes(f'column = {missing[0]!r} is not in {source}: allowed a header '
+                      f'({headers}) or a number 1 to {width}')
     return chosen
 
 
@@ -473,7 +473,7 @@ def read_impact_times(path, columns=None, group_by=None, where=None, notes=None)
         for sheet, rows in read:
             source = f'{name} [{sheet}]' if len(read) > 1 else name
             try:
-                found = _parse_rows(rows, False, source, columns, group_by, where, notes)
+                found = _parse_rows(rows, False, source, columns, group_by, where, notes, True)
             except NoTimes as error:
                 empty.append(str(error))
                 continue
