@@ -349,14 +349,23 @@ def _yaml_number(value):
 
 
 def write_params(path, fit, args):
-    """A ROS 2 parameter file for contact_sim_node (names from its PARAMETERS)."""
+    """A ROS 2 parameter file for contact_sim_node (names from its PARAMETERS): the best law's
+    fit on all the clicks, and the ball calibrated (mass, radius, materials), so that the node
+    logs that ball: a library material by name, else ``custom`` with the moduli given, or
+    with the ball's mean density only (k and lambda are set: the moduli are not used)."""
     best = fit.best
     heights = [s.height for s in fit.sequences if s.height is not None]
+    clicks = sum(s.times.size for s in fit.sequences)
+    ball = f'm = {fit.mass:g} kg' + (f', R1 = {args.radius:g} m' if args.radius else '')
     lines = ['# contact calibrated by `contact-sim bounces` from ' + ', '.join(args.data),
+             f'# the fit on all {clicks} clicks of {len(fit.sequences)} sequence(s)'
+             + (' (not the hold-out\'s training fit)' if fit.holdout else ''),
              f'# {best.law.name}: rms timing residual {best.rms * 1e3:.4f} ms; lambda '
              f'{_interval(best.damping_interval, f"{fit.confidence * 100:g}%")}; fit '
              f'{fit_status(best)}',
-             'contact_sim:', '  ros__parameters:',
+             f'# model adequacy ({fit.adequacy.judged_on}): '
+             f'{"adequate" if fit.adequacy.adequate else "INADEQUATE"}',
+             f'# ball: {ball}', 'contact_sim:', '  ros__parameters:',
              f'    contact_law: {best.law.name}']
     values = {'stiffness': best.stiffness, 'damping': best.damping, 'sphere_mass': fit.mass,
               'gravity': fit.gravity}
@@ -368,33 +377,59 @@ def write_params(path, fit, args):
         values['air_density'] = fit.drag.air_density
     values['drag_coefficient'] = best.drag_coefficient if fit.drag is not None else 0.0
     lines += [f'    {name}: {_yaml_number(value)}' for name, value in values.items()]
-    for body in ('sphere', 'plate'):      # library materials only (k and lambda are given)
+    for body in ('sphere', 'plate'):
         chosen = material(args, body)
         if chosen is not None and chosen.name == getattr(args, body):
             lines.append(f'    {body}_material: {chosen.name}')
+            continue
+        lines.append(f'    {body}_material: custom')
+        if chosen is not None:          # the moduli given (--sphere-modulus ...)
+            lines += [f'    {body}_{key}: {_yaml_number(getattr(chosen, key))}'
+                      for key in ('youngs_modulus', 'poisson_ratio', 'density')]
+        elif body == 'sphere' and args.radius is not None:   # the ball's mean density
+            density = fit.mass / (4.0 / 3.0 * math.pi * args.radius ** 3)
+            lines.append(f'    sphere_density: {_yaml_number(density)}')
     try:
         with open(path, 'w', encoding='utf-8') as f:
             f.write('\n'.join(lines) + '\n')
     except OSError as error:
-        raise ValueError(f'save_params = {path!r} cannot be written: {error.strerror}') from None
+        raise ValueError(f'--save-params = {path!r} cannot be written: {error.strerror}') \
+            from None
 
 
 def _plot(args, fit, table):
-    """The figure of ``plotting.bounce_figure``: the corrected e(v) with every law's curve,
-    and the best law's timing residuals per run."""
+    """The figure of ``plotting.bounce_figure``: the corrected e(v) with every law's curve (its
+    status in the legend), the best law's timing residuals per run and, with --holdout, its
+    prediction of the held-out clicks."""
     from contact_sim.calibration import restitution_curve
     columns = [np.array(c) for c in zip(*table)] if table else [np.zeros(0)] * 4
     curves = {}
     if table:
         v = columns[1]
         dense = np.geomspace(v.min() * 0.8, v.max() * 1.2, 200)
-        curves = {f'{f.law.name}: rms {f.rms * 1e3:.3g} ms':
-                  (dense, restitution_curve(f, fit.mass, dense)) for f in fit.fits}
-    runs = [(s.name or f'sequence {j + 1}', s.times - s.times[0])
-            for j, s in enumerate(fit.sequences)]
-    title = f'Bounce calibration: {", ".join(str(d) for d in args.data)}'
+        for f in fit.fits:
+            marks = [] if f.success else [f.status.upper()]
+            if f is fit.best and not fit.adequacy.adequate:
+                marks.append('INADEQUATE')
+            label = f'{f.law.name}: rms {f.rms * 1e3:.3g} ms' + \
+                (f' [{", ".join(marks)}]' if marks else '')
+            curves[label] = (dense, restitution_curve(f, fit.mass, dense))
+    runs = [((s.name or f'sequence {j + 1}').replace('\\', '/').rsplit('/', 1)[-1],
+             s.times - s.times[0]) for j, s in enumerate(fit.sequences)]
+    held, held_label = None, ''
+    if fit.holdout:
+        h = next(h for h in fit.holdout if h.law is fit.best.law)
+        held = [(s.times - fit.sequences[j].times[0], r)
+                for j, (s, r) in enumerate(zip(h.held, h.residuals))]
+        held_label = (f'held out, predicted by the training fit: rms {h.overall * 1e3:.3g} ms '
+                      f'({fit.adequacy.judged_on}: '
+                      f'{"adequate" if fit.adequacy.adequate else "INADEQUATE"})')
+    names = [str(d).replace('\\', '/').rsplit('/', 1)[-1] for d in args.data]
+    title = (f'Bounce calibration of {names[0]}' + (f' and {len(names) - 1} more file(s)'
+                                                     if len(names) > 1 else '')
+             + f': best {fit.best.law.name}, {fit_status(fit.best).split(" (")[0]}')
     fig = plotting.bounce_figure(args.plot, columns, curves, runs, fit.best.residuals,
-                                 fit.best.law.name, title)
+                                 fit.best.law.name, title, scatter=fit.adequacy.scatter,
+                                 held=held, held_label=held_label)
     print(f'# plot written to {args.plot}')
     return fig
-
