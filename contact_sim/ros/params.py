@@ -226,9 +226,10 @@ def _named(material, mass=None, radius=None):
     """A material as the log names it: a library name, or a custom one with its constants."""
     if material.name in cs.MATERIALS:
         return material.name
-    density = material.density if mass is None else mass / (4.0 / 3.0 * math.pi * radius ** 3)
+    density = f'density {material.density:.4g}' if mass is None else \
+        f'mean density {mass / (4.0 / 3.0 * math.pi * radius ** 3):.4g}'
     return (f'custom (E = {material.youngs_modulus:.3g} Pa, nu = {material.poisson_ratio:g}, '
-            f'mean density {density:.4g} kg/m^3)')
+            f'{density} kg/m^3)')
 
 
 # The core's field keys (cs.InputError.field) as this node's parameters spell them; keys that are
