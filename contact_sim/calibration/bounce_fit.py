@@ -8,8 +8,11 @@ compare when counts differ, e.g. with and without a fitted C_d).  The constant-r
 the linear law (its e does not depend on speed); its stiffness, when not given, is chosen so that
 its undamped contact lasts as long as the Hertz contact at the median impact speed.  The data are
 said to support a speed-dependent restitution when the best speed-dependent law beats the constant
-law by ΔAIC > 10; that verdict means something only if some law describes the recording at all
-(``BounceFit.adequacy``, ``BounceFit.trustworthy``).  The robust loss's down-weighted points (weight < 0.5) are reported as outliers.
+law by ΔAIC > 10; that verdict means something only if the best law describes the recording
+(``BounceFit.adequacy``, judged on the held-out flights with ``holdout``;
+``BounceFit.trustworthy``).  With ``holdout`` the laws are fitted twice: on all the clicks (the
+fits returned) and on the earlier clicks (``Holdout.fit``, which predicts the held-out ones).
+The robust loss's down-weighted points (weight < 0.5) are reported as outliers.
 Units: SI.
 """
 import math

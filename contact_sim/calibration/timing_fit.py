@@ -276,7 +276,8 @@ def fit_law(law, stiffness, mass, gravity, drag, fit_drag, sequences, resolution
     Raises
     ------
     InputError
-        If ``stiffness`` is not positive.
+        If ``stiffness`` is not positive, or the start value of the fit is not finite (a
+        stiffness and mass no damping fits).
     ValueError
         If there are no more observations (clicks and heights) than fitted parameters.
     """

@@ -28,7 +28,8 @@ UNTRUSTED_FIT = 3     # the exit status of a report whose best fit is not to be 
 NOTES = """
 
 data: CSV files of impact times (s), one column per sequence (several runs side by side are
-fine; --column picks some; --group-by splits a long table by its trial column), or phyphox
+fine; --column picks some; --group-by splits a long table by its trial columns, --where keeps
+the rows of one ball), or phyphox
 "Acoustic Stopwatch" exports read as they are (.xlsx/.xls workbooks, the CSV
 of the All sheet, any separator and decimal comma, or the zip of the CSV export), or WAV
 recordings of the bounces (the clicks are found by contact_sim.calibration.audio).  Columns
@@ -50,19 +51,22 @@ beyond the bounce model; they are left out from the first impact whose undamped 
 first flight shorter than --min-flight.  A k guessed too soft cuts too early: raise the ratio
 (inf turns it off) or give --min-flight instead; the glitches list says where and why.
 
---holdout F: the glitches are named on the whole of each sequence, then its last share F of
-clicks is held out; the laws are fitted on the rest and predict the held-out clicks (their rms
+--holdout F: the glitches are named on the whole of each sequence; the laws are fitted on all
+the clicks (the fit reported, plotted and saved) and again on all but the last share F of each
+sequence (the training fit, printed beside it), which predicts the held-out clicks (their rms
 per sequence and overall is printed): what a fit is worth beyond the clicks it saw.
 
-fits that fail say so: each law's line ends with `fit: converged` or `fit: FAILED` and why
-(the solver did not converge, C_d at a bound of [0.001, 10], an interval the data do not
-determine: then none is printed).  Fewer observations (clicks and heights) than fitted
-parameters are refused.  `model adequacy` compares the best fit's timing error with the clock
-(--timing-resolution) and with the recording's own scatter about a smooth sequence: when it is
-far above both, no law here describes the recording, and the reason is given (e.g. a
-restitution that rises with speed); the speed-dependence verdict is then undecided.
-exit status 3: the report is printed, but the best fit failed or no law describes the
-recording (a warning on stderr says why).
+fits say how they ended: each law's line ends with `fit: converged`, `ILL-DETERMINED` (an
+interval wider than a factor 100, or no more clicks than parameters), `AT-BOUND` (C_d at a
+bound of [0.001, 10]) or `FAILED` (no convergence in 5000 evaluations), and why.  Fewer
+observations (clicks and heights) than fitted parameters are refused.  `model adequacy`
+compares the best law's e residuals with the recording's own scatter of e about a smooth
+curve (F test; with --holdout, on the held-out flights): when the law leaves more than that
+scatter (p < 0.001) it does not describe the recording, and the reason names a trend it
+cannot follow (e.g. a restitution that rises with speed); the speed-dependence verdict is then
+undecided.  Workbooks: every sheet; what is found and not read is listed (`# read:`).
+exit status 3: the report is printed, but the best fit is not `converged` or does not
+describe the recording (a warning on stderr says why).
 
 example (python examples/bounce_recording.py writes golf_80cm_50cm.csv):
   contact-sim bounces golf_80cm_50cm.csv --sphere steel --plate steel --radius 0.0214 \\
