@@ -274,7 +274,7 @@ def print_report(fit, sequences, args, k_source, table):
               f'k = {f.stiffness:.6e}, rms = {f.rms * 1e3:.4f} ms, AIC = {f.aic:.2f}')
         if fit.fit_drag:
             print(f'  drag coefficient C_d = {f.drag_coefficient:.4f} '
-                  f'{_interval(f.drag_interval, level, ".4f")}')
+                  f'{_interval(f.drag_interval, level, ".4g")}')
         print(f'  fit: {fit_status(f)}')
     if math.isfinite(fit.delta_aic):
         verdict = ('supported' if fit.speed_dependent else 'NOT supported') \
