@@ -5,17 +5,15 @@ release height (m).  Accepted as they come from the phone or the lab:
 
 * a phyphox CSV export read as is: the ``All`` sheet (``"Event time (s)"``, ``"Interval (s)"``:
   the interval of a row is the time to the next event, so a last event kept only as an interval
-  is restored; an empty last interval is fine), the ``Multiple`` sheet (one run
-  of six events per row: ``Start (s)``, ``Stop 1 (s)`` ... ``Stop 5 (s)``), or the zip of the CSV
-  export (its ``All`` file is read);
+  is restored), the ``Multiple`` sheet (one run of six events per row: ``Start (s)``, ``Stop 1
+  (s)`` ... ``Stop 5 (s)``), or the zip of the CSV export (its ``All`` file is read);
 * comma, semicolon or tab separators, decimal point or decimal comma, quoted headers;
-* several runs pasted side by side: every time column is one sequence (empty cells end a column),
-  or only the columns chosen (by header or number); a column that numbers the events (a header
-  ``index``, ``nr``, ``n``, ... or the values 0, 1, 2, ...) is not a sequence of times;
+* several runs side by side: every time column is one sequence (empty cells end a block of it),
+  or only the columns chosen (header or number); a column that numbers the events (``index``,
+  ``nr``, ``n``, ... or the values 0, 1, 2, ...) is not one;
 * a release height in a column header or a file name (``h=0.8``, ``height = 80 cm``, ``0.8m``,
-  ``1,5 m``; a number glued to a word is not one: ``Lancio1,10cm`` is 0.10 m), one in the file
-  name for every run of the file or one per run in order, or given separately (``--height`` on
-  the command line);
+  ``1,5 m``; ``Lancio1,10cm`` is 0.10 m), one in the file name for every run of the file or one
+  per run in order, or given separately (``--height`` on the command line);
 * workbooks (``.xlsx``, ``.xls``): every sheet that holds runs (``workbooks``), each read like
   a CSV; a phyphox export's ``All`` sheet (its ``Simple`` and ``Multiple`` repeat it);
 * a long table of trials (``group_by``): one sequence per combination of trial columns'
@@ -49,6 +47,8 @@ class ImpactTimes:
     name: str = ''
 
     def __post_init__(self):
+        if self.name is not None and not isinstance(self.name, str):
+            raise InputError('name', self.name, '{n[name]} = {value} is not text: allowed a str')
         where = (self.name or 'sequence').replace('{', '{{').replace('}', '}}')
         try:
             t = require_real_array('times', self.times, MAX_CLICKS)

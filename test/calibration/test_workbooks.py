@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from contact_sim import InputError
-from contact_sim.calibration import height_from_label, parse_impact_times, read_impact_times
+from contact_sim.calibration import (ImpactTimes, height_from_label, parse_impact_times,
+                                     read_impact_times)
 from contact_sim.calibration.workbooks import sheets_to_read
 
 
@@ -126,6 +127,8 @@ def test_reader_refusals_are_input_errors_naming_the_field(tmp_path):
         read_impact_times(big)
     with pytest.raises(InputError, match="data = 'data' has a line of 200002 characters"):
         parse_impact_times('t\n"' + 'x' * 200_001 + '\n0\n')
+    with pytest.raises(InputError, match='name = 5 is not text'):
+        ImpactTimes(np.array([0.0, 1.0, 1.8]), None, 5)
     for label in (5, None, b'80cm'):
         with pytest.raises(InputError, match='label = .* is not text'):
             height_from_label(label)
