@@ -431,7 +431,9 @@ def _plot(args, fit, table):
     names = [str(d).replace('\\', '/').rsplit('/', 1)[-1] for d in args.data]
     title = (f'Bounce calibration of {names[0]}' + (f' and {len(names) - 1} more file(s)'
                                                      if len(names) > 1 else '')
-             + f': best {fit.best.law.name}, {fit_status(fit.best).split(" (")[0]}')
+             + f': best {fit.best.law.name}, '
+             + ('converged' if fit.best.success else fit.best.status.upper())
+             + ('' if fit.adequacy.adequate else ', INADEQUATE'))
     fig = plotting.bounce_figure(args.plot, columns, curves, runs, fit.best.residuals,
                                  fit.best.law.name, title, scatter=fit.adequacy.scatter,
                                  held=held, held_label=held_label)

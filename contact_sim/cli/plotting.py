@@ -231,7 +231,7 @@ def _restitution_panel(ax, table, curves, colour, bar_note=''):
         ax.text(0.01, 0.02, f'{int(clipped.sum())} error bar(s) clipped at ±{ERROR_BAR_CLIP:g}'
                 f' (largest ±{float(se.max()):.2g})', transform=ax.transAxes, fontsize=8,
                 color='0.3')
-    kept = e[normal] if np.any(normal) else e
+    kept = e[~above] if np.any(~above) else e      # the outliers drawn inside the frame
     lo = min(float(kept.min()), min(float(np.min(c[1])) for c in curves.values()))
     hi = max(float(kept.max()), max(float(np.max(c[1])) for c in curves.values()))
     if np.any(above):
