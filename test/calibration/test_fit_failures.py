@@ -153,3 +153,13 @@ def test_recordings_no_bounce_can_make_are_refused_by_name():
     with pytest.raises(ValueError, match=r'= 1e-09 s is out of range: allowed intervals of at '
                                          r'least the timing resolution 2.08333e-05 s'):
         fit_bounces([np.arange(12) * 1e-9], 0.05, 1e8)
+
+
+def test_a_start_value_that_is_not_finite_is_an_input_error(monkeypatch):
+    # found (issue 34): scipy's "Initial guess is outside of provided bounds" reached the
+    # caller when the start value of lambda was not finite
+    from contact_sim.calibration import timing_fit
+    monkeypatch.setattr(timing_fit, '_damping_guess', lambda *args: math.nan)
+    with pytest.raises(cs.InputError, match='no start value for the fit of hunt_crossley: with '
+                                            'stiffness = 100000000.0'):
+        fit_bounces([scattered_constant_e(0)], 0.05, 1e8, laws=['hunt_crossley'])
