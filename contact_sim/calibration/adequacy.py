@@ -153,6 +153,18 @@ def _trend(v, y):
     return float(slope), (float(slope) / se if se > 0.0 else math.copysign(math.inf, slope))
 
 
+def _prediction_spread(law_fit, mass, speeds):
+    """The standard error of a fitted law's e(v) from its λ's interval (taken as 95 %, ±1.96
+    standard errors in ln λ): what the training fit's own uncertainty adds to a prediction."""
+    from dataclasses import replace
+    low, high = law_fit.damping_interval
+    base = np.asarray(restitution_curve(law_fit, mass, speeds), dtype=float)
+    if not (math.isfinite(low) and math.isfinite(high) and high > low > 0.0):
+        return np.zeros_like(base)
+    shifted = replace(law_fit, damping=law_fit.damping * math.exp(math.log(high / low) / 3.92))
+    return np.abs(np.asarray(restitution_curve(shifted, mass, speeds), dtype=float) - base)
+
+
 def check_adequacy(fit):
     """Whether the best law describes the recording (module doc).
 
@@ -196,7 +208,8 @@ def check_adequacy(fit):
             return Adequacy(True, reason='not judged: no held-out restitution (the held-out '
                             'clicks hold no two consecutive single flights)',
                             scatter=scatter, judged_on='none', **base)
-        stat = float(np.sum(d[on] ** 2)) / scatter ** 2
+        spread = _prediction_spread(judged, fit.mass, v[on])
+        stat = float(np.sum(d[on] ** 2 / (scatter ** 2 + spread ** 2)))
         p = float(chi2.sf(stat, n))
         where = f'on {n} held-out restitution(s), the law fitted on the earlier clicks'
     else:
