@@ -8,8 +8,11 @@ compare when counts differ, e.g. with and without a fitted C_d).  The constant-r
 the linear law (its e does not depend on speed); its stiffness, when not given, is chosen so that
 its undamped contact lasts as long as the Hertz contact at the median impact speed.  The data are
 said to support a speed-dependent restitution when the best speed-dependent law beats the constant
-law by ΔAIC > 10; that verdict means something only if some law describes the recording at all
-(``BounceFit.adequacy``, ``BounceFit.trustworthy``).  The robust loss's down-weighted points (weight < 0.5) are reported as outliers.
+law by ΔAIC > 10; that verdict means something only if the best law describes the recording
+(``BounceFit.adequacy``, judged on the held-out flights with ``holdout``;
+``BounceFit.trustworthy``).  With ``holdout`` the laws are fitted twice: on all the clicks (the
+fits returned) and on the earlier clicks (``Holdout.fit``, which predicts the held-out ones).
+The robust loss's down-weighted points (weight < 0.5) are reported as outliers.
 Units: SI.
 """
 import math
@@ -189,13 +192,10 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         p, g = prepare_sequence(j, s, gravity, kappa0, cut)
         prepared.append(p)
         glitches.extend(g)
-    held = None
-    if holdout is not None:
-        prepared, held = split_sequences(prepared, holdout)
     speeds = np.concatenate([gravity * np.diff(p.times) / np.diff(p.index) / 2.0
                              for p in prepared])
     v_med = float(np.median(speeds))
-    fits = []
+    laws_k = []
     for law in chosen:
         k = ks.get(law)
         if k is None and law.constant_restitution:
@@ -208,8 +208,14 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         if k is None:
             raise InputError('stiffness', None, '{n[stiffness]} is missing for law %s: allowed '
                              'a k for every law fitted' % law.name)
-        fits.append(fit_law(law, k, mass, gravity, drag, fit_drag, prepared, resolution,
-                            height_error, loss, confidence))
+        laws_k.append((law, k))
+    trained, held = {}, None
+    if holdout is not None:      # the laws fitted on the earlier clicks, to predict the rest
+        training, held = split_sequences(prepared, holdout)
+        trained = {law: fit_law(law, k, mass, gravity, drag, fit_drag, training, resolution,
+                                height_error, loss, confidence) for law, k in laws_k}
+    fits = [fit_law(law, k, mass, gravity, drag, fit_drag, prepared, resolution, height_error,
+                    loss, confidence) for law, k in laws_k]
     fits.sort(key=lambda f: f.rms)
     # outliers the robust loss down-weighted (after the named glitches)
     best = fits[0]
@@ -226,8 +232,7 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
         delta = constant[0].aic - min(f.aic for f in varying)
     fit = BounceFit(fits, prepared, glitches, mass, gravity, drag, fit_drag, confidence,
                     resolution, bool(delta > SUPPORT_DELTA_AIC), delta)
-    fit = replace(fit, adequacy=check_adequacy(fit))
     if held is not None:
-        fit = replace(fit, holdout=[predict_held(fit, f, held) for f in fit.fits])
-    return fit
+        fit = replace(fit, holdout=[predict_held(fit, trained[f.law], held) for f in fit.fits])
+    return replace(fit, adequacy=check_adequacy(fit))
 

@@ -1,7 +1,8 @@
 """The hold-out check of a bounce fit: fit the first part of each sequence, predict the rest.
 
 Each sequence's clicks are numbered first (the glitches named on the whole sequence), then its
-last ``fraction`` of clicks is held out: the laws are fitted on the earlier clicks only, and each
+last ``fraction`` of clicks is held out: the laws are fitted on the earlier clicks too (beside
+their fit on all the clicks, which stays the reported one), and each
 fitted law (its λ, C_d, and the sequence's own start time and first speed) predicts the held-out
 click times through the same bounce model (``bounces.impact_sequence``).  The prediction's rms,
 per sequence and over every held-out click, is what the fit is worth beyond the data it saw:
@@ -30,6 +31,7 @@ class Holdout:
     residuals: list       # per sequence, predicted - measured (s)
     rms: np.ndarray       # per sequence (s)
     overall: float        # over every held-out click (s)
+    fit: object = None    # the law's fit on the earlier clicks (``LawFit``) that predicts them
 
 
 def split_sequences(prepared, fraction):
@@ -75,9 +77,9 @@ def predict_held(fit, law_fit, held):
     Parameters
     ----------
     fit : BounceFit
-        The fit on the earlier clicks (its mass, gravity and drag).
+        A fit of these sequences (its mass, gravity and drag).
     law_fit : LawFit
-        One of ``fit.fits``.
+        The law fitted on the earlier clicks (its λ, C_d, start times and first speeds).
     held : list of PreparedSequence
         The held-out clicks, sequence by sequence (``split_sequences``).
 
@@ -94,4 +96,5 @@ def predict_held(fit, law_fit, held):
                  for j, s in enumerate(held)]
     rms = np.array([math.sqrt(float(np.mean(r * r))) for r in residuals])
     every = np.concatenate(residuals)
-    return Holdout(law_fit.law, held, residuals, rms, math.sqrt(float(np.mean(every * every))))
+    return Holdout(law_fit.law, held, residuals, rms, math.sqrt(float(np.mean(every * every))),
+                   law_fit)

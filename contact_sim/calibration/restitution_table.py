@@ -63,6 +63,26 @@ def corrected_restitution_table(fit, law_fit=None):
     v = 1.4007 m/s, e = 0.7235
     v = 1.0134 m/s, e = 0.7374
     """
+    return [(j, v, e, se) for j, _, v, e, se in restitution_rows(fit, law_fit)]
+
+
+def restitution_rows(fit, law_fit=None):
+    """``corrected_restitution_table``'s rows with the bounce number of each flight's end.
+
+    Parameters
+    ----------
+    fit : BounceFit
+        A ``fit_bounces`` result.
+    law_fit : LawFit, optional
+        The law whose contact times, drag and first speeds are used (default: ``fit.best``);
+        a fit of the same sequences (e.g. a hold-out's training fit).
+
+    Returns
+    -------
+    list of tuple
+        (sequence index, bounce number of the click that ends the flight, impact speed v m/s,
+        e, σ_e) per pair of consecutive single flights.
+    """
     lf = law_fit or fit.best
     law, k, lam, m, g = lf.law, lf.stiffness, lf.damping, fit.mass, fit.gravity
     kappa, beta = fit.rates(lf)
@@ -84,7 +104,7 @@ def corrected_restitution_table(fit, law_fit=None):
                                            kappa, beta)
             su = sigma / dt_du
             e = u / v
-            rows.append((j, v, e, e * math.hypot(su / u, sv / v)))
+            rows.append((j, int(seq.index[i + 1]), v, e, e * math.hypot(su / u, sv / v)))
             v_known = float(flight_to_plate(u, g, kappa, beta)[1])
             sv = su * v_known / u
     return rows

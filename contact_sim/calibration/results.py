@@ -31,6 +31,11 @@ class LawFit:
     noise: float                  # estimated timing noise (s)
     success: bool                 # the solver converged and every interval is determined
     message: str                  # what went wrong, or the solver's convergence message
+    status: str = 'converged'     # 'converged'; 'ill-determined' (converged, but an interval
+    #                               spans orders of magnitude or the clicks do not outnumber
+    #                               the parameters); 'at-bound' (C_d at a bound of its range:
+    #                               the law needs an implausible drag); 'FAILED' (the solver
+    #                               did not converge, or lambda collapsed to 0)
 
     def contact(self):
         return Contact(self.law, self.stiffness, self.damping)

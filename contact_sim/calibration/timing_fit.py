@@ -23,10 +23,12 @@ from contact_sim.calibration.contact_tables import tabulated_restitution
 from contact_sim.calibration.results import LawFit
 from contact_sim.flight import AirDrag
 from contact_sim.impact import damping_for_restitution, damping_from_group, robust_weights
-from contact_sim.validation import require_positive
+from contact_sim.validation import InputError, require_positive
 
 CD_BOUNDS = (1e-3, 10.0)     # a fitted drag coefficient stays inside (AirDrag's range)
 HALF_WIDTH_MAX = 20.0        # a log-interval half width beyond this: the parameter is undetermined
+SPAN_MAX = 100.0             # an interval wider than this factor (high / low): ill-determined
+MAX_EVALUATIONS = 5000       # residual evaluations a solve may take (converging fits seen: <= 787)
 
 
 def drag_coefficient_of(log_cd):
@@ -69,8 +71,10 @@ def log_interval(name, value, half):
     Returns
     -------
     (tuple, str)
-        ``(low, high)`` and ``''``; or ``(nan, nan)`` and the reason when the interval is
-        degenerate (zero width, a value at zero) or unbounded (the data do not determine it).
+        ``(low, high)`` and ``''``; ``(low, high)`` and the reason when the interval spans
+        more than a factor ``SPAN_MAX`` (ill-determined); or ``(nan, nan)`` and the reason
+        when the interval is degenerate (zero width, a value at zero) or unbounded (the data
+        do not determine it).
     """
     if not (math.isfinite(value) and value > 0.0):
         return (math.nan, math.nan), f'{name} collapsed to {value:g}: the data do not determine it'
@@ -81,7 +85,12 @@ def log_interval(name, value, half):
     if not half < HALF_WIDTH_MAX:
         return (math.nan, math.nan), (f'{name} is undetermined: its interval spans more than a '
                                       f'factor exp({HALF_WIDTH_MAX:g})')
-    return (value * math.exp(-half), value * math.exp(half)), ''
+    low, high = value * math.exp(-half), value * math.exp(half)
+    if 2.0 * half > math.log(SPAN_MAX):
+        return (low, high), (f'{name} is ill-determined: its interval [{low:.3g}, {high:.3g}] '
+                             f'spans a factor {math.exp(2.0 * half):.3g} (more than '
+                             f'{SPAN_MAX:g})')
+    return (low, high), ''
 
 
 class _Problem:
@@ -234,7 +243,7 @@ def _solve(problem, x0, loss, scale):
     return least_squares(problem.residuals, x0, jac=problem.jacobian, loss=loss, bounds=bounds,
                          tr_solver=solver,
                          f_scale=scale, x_scale='jac', method='trf', xtol=1e-8, ftol=1e-8,
-                         gtol=1e-8, max_nfev=100)
+                         gtol=1e-8, max_nfev=MAX_EVALUATIONS)
 
 
 def fit_law(law, stiffness, mass, gravity, drag, fit_drag, sequences, resolution, height_error,
@@ -267,7 +276,8 @@ def fit_law(law, stiffness, mass, gravity, drag, fit_drag, sequences, resolution
     Raises
     ------
     InputError
-        If ``stiffness`` is not positive.
+        If ``stiffness`` is not positive, or the start value of the fit is not finite (a
+        stiffness and mass no damping fits).
     ValueError
         If there are no more observations (clicks and heights) than fitted parameters.
     """
@@ -281,6 +291,12 @@ def fit_law(law, stiffness, mass, gravity, drag, fit_drag, sequences, resolution
                          'parameters (lambda, C_d if fitted, and per sequence its start time '
                          'and first speed): allowed more observations than parameters (more '
                          'clicks, or the release heights)')
+    if not np.all(np.isfinite(x0)):      # scipy: 'Initial guess is outside of provided bounds'
+        raise InputError('stiffness', stiffness, 'no start value for the fit of %s: with '
+                         '{n[stiffness]} = {value} and {n[mass]} = %r the restitution the '
+                         'flights show (%.3g) has no finite damping: allowed a stiffness and '
+                         'mass of this ball' % (law.name, mass, float(np.median(
+                             [s.restitution_guess for s in problem.seqs]))))
     return _solved_fit(law, stiffness, problem, x0, loss, confidence)
 
 
@@ -310,20 +326,28 @@ def _solved_fit(law, k, problem, x0, loss, confidence):
         cov = s2 * np.linalg.pinv(normal)
     q = float(stdtrit(dof, 0.5 + confidence / 2.0))
     lam, cd, t1, v1 = problem.unpack(x)
-    lam_ci, why_lam = log_interval('lambda', lam, q * math.sqrt(max(cov[0, 0], 0.0)))
-    problems = [why_lam]
+    failed, bound, weak = [], [], []   # why it failed; C_d at a bound; ill-determined
+
+    def interval(name, value, variance):
+        ci, why = log_interval(name, value, q * math.sqrt(max(variance, 0.0)))
+        (failed if not (math.isfinite(value) and value > 0.0) else weak).append(why)
+        return ci
+    lam_ci = interval('lambda', lam, cov[0, 0])
     if problem.fit_drag:
-        cd_ci, why_cd = log_interval('C_d', cd, q * math.sqrt(max(cov[1, 1], 0.0)))
-        problems.append(why_cd)
+        cd_ci = interval('C_d', cd, cov[1, 1])
         if not CD_BOUNDS[0] * (1.0 + 1e-6) < cd < CD_BOUNDS[1] * (1.0 - 1e-6):
-            problems.append(f'C_d = {cd:.6g} is at a bound of its range [{CD_BOUNDS[0]:g}, '
-                            f'{CD_BOUNDS[1]:g}]: this law needs an implausible drag')
+            bound.append(f'C_d = {cd:.6g} is at a bound of its range [{CD_BOUNDS[0]:g}, '
+                          f'{CD_BOUNDS[1]:g}]: this law needs an implausible drag')
     else:
         cd = problem.drag.drag_coefficient if problem.drag is not None else 0.0
         cd_ci = (math.nan, math.nan)
+    if problem.n_times <= n_par:
+        weak.append(f'{problem.n_times} clicks for {n_par} fitted parameters: the fit and its '
+                    'rank rest on the release heights, not on the timing')
     if not result.success:
-        problems.insert(0, f'the solver did not converge ({result.message})')
-    problems = [p for p in problems if p]
+        failed.insert(0, f'the solver did not converge in {result.nfev} evaluations '
+                         f'({result.message})')
+    failed, bound, weak = ([p for p in kind if p] for kind in (failed, bound, weak))
     pred, (kappa, beta), _ = problem.predicted(x)
     residuals, weights_seq, pos = [], [], 0
     for p, s in zip(pred, problem.seqs):
@@ -335,6 +359,9 @@ def _solved_fit(law, k, problem, x0, loss, confidence):
                     / float(np.sum(weights[:n_times])))
     aic = n_obs * math.log(max(weighted_sse, 1e-300) / n_obs) + 2.0 * n_par
     heights = release_height(v1, problem.g, kappa, beta)
+    status = ('FAILED' if failed else 'at-bound' if bound else 'ill-determined' if weak
+              else 'converged')
+    problems = failed + bound + weak
     return LawFit(law, k, lam, lam_ci, cd, cd_ci, np.asarray(t1), v1, np.asarray(heights),
                   residuals, weights_seq, rms, aic, n_par, n_obs, noise, not problems,
-                  '; '.join(problems) or str(result.message))
+                  '; '.join(problems) or str(result.message), status)

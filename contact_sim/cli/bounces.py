@@ -28,7 +28,8 @@ UNTRUSTED_FIT = 3     # the exit status of a report whose best fit is not to be 
 NOTES = """
 
 data: CSV files of impact times (s), one column per sequence (several runs side by side are
-fine; --column picks some; --group-by splits a long table by its trial column), or phyphox
+fine; --column picks some; --group-by splits a long table by its trial columns, --where keeps
+the rows of one ball), or phyphox
 "Acoustic Stopwatch" exports read as they are (.xlsx/.xls workbooks, the CSV
 of the All sheet, any separator and decimal comma, or the zip of the CSV export), or WAV
 recordings of the bounces (the clicks are found by contact_sim.calibration.audio).  Columns
@@ -50,19 +51,22 @@ beyond the bounce model; they are left out from the first impact whose undamped 
 first flight shorter than --min-flight.  A k guessed too soft cuts too early: raise the ratio
 (inf turns it off) or give --min-flight instead; the glitches list says where and why.
 
---holdout F: the glitches are named on the whole of each sequence, then its last share F of
-clicks is held out; the laws are fitted on the rest and predict the held-out clicks (their rms
+--holdout F: the glitches are named on the whole of each sequence; the laws are fitted on all
+the clicks (the fit reported, plotted and saved) and again on all but the last share F of each
+sequence (the training fit, printed beside it), which predicts the held-out clicks (their rms
 per sequence and overall is printed): what a fit is worth beyond the clicks it saw.
 
-fits that fail say so: each law's line ends with `fit: converged` or `fit: FAILED` and why
-(the solver did not converge, C_d at a bound of [0.001, 10], an interval the data do not
-determine: then none is printed).  Fewer observations (clicks and heights) than fitted
-parameters are refused.  `model adequacy` compares the best fit's timing error with the clock
-(--timing-resolution) and with the recording's own scatter about a smooth sequence: when it is
-far above both, no law here describes the recording, and the reason is given (e.g. a
-restitution that rises with speed); the speed-dependence verdict is then undecided.
-exit status 3: the report is printed, but the best fit failed or no law describes the
-recording (a warning on stderr says why).
+fits say how they ended: each law's line ends with `fit: converged`, `ILL-DETERMINED` (an
+interval wider than a factor 100, or no more clicks than parameters), `AT-BOUND` (C_d at a
+bound of [0.001, 10]) or `FAILED` (no convergence in 5000 evaluations), and why.  Fewer
+observations (clicks and heights) than fitted parameters are refused.  `model adequacy`
+compares the best law's e residuals with the recording's own scatter of e about a smooth
+curve (F test; with --holdout, on the held-out flights): when the law leaves more than that
+scatter (p < 0.001) it does not describe the recording, and the reason names a trend it
+cannot follow (e.g. a restitution that rises with speed); the speed-dependence verdict is then
+undecided.  Workbooks: every sheet; what is found and not read is listed (`# read:`).
+exit status 3: the report is printed, but the best fit is not `converged` or does not
+describe the recording (a warning on stderr says why).
 
 example (python examples/bounce_recording.py writes golf_80cm_50cm.csv):
   contact-sim bounces golf_80cm_50cm.csv --sphere steel --plate steel --radius 0.0214 \\
@@ -92,10 +96,15 @@ def add_parser(sub):
     p.add_argument('--column', action='append', metavar='COL',
                    help='read only this column of the CSV files: its header or its number from '
                         '1 (repeatable; default every time column)')
-    p.add_argument('--group-by', metavar='COL',
-                   help='a long table of trials: one sequence per value of this column (its '
-                        'header or number from 1), the times from --column or the first time '
-                        'column; a height in the value (80cm) is that sequence\'s')
+    p.add_argument('--group-by', metavar='COL[,COL...]',
+                   help='a long table of trials: one sequence per combination of the values of '
+                        'these columns (headers or numbers from 1, separated by commas: '
+                        'ball,height_cm,trial), the times from --column or the first time '
+                        'column; a height in a value (80cm, or 80 under height_cm) is that '
+                        'sequence\'s')
+    p.add_argument('--where', action='append', metavar='COL=VALUE',
+                   help='read only the rows whose column COL (header or number from 1) holds '
+                        'VALUE, e.g. --where ball=golf (repeatable: every condition holds)')
     p.add_argument('--height', action='append', type=_float_list, metavar='H',
                    help='release height in m of each sequence, in order (repeatable)')
     p.add_argument('--height-error', type=float, default=0.01, metavar='DH',
@@ -135,7 +144,8 @@ def add_parser(sub):
 def _sequences(args):
     from contact_sim.calibration import (ImpactTimes, bounce_times_from_audio,   # the engine:
                                          height_from_label, read_impact_times)   # after parsing
-    sequences = []
+    sequences, notes = [], []
+    where = _where(args.where)
     for path in args.data:
         if str(path).lower().endswith('.wav'):
             onsets = bounce_times_from_audio(path)
@@ -144,7 +154,10 @@ def _sequences(args):
                 str(path).rsplit('/', 1)[-1]), f'{path} (audio)'))
         else:
             sequences.extend(read_impact_times(path, columns=args.column,
-                                               group_by=args.group_by))
+                                               group_by=args.group_by, where=where,
+                                               notes=notes))
+    for note in notes:
+        print(f'# read: {note}')
     if args.height:
         if len(args.height) != len(sequences):
             raise ValueError(f'height is given {len(args.height)} time(s) for '
@@ -152,6 +165,24 @@ def _sequences(args):
         sequences = [ImpactTimes(s.times, require_positive('height', h), s.name)
                      for s, h in zip(sequences, args.height)]
     return sequences
+
+
+def _where(conditions):
+    """--where COL=VALUE conditions as a mapping column -> value (None without any)."""
+    if not conditions:
+        return None
+    where = {}
+    for text in conditions:
+        column, sep, value = text.partition('=')
+        if not sep or not column.strip() or not value.strip():
+            raise ValueError(f'--where = {text!r} is not COL=VALUE: allowed a column (header '
+                             'or number from 1), =, and the value its rows hold, e.g. '
+                             '--where ball=golf')
+        if column.strip() in where:
+            raise ValueError(f'--where names the column {column.strip()!r} twice: allowed one '
+                             'value per column')
+        where[column.strip()] = value.strip()
+    return where
 
 
 def _stiffness(args, laws):
@@ -207,7 +238,7 @@ def run(args):
         write_params(args.save_params, fit, args)
         print(f'# node parameters written to {args.save_params}')
     if not fit.trustworthy:
-        why = fit.best.message if not fit.best.success else fit.adequacy.reason
+        why = fit_status(fit.best) if not fit.best.success else fit.adequacy.reason
         print(f'contact-sim: warning: the best fit ({fit.best.law.name}) is not to be trusted: '
               f'{why}', file=sys.stderr)
         return UNTRUSTED_FIT
@@ -244,15 +275,17 @@ def print_report(fit, sequences, args, k_source, table):
               f'k = {f.stiffness:.6e}, rms = {f.rms * 1e3:.4f} ms, AIC = {f.aic:.2f}')
         if fit.fit_drag:
             print(f'  drag coefficient C_d = {f.drag_coefficient:.4f} '
-                  f'{_interval(f.drag_interval, level, ".4f")}')
-        print(f'  fit: converged ({f.message})' if f.success else f'  fit: FAILED: {f.message}')
+                  f'{_interval(f.drag_interval, level, ".4g")}')
+        print(f'  fit: {fit_status(f)}')
     if math.isfinite(fit.delta_aic):
         verdict = ('supported' if fit.speed_dependent else 'NOT supported') \
-            if fit.adequacy.adequate else 'undecided (no law describes the recording)'
+            if fit.adequacy.adequate else 'undecided (the best law does not describe the ' \
+            'recording)'
         print(f'speed-dependent restitution: {verdict} (constant-restitution AIC minus the best '
               f'speed-dependent law\'s: {fit.delta_aic:.2f}; needs > 10)')
-    print(f'model adequacy: {"adequate" if fit.adequacy.adequate else "INADEQUATE"}: '
-          f'{fit.adequacy.reason}')
+    word = 'INADEQUATE' if not fit.adequacy.adequate else 'not judged' \
+        if fit.adequacy.judged_on == 'none' else 'adequate'
+    print(f'model adequacy ({fit.adequacy.judged_on}): {word}: {fit.adequacy.reason}')
     best = fit.best
     print(f'timing noise (robust estimate): {best.noise * 1e3:.4f} ms')
     down = fit.downweighted()
@@ -275,10 +308,28 @@ def print_report(fit, sequences, args, k_source, table):
         print_holdout(fit)
 
 
+def fit_status(law_fit):
+    """``converged (solver message)``, ``ILL-DETERMINED: why`` or ``FAILED: why``."""
+    if law_fit.success:
+        return f'converged ({law_fit.message})'
+    return f'{law_fit.status.upper()}: {law_fit.message}'
+
+
 def print_holdout(fit):
-    """The hold-out check: the held-out clicks of each sequence predicted by each law."""
-    print('# hold-out: the last clicks of each sequence predicted by the laws fitted on the '
-          'earlier ones')
+    """The hold-out check: each law fitted on the earlier clicks beside its fit on all of them,
+    and the held-out clicks of each sequence predicted by the former."""
+    level = f'{100 * fit.confidence:g}%'
+    print('# hold-out: each law fitted on the earlier clicks of each sequence (training) '
+          'predicts the last ones; the fit on all the clicks (above) is the one reported, '
+          'plotted and saved')
+    for h in fit.holdout:
+        full = next(f for f in fit.fits if f.law is h.law)
+        train = h.fit
+        drag = (f', C_d {train.drag_coefficient:.4f} (all: {full.drag_coefficient:.4f})'
+                if fit.fit_drag else '')
+        print(f'{h.law.name}: training lambda = {train.damping:.6e} '
+              f'{_interval(train.damping_interval, level)} (all clicks: {full.damping:.6e}){drag}'
+              f', training rms {train.rms * 1e3:.4f} ms, fit: {fit_status(train)}')
     print(f'# {"seq":>3} {"held out":>8} ' + ' '.join(f'{h.law.name + " (ms)":>22}'
                                                        for h in fit.holdout))
     for j, seq in enumerate(fit.holdout[0].held):
@@ -303,14 +354,23 @@ def _yaml_number(value):
 
 
 def write_params(path, fit, args):
-    """A ROS 2 parameter file for contact_sim_node (names from its PARAMETERS)."""
+    """A ROS 2 parameter file for contact_sim_node (names from its PARAMETERS): the best law's
+    fit on all the clicks, and the ball calibrated (mass, radius, materials), so that the node
+    logs that ball: a library material by name, else ``custom`` with the moduli given, or
+    with the ball's mean density only (k and lambda are set: the moduli are not used)."""
     best = fit.best
     heights = [s.height for s in fit.sequences if s.height is not None]
+    clicks = sum(s.times.size for s in fit.sequences)
+    ball = f'm = {fit.mass:g} kg' + (f', R1 = {args.radius:g} m' if args.radius else '')
     lines = ['# contact calibrated by `contact-sim bounces` from ' + ', '.join(args.data),
+             f'# the fit on all {clicks} clicks of {len(fit.sequences)} sequence(s)'
+             + (' (not the hold-out\'s training fit)' if fit.holdout else ''),
              f'# {best.law.name}: rms timing residual {best.rms * 1e3:.4f} ms; lambda '
              f'{_interval(best.damping_interval, f"{fit.confidence * 100:g}%")}; fit '
-             f'{"converged" if best.success else "FAILED: " + best.message}',
-             'contact_sim:', '  ros__parameters:',
+             f'{fit_status(best)}',
+             f'# model adequacy ({fit.adequacy.judged_on}): '
+             f'{"adequate" if fit.adequacy.adequate else "INADEQUATE"}',
+             f'# ball: {ball}', 'contact_sim:', '  ros__parameters:',
              f'    contact_law: {best.law.name}']
     values = {'stiffness': best.stiffness, 'damping': best.damping, 'sphere_mass': fit.mass,
               'gravity': fit.gravity}
@@ -322,33 +382,61 @@ def write_params(path, fit, args):
         values['air_density'] = fit.drag.air_density
     values['drag_coefficient'] = best.drag_coefficient if fit.drag is not None else 0.0
     lines += [f'    {name}: {_yaml_number(value)}' for name, value in values.items()]
-    for body in ('sphere', 'plate'):      # library materials only (k and lambda are given)
+    for body in ('sphere', 'plate'):
         chosen = material(args, body)
         if chosen is not None and chosen.name == getattr(args, body):
             lines.append(f'    {body}_material: {chosen.name}')
+            continue
+        lines.append(f'    {body}_material: custom')
+        if chosen is not None:          # the moduli given (--sphere-modulus ...)
+            lines += [f'    {body}_{key}: {_yaml_number(getattr(chosen, key))}'
+                      for key in ('youngs_modulus', 'poisson_ratio', 'density')]
+        elif body == 'sphere' and args.radius is not None:   # the ball's mean density
+            density = fit.mass / (4.0 / 3.0 * math.pi * args.radius ** 3)
+            lines.append(f'    sphere_density: {_yaml_number(density)}')
     try:
         with open(path, 'w', encoding='utf-8') as f:
             f.write('\n'.join(lines) + '\n')
     except OSError as error:
-        raise ValueError(f'save_params = {path!r} cannot be written: {error.strerror}') from None
+        raise ValueError(f'--save-params = {path!r} cannot be written: {error.strerror}') \
+            from None
 
 
 def _plot(args, fit, table):
-    """The figure of ``plotting.bounce_figure``: the corrected e(v) with every law's curve,
-    and the best law's timing residuals per run."""
+    """The figure of ``plotting.bounce_figure``: the corrected e(v) with every law's curve (its
+    status in the legend), the best law's timing residuals per run and, with --holdout, its
+    prediction of the held-out clicks."""
     from contact_sim.calibration import restitution_curve
     columns = [np.array(c) for c in zip(*table)] if table else [np.zeros(0)] * 4
     curves = {}
     if table:
         v = columns[1]
         dense = np.geomspace(v.min() * 0.8, v.max() * 1.2, 200)
-        curves = {f'{f.law.name}: rms {f.rms * 1e3:.3g} ms':
-                  (dense, restitution_curve(f, fit.mass, dense)) for f in fit.fits}
-    runs = [(s.name or f'sequence {j + 1}', s.times - s.times[0])
-            for j, s in enumerate(fit.sequences)]
-    title = f'Bounce calibration: {", ".join(str(d) for d in args.data)}'
+        for f in fit.fits:
+            marks = [] if f.success else [f.status.upper()]
+            if f is fit.best and not fit.adequacy.adequate:
+                marks.append('INADEQUATE')
+            label = f'{f.law.name}: rms {f.rms * 1e3:.3g} ms' + \
+                (f' [{", ".join(marks)}]' if marks else '')
+            curves[label] = (dense, restitution_curve(f, fit.mass, dense))
+    runs = [((s.name or f'sequence {j + 1}').replace('\\', '/').rsplit('/', 1)[-1],
+             s.times - s.times[0]) for j, s in enumerate(fit.sequences)]
+    held, held_label = None, ''
+    if fit.holdout:
+        h = next(h for h in fit.holdout if h.law is fit.best.law)
+        held = [(s.times - fit.sequences[j].times[0], r)
+                for j, (s, r) in enumerate(zip(h.held, h.residuals))]
+        held_label = (f'held out, predicted by the training fit: rms {h.overall * 1e3:.3g} ms '
+                      f'({fit.adequacy.judged_on}: '
+                      f'{"adequate" if fit.adequacy.adequate else "INADEQUATE"})')
+    names = [str(d).replace('\\', '/').rsplit('/', 1)[-1] for d in args.data]
+    title = (f'Bounce calibration of {names[0]}' + (f' and {len(names) - 1} more file(s)'
+                                                     if len(names) > 1 else '')
+             + f': best {fit.best.law.name}, '
+             + ('converged' if fit.best.success else fit.best.status.upper())
+             + ('' if fit.adequacy.adequate else ', INADEQUATE'))
     fig = plotting.bounce_figure(args.plot, columns, curves, runs, fit.best.residuals,
-                                 fit.best.law.name, title)
+                                 fit.best.law.name, title, scatter=fit.adequacy.scatter,
+                                 held=held, held_label=held_label)
     print(f'# plot written to {args.plot}')
     return fig
-

@@ -30,7 +30,7 @@ def check_output(path):
     """Fail early, before any simulation, if ``path`` cannot be written."""
     parent = Path(path).expanduser().resolve().parent
     if not parent.is_dir():
-        raise ValueError(f'plot = {str(path)!r} cannot be written: directory {str(parent)!r} '
+        raise ValueError(f'--plot = {str(path)!r} cannot be written: directory {str(parent)!r} '
                          'does not exist')
 
 
@@ -40,7 +40,7 @@ def save_figure(fig, path):
     try:
         fig.savefig(path, dpi=150, format='png')   # the file named, not name + '.png'
     except OSError as error:
-        raise ValueError(f'plot = {str(path)!r} cannot be written: {error.strerror}') from None
+        raise ValueError(f'--plot = {str(path)!r} cannot be written: {error.strerror}') from None
     finally:
         pyplot.close(fig)
 
@@ -143,15 +143,20 @@ OUTLIER_MADS = 5.0          # a point this many robust spreads off the best curv
 LEGEND_RUNS = 12            # more runs than this: a colour bar instead of a legend
 
 
-def bounce_figure(path, table, curves, runs, residuals, law_name, title):
+def bounce_figure(path, table, curves, runs, residuals, law_name, title, scatter=None,
+                  held=None, held_label=''):
     """The bounce calibration's figure.
 
     ``table`` = (run j, speeds m/s, e, σ_e) arrays of the corrected restitutions (may be empty:
     then there is no e(v) panel); ``curves`` = {label: (speeds, e)} of the fitted laws, the
-    best first; ``runs`` = [(name, times from the first click s)] and ``residuals`` = the best
-    law's predicted - measured times (s) of each run.  e > 1 and outliers (more than
-    ``OUTLIER_MADS`` robust spreads off the best curve) are marked; error bars longer than
-    ``ERROR_BAR_CLIP`` are clipped, with a note; every run has its label or colour bar.
+    best first (each label carries the law's status); ``runs`` = [(name, times from the first
+    click s)] and ``residuals`` = the best law's predicted - measured times (s) of each run.
+    ``scatter``: the recording's own scatter of e, drawn as the error bars when given (else
+    σ_e); ``held``: per run, the held-out clicks' (times from the first click s, predicted -
+    measured s) of the hold-out, drawn hollow and labelled ``held_label``.  e > 1 and outliers
+    (more than ``OUTLIER_MADS`` robust spreads off the best curve) are marked; error bars
+    longer than ``ERROR_BAR_CLIP`` are clipped, with a note; every run has its label or colour
+    bar; a long ``title`` is wrapped.
     """
     pyplot = load_pyplot()
     has_e = len(table[1]) > 0
@@ -164,7 +169,12 @@ def bounce_figure(path, table, curves, runs, residuals, law_name, title):
         return colours(j / max(len(runs) - 1, 1) if len(runs) > 10 else j % 10)
 
     if has_e:
-        _restitution_panel(axes[0], table, curves, colour)
+        if scatter is not None and math.isfinite(scatter):
+            table = (*table[:3], np.full(len(table[1]), scatter))
+        _restitution_panel(axes[0], table, curves, colour,
+                           'error bars: the recording\'s own scatter of e, '
+                           f'±{scatter:.2g}' if scatter is not None and math.isfinite(scatter)
+                           else 'error bars: σ_e from the timing noise')
     else:
         fig.text(0.01, 0.005, 'no e(v) panel: no two consecutive single flights to read e from',
                  fontsize=8, color='0.3')
@@ -172,23 +182,27 @@ def bounce_figure(path, table, curves, runs, residuals, law_name, title):
     for j, ((name, t), r) in enumerate(zip(runs, residuals)):
         ax_r.plot(t, np.asarray(r) * 1e3, 'o-', ms=3, color=colour(j),
                   label=f'{j + 1}: {name}' if len(runs) <= LEGEND_RUNS else None)
+    for j, (t, r) in enumerate(held or []):
+        ax_r.plot(t, np.asarray(r) * 1e3, 'o--', ms=5, mfc='none', color=colour(j),
+                  label=held_label if j == 0 else None)
     ax_r.axhline(0.0, color='k', lw=0.8)
     ax_r.set_xlabel('time since the first click (s)')
     ax_r.set_ylabel(f'predicted - measured (ms), {law_name}')
     ax_r.grid(True, alpha=0.4)
-    if len(runs) <= LEGEND_RUNS:
+    if len(runs) <= LEGEND_RUNS or held:
         ax_r.legend(fontsize=7, title='run', title_fontsize=7)
     else:
         from matplotlib.cm import ScalarMappable
         from matplotlib.colors import Normalize
         bar = fig.colorbar(ScalarMappable(Normalize(1, len(runs)), colours), ax=list(axes))
         bar.set_label(f'run (1 to {len(runs)}, in the order read)')
-    fig.suptitle(title, fontsize=10)
+    import textwrap
+    fig.suptitle('\n'.join(textwrap.wrap(title, 90)[:3]), fontsize=9)
     save_figure(fig, path)
     return fig
 
 
-def _restitution_panel(ax, table, curves, colour):
+def _restitution_panel(ax, table, curves, colour, bar_note=''):
     runs, v, e, se = (np.asarray(c, dtype=float) for c in table)
     best_v, best_e = next(iter(curves.values()))
     off = e - np.interp(v, best_v, best_e)
@@ -217,7 +231,7 @@ def _restitution_panel(ax, table, curves, colour):
         ax.text(0.01, 0.02, f'{int(clipped.sum())} error bar(s) clipped at ±{ERROR_BAR_CLIP:g}'
                 f' (largest ±{float(se.max()):.2g})', transform=ax.transAxes, fontsize=8,
                 color='0.3')
-    kept = e[normal] if np.any(normal) else e
+    kept = e[~above] if np.any(~above) else e      # the outliers drawn inside the frame
     lo = min(float(kept.min()), min(float(np.min(c[1])) for c in curves.values()))
     hi = max(float(kept.max()), max(float(np.max(c[1])) for c in curves.values()))
     if np.any(above):
@@ -226,5 +240,5 @@ def _restitution_panel(ax, table, curves, colour):
     ax.set_ylim(lo - pad, hi + pad)
     ax.set_xlabel('impact speed (m/s)')
     ax.set_ylabel('coefficient of restitution e')
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, title=bar_note or None, title_fontsize=7)
     ax.grid(True, alpha=0.4)

@@ -242,9 +242,9 @@ class Model:
             t = self.table
             drag += (f'; table a = {t.amplitude:g} m, f = {t.frequency:g} Hz, '
                      f'phi = {t.phase:g} rad (Gamma = {t.peak_acceleration_ratio(self.gravity or 9.81):.3g})')
-        return (f'{self.contact.law.name}: {self.sphere.name} sphere '
+        return (f'{self.contact.law.name}: {_named(self.sphere, self.mass, self.radius)} sphere '
                 f'R1 = {self.radius * 1e3:g} mm, '
-                f'm = {self.mass * 1e3:.4g} g on {self.plate.name} {plate}; '
+                f'm = {self.mass * 1e3:.4g} g on {_named(self.plate)} {plate}; '
                 f'k = {self.contact.stiffness:.4g} N/m^{self.contact.law.n:g}, '
                 f'lambda = {self.contact.damping:.4g}; drop from {self.height:g} m at '
                 f'{self.velocity:g} m/s, g = {self.gravity:g} m/s^2{drag}')
@@ -282,6 +282,16 @@ def loop_settings(values):
             real_time_factor=real_time_factor(values['real_time_factor']))
     except InputError as error:
         raise ValueError(refusal(error, values)) from None
+
+
+def _named(material, mass=None, radius=None):
+    """A material as the log names it: a library name, or a custom one with its constants."""
+    if material.name in cs.MATERIALS:
+        return material.name
+    density = f'density {material.density:.4g}' if mass is None else \
+        f'mean density {mass / (4.0 / 3.0 * math.pi * radius ** 3):.4g}'
+    return (f'custom (E = {material.youngs_modulus:.3g} Pa, nu = {material.poisson_ratio:g}, '
+            f'{density} kg/m^3)')
 
 
 # The core's field keys (cs.InputError.field) as this node's parameters spell them; keys that are

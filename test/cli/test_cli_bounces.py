@@ -97,7 +97,8 @@ def test_cli_bounces_says_when_the_fit_fails(tmp_path, capsys):
                      '--law', 'azad_featherstone', '--radius', str(0.02 / 3.0), '--fit-drag'])
     captured = capsys.readouterr()
     assert code == 3, captured.err
-    assert 'fit: FAILED: C_d = 10 is at a bound' in captured.out
+    # at a bound is its own status: the solver converged, onto an implausible drag
+    assert 'fit: AT-BOUND: C_d = 10 is at a bound' in captured.out
     assert 'not to be trusted' in captured.err
     # vacuum flights whose restitution rises with speed, e = 0.7 + 0.05 s/m v: no law's
     v, t = 3.0, [0.0]
@@ -108,7 +109,8 @@ def test_cli_bounces_says_when_the_fit_fails(tmp_path, capsys):
     rising.write_text('t\n' + '\n'.join(f'{x:.5f}' for x in t) + '\n')
     assert cli.main(['bounces', str(rising), '--mass', '0.05', '--stiffness', '1e8']) == 3
     out = capsys.readouterr().out
-    assert 'model adequacy: INADEQUATE: no law here describes this recording' in out
+    assert 'model adequacy (fit): INADEQUATE: linear does not describe this recording' in out
+    assert 'rises with speed' in out
     assert 'speed-dependent restitution: undecided' in out
     few = tmp_path / 'few.csv'
     few.write_text('t\n0.0\n0.5\n0.9\n')
@@ -282,3 +284,83 @@ def test_cli_bounces_plot_writes_no_matplotlib_warning(golf_csv, tmp_path, capfd
     out, err = capfd.readouterr()
     assert code == 0 and 'plot written' in out and plot.stat().st_size > 0
     assert 'Warning' not in err and 'matplotlib' not in err
+
+
+def test_cli_bounces_holdout_saves_and_plots_the_fit_on_all_clicks(golf_csv, tmp_path, capsys):
+    # found: --holdout replaced the reported fit, the parameter file and the plot with the
+    # training-half fit, silently
+    import yaml
+    base = ['bounces', str(golf_csv), '--mass', str(GOLF_MASS), '--stiffness', str(GOLF_K),
+            '--radius', '0.0214', '--drag-coefficient', '0.3', '--law', 'azad_featherstone',
+            '--law', 'linear']
+    whole, held = tmp_path / 'whole.yaml', tmp_path / 'held.yaml'
+    assert cli.main(base + ['--save-params', str(whole)]) == 0
+    capsys.readouterr()
+    assert cli.main(base + ['--holdout', '0.4', '--save-params', str(held),
+                            '--plot', str(tmp_path / 'h.png')]) == 0
+    out = capsys.readouterr().out
+    saved = [yaml.safe_load(p.read_text())['contact_sim']['ros__parameters']
+             for p in (whole, held)]
+    assert saved[0]['damping'] == saved[1]['damping']
+    assert '(not the hold-out\'s training fit)' in held.read_text()
+    assert 'azad_featherstone: training lambda = ' in out and '(all clicks: ' in out
+    assert 'model adequacy (hold-out): adequate' in out
+
+
+@pytest.mark.ros   # the saved file goes through the node's parameter parser
+def test_cli_bounces_parameter_file_names_the_ball_calibrated(golf_csv, tmp_path, capsys):
+    # found: a golf ball's file made the node log "steel sphere ... on cast_iron"
+    import yaml
+    from contact_sim.ros.params import DEFAULTS, build_model
+    params = tmp_path / 'golf.yaml'
+    assert cli.main(['bounces', str(golf_csv), '--mass', str(GOLF_MASS), '--stiffness',
+                     str(GOLF_K), '--radius', '0.0214', '--law', 'azad_featherstone',
+                     '--save-params', str(params)]) == 0
+    values = yaml.safe_load(params.read_text())['contact_sim']['ros__parameters']
+    summary = build_model({**DEFAULTS, **values}).summary()
+    density = GOLF_MASS / (4.0 / 3.0 * math.pi * 0.0214 ** 3)
+    assert 'steel' not in summary and 'cast_iron' not in summary, summary
+    assert f'mean density {density:.4g} kg/m^3' in summary and 'm = 46 g' in summary
+    assert 'R1 = 21.4 mm' in summary
+    # library materials are named as they were given
+    assert cli.main(['bounces', str(golf_csv), '--mass', str(GOLF_MASS), '--stiffness',
+                     str(GOLF_K), '--radius', '0.0214', '--sphere', 'steel', '--plate',
+                     'steel', '--law', 'azad_featherstone', '--save-params', str(params)]) == 0
+    values = yaml.safe_load(params.read_text())['contact_sim']['ros__parameters']
+    assert 'steel sphere' in build_model({**DEFAULTS, **values}).summary()
+
+
+def test_cli_bounces_group_by_several_columns_and_where(golf_csv, tmp_path, capsys):
+    rows = [ln.split(',') for ln in golf_csv.read_text().splitlines()[1:]]
+    table = tmp_path / 'balls.csv'
+    lines = ['ball,height_cm,trial,time (s)']
+    for ball in ('golf', 'tennis'):
+        for k, h in ((0, 80), (1, 100)):
+            lines += [f'{ball},{h},1,{row[k]}' for row in rows if row[k]]
+    table.write_text('\n'.join(lines) + '\n')
+    code = cli.main(['bounces', str(table), '--group-by', 'ball,height_cm,trial', '--where',
+                     'ball=golf', '--mass', str(GOLF_MASS), '--stiffness', str(GOLF_K),
+                     '--law', 'azad_featherstone'])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert '# read: ' in out and '19 of 38 rows read (where ball=golf)' in out
+    assert 'ball = golf, height_cm = 100, trial = 1, 9 clicks, released from 1 m' in out
+    assert cli.main(['bounces', str(table), '--where', 'ball', '--mass', '1', '--stiffness',
+                     '1e8']) == 2
+    assert '--where = \'ball\' is not COL=VALUE' in capsys.readouterr().err
+
+
+def test_bounce_figure_legend_carries_the_status_and_the_hold_out(golf_csv, tmp_path):
+    from contact_sim.calibration import (corrected_restitution_table, fit_bounces,
+                                         read_impact_times)
+    from contact_sim.cli import bounces
+    seqs = read_impact_times(golf_csv)
+    fit = fit_bounces(seqs, GOLF_MASS, GOLF_K, laws=['azad_featherstone', 'linear'],
+                      drag=GOLF, holdout=0.3)
+    args = type('Args', (), {'plot': str(tmp_path / 'f.png'), 'data': [str(golf_csv)] * 9})
+    fig = bounces._plot(args, fit, corrected_restitution_table(fit))
+    texts = ' '.join(figure_texts(fig) + [ax.get_legend().get_title().get_text()
+                                          for ax in fig.axes if ax.get_legend()])
+    assert 'held out, predicted by the training fit: rms' in texts
+    assert 'error bars: the recording\'s own scatter of e' in texts
+    assert fig._suptitle.get_text().startswith('Bounce calibration of golf.csv and 8 more')
