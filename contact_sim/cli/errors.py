@@ -44,10 +44,14 @@ def option_names(args, error=None):
 
 
 def _source(error, args):
-    """'FILE: ' before a refusal of a data file's column (``fit``), else ''."""
+    """'FILE: ' before a refusal of a data file's column (``fit``), '--params-file FILE: '
+    before a refusal of a value taken from a parameter file, else ''."""
     data = getattr(args, 'data', None)
-    if isinstance(data, str) and getattr(error, 'field', None) in DATA_FIELDS:
+    field = getattr(error, 'field', None)
+    if isinstance(data, str) and field in DATA_FIELDS:
         return ('stdin' if data == '-' else data) + ': '
+    if field is not None and field in getattr(args, 'params_file_keys', ()):
+        return f'--params-file {args.params_file}: '
     return ''
 
 

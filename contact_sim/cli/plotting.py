@@ -30,7 +30,7 @@ def check_output(path):
     """Fail early, before any simulation, if ``path`` cannot be written."""
     parent = Path(path).expanduser().resolve().parent
     if not parent.is_dir():
-        raise ValueError(f'plot = {str(path)!r} cannot be written: directory {str(parent)!r} '
+        raise ValueError(f'--plot = {str(path)!r} cannot be written: directory {str(parent)!r} '
                          'does not exist')
 
 
@@ -40,7 +40,7 @@ def save_figure(fig, path):
     try:
         fig.savefig(path, dpi=150, format='png')   # the file named, not name + '.png'
     except OSError as error:
-        raise ValueError(f'plot = {str(path)!r} cannot be written: {error.strerror}') from None
+        raise ValueError(f'--plot = {str(path)!r} cannot be written: {error.strerror}') from None
     finally:
         pyplot.close(fig)
 

@@ -5,7 +5,8 @@ import math
 from contact_sim.model import require_contact
 from contact_sim.phase import phase_scales
 from contact_sim.impact import CONTACT_LENGTH_MAX, CONTACT_TIME_MIN, ZETA_MIN, checked_scales
-from contact_sim.validation import (GRAVITY_MAX, HEIGHT_MAX, MASS_RANGE, InputError,
+from contact_sim import validation
+from contact_sim.validation import (GRAVITY_MAX, HEIGHT_MAX, MASS_RANGE, InputError,  # noqa: F401 (GRAVITY_MAX: re-exported by drop)
                                     require_range)
 
 DROP_RTOL = 1e-10
@@ -188,8 +189,8 @@ def require_mass(mass):
 
 
 def require_gravity(gravity):
-    """Gravity (m/s²): 0 <= g <= ``GRAVITY_MAX``."""
-    return require_range('gravity', gravity, 0.0, GRAVITY_MAX, unit='m/s^2')
+    """Gravity (m/s²): 0 <= g <= ``GRAVITY_MAX`` (``validation.require_gravity``)."""
+    return validation.require_gravity(gravity)
 
 
 def require_radius(radius):
