@@ -207,7 +207,7 @@ def require_real_array(name, values, max_size=MAX_VALUES, finite=True):
     then states its range).
     """
     import numpy as np   # here, so that parsing a command line does not import numpy
-    if values is None or isinstance(values, (str, bytes, bool, complex)) \
+    if values is None or isinstance(values, (*TEXT, bool, complex)) \
             or getattr(values, 'mask', None) is not None:
         what = 'a masked array' if getattr(values, 'mask', None) is not None else None
         raise InputError(name, values, '{n[%s]} = {value} is not a real number or an array of '

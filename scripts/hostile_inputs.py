@@ -76,7 +76,7 @@ EXPRESSIONS = [
     ("cs.contact_duration(C, 0.066, np.ma.masked_array([1.0, -1.0], [0, 1]))", 'speeds'),
     ("cs.restitution(cs.Contact('azad_featherstone', 1e300, 1e5), 0.066, 1.0)", 'stiffness'),
     ("cs.restitution(C, 1e300, 1.0)", 'mass'),
-    ("cs.FlightPath(-1.0, 0.0, 9.81).touch()", 'level'),
+    ("cs.FlightPath(-1.0, 0.0, 9.81, surface=-1.5).touch()", 'level'),
     ("cs.predict_bounces(C, 0.066, height=1.0, count=60)", ''),
     ("cs.predict_bounces(C, 0.066, height=1e308, count=5)", 'height'),
     ("cs.fit_damping('azad_featherstone', 1e10, 0.066, [1, 2], [0.8])", 'restitutions'),
@@ -195,14 +195,17 @@ def cli_cases():
                    (argv + [option, bad], option))
 
 
-def _fixtures():
-    """Input files of the issue-34 command lines, written once in a temporary directory."""
-    folder = tempfile.mkdtemp(prefix='hostile_inputs_')
+def _fixtures(folder=None, write_files=True):
+    """Input files of the issue-34 command lines, written in ``folder`` (default: a new
+    temporary directory); their paths only, unless ``write_files``."""
+    folder = str(folder) if folder is not None else tempfile.mkdtemp(prefix='hostile_inputs_')
     files = {}
+
     def write(name, data):
         files[name] = os.path.join(folder, name)
-        with open(files[name], 'wb') as f:
-            f.write(data)
+        if write_files:
+            with open(files[name], 'wb') as f:
+                f.write(data)
     write('points.csv', b'speed,restitution\n0.5,0.8\n1,0.75\n2,0.7\n')
     write('wide.csv', b'speed,restitution\n0.5,' + b'7' * 1_100_000 + b'\n')
     write('radius.yaml', b'contact_sim:\n  ros__parameters:\n    sphere_radius: -1.0\n')
@@ -210,9 +213,10 @@ def _fixtures():
     return files
 
 
-def issue34_cli_cases():
-    """(argv, the option a refusal must name; None: the command must succeed)."""
-    f = _fixtures()
+def issue34_cli_cases(folder=None, write_files=True):
+    """(argv, the option a refusal must name; None: the command must succeed), with the input
+    files in ``folder`` (``_fixtures``)."""
+    f = _fixtures(folder, write_files)
     valid = ['--stiffness', '1e10', '--damping', '1e5', '--mass', '0.066']
     return [
         (['restitution'], None), (['drop', '--duration', '1'], None),   # the default contact

@@ -57,7 +57,7 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
 
     The arguments are checked first, in the ranges ``DropSimulation`` takes them (``MASS_RANGE``
     kg, 0 <= g <= ``GRAVITY_MAX``, 0 <= h <= ``HEIGHT_MAX``, abs(v0) <= ``VELOCITY_MAX``,
-    ``RADIUS_RANGE`` m, a finite ``plate_speed`` >= 0).
+    ``RADIUS_RANGE`` m, 0 <= ``plate_speed`` <= ``VELOCITY_MAX``).
 
     Parameters
     ----------
@@ -109,7 +109,7 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
     gravity = require_gravity(gravity)
     height, velocity = require_height(height), require_velocity(velocity)
     radius = None if radius is None else require_radius(radius)
-    plate_speed = require_range('plate_speed', plate_speed, 0.0, unit='m/s')
+    plate_speed = require_range('plate_speed', plate_speed, 0.0, VELOCITY_MAX, unit='m/s')
     speed = _first_impact_speed(gravity, height, velocity) + plate_speed
     if speed == 0.0 and gravity == 0.0:
         return                      # never lands: nothing to check
