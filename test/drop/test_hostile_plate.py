@@ -103,3 +103,15 @@ def test_check_drop_names_the_plate_speed(plate_speed):
     with pytest.raises(cs.InputError, match=r'^plate_speed = ') as info:
         cs.check_drop(C, 0.066, 9.81, 1.0, 0.0, plate_speed=plate_speed)
     assert info.value.field == 'plate_speed'
+
+
+@pytest.mark.parametrize('args', [(0.01, 0.0, 1j), (0.01, 0.0, 0.0, 0.0, 1 + 2j),
+                                  (0.01, 0.0, 0.0, 1j, 0.0)])
+def test_sphere_motion_refuses_complex_numbers(args):
+    # reproduced (this campaign): a complex velocity returned, its imaginary part carried on
+    with pytest.raises(cs.InputError, match='not a real number'):
+        sphere_motion(*args)
+
+
+def test_sphere_motion_takes_integers():
+    assert sphere_motion(0, 0, 0) == (0, 0)

@@ -232,8 +232,8 @@ def sphere_motion(radius, penetration, penetration_rate, plate_position=0.0,
                 velocity = plate_velocity - penetration_rate
         except TypeError:
             height = velocity = None
-        if height is not None and np.all(np.isfinite(height)) and np.all(np.isfinite(velocity)) \
-                and np.asarray(height).dtype.kind == 'f':
+        if height is not None and all(np.asarray(x).dtype.kind in 'iuf' for x in args) \
+                and np.all(np.isfinite(height)) and np.all(np.isfinite(velocity)):
             return height, velocity
     names = ('radius', 'penetration', 'penetration_rate', 'plate_position', 'plate_velocity')
     for name, value in zip(names, args):
