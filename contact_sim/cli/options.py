@@ -54,11 +54,11 @@ def contact_options(damping=True):
                            'sphere; 1/R = 1/R1 + 1/R2')
     for body in ('sphere', 'plate'):   # custom materials, or changes to a library one
         mats.add_argument(f'--{body}-modulus', type=float, metavar='E',
-                          help=f"{body} Young's modulus in Pa, 0 < E")
+                          help=f"{body} Young's modulus in Pa, 1 <= E")
         mats.add_argument(f'--{body}-poisson', type=float, metavar='NU',
                           help=f'{body} Poisson ratio, -1 < NU < 0.5')
         mats.add_argument(f'--{body}-density', type=float, metavar='RHO',
-                          help=f'{body} density in kg/m^3, 0 < RHO' + (
+                          help=f'{body} density in kg/m^3, 0.001 <= RHO' + (
                               ' (for the mass)' if body == 'sphere' else ' (not used)'))
     direct = parent.add_argument_group('contact given directly')
     direct.add_argument('--stiffness', type=float, metavar='K',

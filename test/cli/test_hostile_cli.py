@@ -24,7 +24,7 @@ DROP = ['drop', '--stiffness', '1e10', '--damping', '1e5', '--mass', '0.066', '-
     (['restitution', *MATERIALS, '--damping-factor', '8.87e5', '--speed-range', '0', '1'],
      '--speed-range'),
     (['restitution', *MATERIALS, '--damping-factor', '8.87e5', '--sphere-modulus', '1e-308',
-      '--speeds', '1'], 'Hertz stiffness'),
+      '--speeds', '1'], '--sphere-modulus'),   # issue 34: the option, not 'Hertz stiffness'
     (['restitution', '--stiffness', '1e300', '--mass', '0.066', '--damping', '1e5',
       '--speeds', '1'], '--stiffness'),
     (['restitution', '--stiffness', '1e10', '--mass', '1e300', '--damping', '1e5',
