@@ -115,3 +115,15 @@ def test_sphere_motion_refuses_complex_numbers(args):
 
 def test_sphere_motion_takes_integers():
     assert sphere_motion(0, 0, 0) == (0, 0)
+
+
+@pytest.mark.parametrize('kwargs, field', [
+    (dict(height=5e-324), 'height'), (dict(height=1e-320), 'height'),
+    (dict(gravity=5e-324), 'gravity'), (dict(plate_speed=1e-300, height=0.0), 'plate_speed')])
+def test_a_landing_too_slow_for_the_doubles_names_what_made_it(kwargs, field):
+    # reproduced (this branch's probe): `drop --height 5e-324` refused as '--speeds = 9.9e-162'
+    args = dict(contact=C, mass=0.066, gravity=9.81, height=1.0, velocity=0.0)
+    args.update(kwargs)
+    with pytest.raises(cs.InputError, match=rf'^{field} = .* gives a first impact at') as info:
+        cs.check_drop(**args)
+    assert info.value.field == field
