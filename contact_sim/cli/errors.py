@@ -35,7 +35,9 @@ def option_names(args, error=None):
     computed = getattr(error, 'value', 0.0) is not None   # a value, not a missing option
     if computed and getattr(args, 'stiffness', 1.0) is None \
             and getattr(args, 'radius', None) is not None:
-        names['stiffness'] = 'the Hertz stiffness of --sphere/--plate/--radius'
+        names['stiffness'] = 'the Hertz stiffness of --sphere/--plate/--radius' + (
+            '/--plate-radius' if getattr(args, 'plate_radius', float('inf')) < float('inf')
+            else '')
         names['mass'] = '--mass' if getattr(args, 'mass', None) is not None else \
             'the mass from --sphere and --radius'
     if getattr(args, 'data', None) is not None and isinstance(args.data, str):

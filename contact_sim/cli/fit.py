@@ -32,7 +32,7 @@ def add_parser(sub):
     p.add_argument('--law', action='append', choices=LAW_NAMES,
                    help='force law, repeatable (default: all four, ranked by rms residual)')
     p.add_argument('--confidence', type=float, default=0.95,
-                   help='confidence level of the interval on lambda, 0 < C < 1 (default 0.95)')
+                   help='confidence level of the interval on lambda, 0 < C <= 0.999999 (default 0.95)')
     p.add_argument('--loss', choices=LOSSES, default='linear',
                    help='least-squares loss (default linear; soft_l1 etc. down-weight outliers)')
     plot_option(p, 'the data and the fitted curves on a log speed axis')

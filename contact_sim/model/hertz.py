@@ -43,6 +43,9 @@ def effective_modulus(a, b):
                   + (1.0 - b.poisson_ratio ** 2) / b.youngs_modulus)
 
 
+RADIUS_MIN = 1e-300   # m: below ~5.6e-309, 1/R overflows and R underflows to 0
+
+
 def equivalent_radius(radius, plate_radius=math.inf):
     """Equivalent radius R of two spheres in contact (equation 10): 1/R = 1/R1 + 1/R2.
 
@@ -80,6 +83,11 @@ def equivalent_radius(radius, plate_radius=math.inf):
     if math.isinf(r1) and math.isinf(r2):
         raise InputError('radius', r1, '{n[radius]} = inf and {n[plate_radius]} = inf: at least '
                          'one radius must be finite')
+    for key, r in (('radius', r1), ('plate_radius', r2)):
+        if r < RADIUS_MIN:   # 1/r overflows: R would be 0
+            raise InputError(key, r, '{n[%s]} = {value} m is out of range: allowed %g <= '
+                             '{n[%s]} (1/R = 1/R1 + 1/R2 a finite double)' % (key, RADIUS_MIN, key),
+                             value=repr(r))
     return 1.0 / (1.0 / r1 + 1.0 / r2)
 
 

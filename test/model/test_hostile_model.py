@@ -62,3 +62,29 @@ def test_the_default_contact_is_the_nodes_and_the_readmes():
                                        damping_factor=8.87e5)
     assert contact == readme
     assert DEFAULT_CONTACT.mass() == cs.build_mass(sphere='steel', radius=0.0127)
+
+
+@pytest.mark.parametrize('args, field', [((5e-324, 0.01), 'radius'), ((0.01, 5e-324), 'plate_radius'),
+                                         ((0.01, 1e-305), 'plate_radius')])
+def test_a_radius_whose_reciprocal_overflows_is_refused_by_name(args, field):
+    # reproduced (this branch's probe): --plate-radius 5e-324 refused as '--radius = 0.0'
+    with pytest.raises(cs.InputError, match=rf'^{field} = .* allowed 1e-300 <= {field}'):
+        cs.equivalent_radius(*args)
+
+
+@pytest.mark.parametrize('modulus, density, field', [(5e-324, 7850.0, 'youngs_modulus'),
+                                                     (0.5, 7850.0, 'youngs_modulus'),
+                                                     (2e11, 5e-324, 'density')])
+def test_a_material_below_the_floors_is_refused(modulus, density, field):
+    # reproduced: E = 5e-324 refused as 'effective_modulus = 0.0', rho = 5e-324 as the radius
+    with pytest.raises(cs.InputError, match=rf'^{field} = ') as info:
+        cs.Material('x', modulus, 0.3, density)
+    assert info.value.field == field
+
+
+@pytest.mark.parametrize('confidence', [0.9999999999999999, 1.0, 0.0])
+def test_a_confidence_whose_interval_is_infinite_is_refused(confidence):
+    # reproduced (this branch's probe): 0.9999999999999999 printed the interval [0, inf]
+    with pytest.raises(cs.InputError, match=r'^confidence = .* allowed 0 < confidence <= 0.999999'):
+        cs.fit_damping('azad_featherstone', 1e10, 0.066, [0.5, 1, 2], [0.8, 0.75, 0.7],
+                       confidence=confidence)
