@@ -28,12 +28,14 @@ It prints one line per case that is not a clean refusal, then the counts; exit s
 The node cases need ROS (the set-up's venv); they are skipped with a note where rclpy is absent.
 """
 import argparse
+import atexit
 import json
 import math
 import os
 import re
 import resource
 import select
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -206,7 +208,10 @@ def cli_cases():
 def _fixtures(folder=None, write_files=True):
     """Input files of the issue-34 command lines, written in ``folder`` (default: a new
     temporary directory); their paths only, unless ``write_files``."""
-    folder = str(folder) if folder is not None else tempfile.mkdtemp(prefix='hostile_inputs_')
+    if folder is None:
+        folder = tempfile.mkdtemp(prefix='hostile_inputs_')
+        atexit.register(shutil.rmtree, folder, True)   # 1 MB of fixtures: not left behind
+    folder = str(folder)
     files = {}
 
     def write(name, data):
