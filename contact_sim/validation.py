@@ -153,8 +153,18 @@ def _fmt(x):
     return f'{x:g}'
 
 
+TEXT = (str, bytes, bytearray, memoryview)   # float() reads these; a number argument does not
+
+
 def require_real(name, value):
-    """Return ``value`` as a finite float, or raise ``InputError`` naming ``name``."""
+    """Return ``value`` as a finite float, or raise ``InputError`` naming ``name``.
+
+    Refused: booleans, text (``str``, ``bytes``: ``'9.81'``, ``b'1'``, ``'\u0669'`` are not
+    numbers here, whatever ``float()`` makes of them), complex numbers, masked or non-numeric
+    arrays, and non-finite values."""
+    if isinstance(value, TEXT):
+        raise InputError(name, value, '{n[%s]} = {value} is not a number (it is text); it must '
+                         'be a finite real number' % name, value=_describe(value))
     if isinstance(value, bool):
         raise InputError(name, value, '{n[%s]} = {value} is not a number; it must be a finite '
                          'real number' % name, value=repr(value))
@@ -173,6 +183,17 @@ def require_real(name, value):
     return x
 
 
+def number_from_text(name, text):
+    """A number written as ``text`` (a cell of a data file) as a float, else ``InputError``
+    naming ``name``: the one place that reads text as a number (``require_real`` refuses
+    text).  Non-finite spellings (``nan``, ``inf``) are returned for the range check to refuse."""
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        raise InputError(name, text, '{n[%s]} = {value} is not a number; it must be a finite '
+                         'real number' % name, value=_describe(text)) from None
+
+
 MAX_VALUES = 10_000_000   # values of one array argument (80 MB of doubles)
 
 
@@ -186,7 +207,7 @@ def require_real_array(name, values, max_size=MAX_VALUES, finite=True):
     then states its range).
     """
     import numpy as np   # here, so that parsing a command line does not import numpy
-    if values is None or isinstance(values, (str, bytes, bool, complex)) \
+    if values is None or isinstance(values, (*TEXT, bool, complex)) \
             or getattr(values, 'mask', None) is not None:
         what = 'a masked array' if getattr(values, 'mask', None) is not None else None
         raise InputError(name, values, '{n[%s]} = {value} is not a real number or an array of '
@@ -203,6 +224,9 @@ def require_real_array(name, values, max_size=MAX_VALUES, finite=True):
         raw = np.asarray(values)
     except Exception:   # noqa: BLE001
         raw = None
+    if raw is not None and isinstance(values, (list, tuple)) \
+            and any(isinstance(v, (bool, *TEXT)) for v in values):
+        raw = np.asarray([True])   # a boolean (or text) among numbers: not a number
     if raw is None or raw.dtype.kind not in 'iuf':
         kind = {'c': 'complex numbers', 'M': 'dates', 'm': 'time differences',
                 'b': 'booleans', 'U': 'text', 'S': 'text'}.get(
@@ -286,6 +310,12 @@ MASS_RANGE = (1e-12, 1e9)   # kg
 
 GRAVITY_MAX = 1e6   # m/s²
 HEIGHT_MAX = 1e6    # m: a release height
+
+
+def require_gravity(value, name='gravity'):
+    """Gravity g in m/s², 0 <= g <= ``GRAVITY_MAX``: the one rule of every path (impacts, drops,
+    fits, the command line, the node)."""
+    return require_range(name, value, 0.0, GRAVITY_MAX, unit='m/s^2')
 
 
 def require_mass(value, name='mass'):

@@ -15,7 +15,9 @@ counted:
 * ``memory``: a ``MemoryError`` (each case runs under a 2 GiB address-space limit);
 * ``nonsense``: accepted, with a non-finite number in the result (library) or in the output;
 * ``unnamed``: refused, but the message does not name the argument the user gave, or shows a
-  numpy repr (``np.float64(...)``).
+  numpy repr (``np.float64(...)``);
+* ``refused``: a valid command line (the newcomer's ``contact-sim restitution``) that fails;
+* ``accepted``: a bad input that must be refused (an issue-34 case naming a field) accepted.
 A RuntimeWarning in a library call that succeeds is raised as an error, so it counts as a
 ``traceback``.
 
@@ -26,18 +28,21 @@ It prints one line per case that is not a clean refusal, then the counts; exit s
 The node cases need ROS (the set-up's venv); they are skipped with a note where rclpy is absent.
 """
 import argparse
+import atexit
 import json
 import math
 import os
 import re
 import resource
 import select
+import shutil
 import subprocess
 import sys
 import tempfile
 
 BAD_NUMBERS = [math.nan, math.inf, -math.inf, -1.0, 0.0, 1e308, -1e308, 1e-308, 'abc', True,
-               None, 1 + 2j]
+               None, 1 + 2j, '1', b'1']
+NOT_NUMBERS = (str, bytes, bool, complex)   # never a number: accepting one is a failure
 MEMORY = 2 * 1024 ** 3
 
 # -- the library: (call, argument name, keyword arguments of a valid call) --------------------
@@ -47,8 +52,15 @@ LIBRARY = [
     ('cs.DropSimulation', dict(contact='C', mass=0.066, height=1.0, gravity=9.81,
                                radius=0.0127, velocity=0.0, settle_tolerance=1e-3)),
     ('cs.check_drop', dict(contact='C', mass=0.066, gravity=9.81, height=1.0, velocity=0.0,
-                           radius=0.0127)),
-    ('cs.simulate_impact', dict(contact='C', mass=0.066, speed=1.0)),
+                           radius=0.0127, plate_speed=0.0)),
+    ('cs.simulate_impact', dict(contact='C', mass=0.066, speed=1.0, gravity=9.81)),
+    ('cs.damping_group', dict(law='azad_featherstone', stiffness=1e10, mass=0.066, speed=1.0,
+                              damping=1e5)),
+    ('cs.equivalent_radius', dict(radius=0.01, plate_radius=0.02)),
+    ('cs.Material', dict(name='x', youngs_modulus=1e9, poisson_ratio=0.3, density=1000.0)),
+    ('cs.build_mass', dict(sphere='steel', radius=0.01)),
+    ('cs.drop.sphere_motion', dict(radius=0.01, penetration=0.0, penetration_rate=0.0,
+                                   plate_position=0.0, plate_velocity=0.0)),
     ('cs.restitution', dict(contact='C', mass=0.066, speeds=1.0)),
     ('cs.contact_duration', dict(contact='C', mass=0.066, speeds=1.0)),
     ('cs.predict_bounces', dict(contact='C', mass=0.066, height=1.0, count=10)),
@@ -74,7 +86,7 @@ EXPRESSIONS = [
     ("cs.contact_duration(C, 0.066, np.ma.masked_array([1.0, -1.0], [0, 1]))", 'speeds'),
     ("cs.restitution(cs.Contact('azad_featherstone', 1e300, 1e5), 0.066, 1.0)", 'stiffness'),
     ("cs.restitution(C, 1e300, 1.0)", 'mass'),
-    ("cs.FlightPath(-1.0, 0.0, 9.81).touch()", 'level'),
+    ("cs.FlightPath(-1.0, 0.0, 9.81, surface=-1.5).touch()", 'level'),
     ("cs.predict_bounces(C, 0.066, height=1.0, count=60)", ''),
     ("cs.predict_bounces(C, 0.066, height=1e308, count=5)", 'height'),
     ("cs.fit_damping('azad_featherstone', 1e10, 0.066, [1, 2], [0.8])", 'restitutions'),
@@ -92,6 +104,47 @@ EXPRESSIONS = [
     ("cs.simulate_drop(C, 0.066, 1.0, duration=1.0, radius=1e-308)", 'radius'),
     ("cs.drop.sweep(abs, [1], max_workers=10 ** 6)", 'max_workers'),
     ("cs.DropSimulation(C, 0.066, 1.0).advance(1.0, max_steps=0.5)", 'max_steps'),
+    # issue 34: one rule per quantity (gravity as for a drop; text, bytes, booleans not numbers)
+    ("cs.simulate_impact(C, 0.066, 1.0, gravity=1e300)", 'gravity'),
+    ("cs.simulate_impact(C, 0.066, 1.0, gravity=1e7)", 'gravity'),
+    ("cs.simulate_impact(C, 0.066, 1.0, gravity='9.81')", 'gravity'),
+    ("cs.simulate_drop(C, 0.066, 1.0, duration=1.0, gravity='9.81')", 'gravity'),
+    ("cs.simulate_drop(C, 0.066, 1.0, duration=1.0, gravity=b'1')", 'gravity'),
+    ("cs.simulate_drop(C, 0.066, '\u0661', duration=1.0)", 'height'),
+    ("cs.simulate_drop(C, True, 1.0, duration=1.0)", 'mass'),
+    ("cs.simulate_drop(C, 0.066, 1.0, duration='1')", 'duration'),
+    ("cs.Contact('azad_featherstone', '1e10', 1e5)", 'stiffness'),
+    ("cs.Contact('azad_featherstone', 1e10, b'1')", 'damping'),
+    ("cs.Material('x', '1e9', 0.3, 1000.0)", 'youngs_modulus'),
+    ("cs.build_contact('azad_featherstone', stiffness='1e10', damping=1.0)", 'stiffness'),
+    ("cs.build_mass(sphere='steel', radius='0.01')", 'radius'),
+    ("cs.restitution(C, 0.066, [1.0, True])", 'speeds'),
+    ("cs.restitution(C, '0.066', 1.0)", 'mass'),
+    ("cs.simulate_drop(cs.Contact('azad_featherstone', 1e10, 5e-324), 0.066, 1.0, duration=1.0)",
+     'damping'),
+    ("cs.FlightPath(-1.0, 0.0, 9.81)", 'height'),
+    ("cs.FlightPath(1.0, 0.0, '9.81')", 'gravity'),
+    ("cs.equivalent_radius(math.nan, 0.01)", 'radius'),
+    ("cs.equivalent_radius(0.01, math.nan)", 'plate_radius'),
+    ("cs.damping_group('azad_featherstone', 1e10, 0.066, math.nan, 1e5)", 'speed'),
+    ("cs.damping_group('azad_featherstone', 1e10, 0.066, math.inf, 1e5)", 'speed'),
+    ("cs.damping_group('azad_featherstone', 1e10, 0.066, -1.0, 1e5)", 'speed'),
+    ("cs.damping_group('azad_featherstone', 1e10, 0.066, 1j, 1e5)", 'speed'),
+    ("cs.damping_group('azad_featherstone', 1e10, 0.066, 1.0, '1e5')", 'damping'),
+    ("cs.check_drop(C, 0.066, 9.81, 1.0, 0.0, plate_speed=math.nan)", 'plate_speed'),
+    ("sphere_motion('a', 0.0, 0.0)", 'radius'),
+    ("sphere_motion(math.nan, 0.0, 0.0)", 'radius'),
+    ("sphere_motion(0.01, 0.0, 0.0, plate_position=None)", 'plate_position'),
+    ("sphere_motion(0.01, 0.0, math.inf)", 'penetration_rate'),
+    ("CommandedPlate((0.0, 1e-300), (0.0, 0.01), (0.0, 0.0))", 'times'),
+    ("CommandedPlate((0.0, 1.0), (0.0, 1e300), (0.0, 0.0))", 'positions'),
+    ("CommandedPlate((0.0, 1e300), (0.0, 0.01), (0.0, 0.0))", 'times'),
+    ("CommandedPlate((0.0, 1.0), (0.0, True), (0.0, 0.0))", 'positions'),
+    ("CommandedPlate((0.0, 1.0), (0.0, 1e-300), (0.0, 0.0)).state(0.5)", ''),
+    ("command_motion(0.0, 0.0, 0.0, [1e-300, 1.0], [0.01, 0.0])", 'times'),
+    ("command_motion(0.0, 0.0, 0.0, [0.5, 1.0], ['0.01', 0.0])", 'positions'),
+    ("cs.drop.SinusoidalPlate('0.001', 20.0, 0.0)", 'amplitude'),
+    ("cs.drop.SinusoidalPlate(0.001, 5e-324, 0.0)", 'frequency'),
 ]
 
 # -- the command line: (subcommand with a valid set of options, option names to spoil) --------
@@ -118,7 +171,7 @@ def _limit_memory():
 def library_cases():
     for call, kwargs in LIBRARY:
         for name, good in kwargs.items():
-            if name in ('contact', 'function', 'law'):
+            if name in ('contact', 'function', 'law', 'name', 'sphere'):
                 continue
             for bad in BAD_NUMBERS:
                 if bad == good:
@@ -141,12 +194,65 @@ def cli_cases():
                 else:
                     spoilt += [option, bad]
                 yield ('cli', 'contact-sim ' + ' '.join(spoilt), (spoilt, option))
+    for argv, option in issue34_cli_cases():   # strict: exit 0 is a failure ('accepted')
+        yield ('cli', 'contact-sim ' + ' '.join(a if len(a) < 80 else a[:20] + '...'
+                                                for a in argv), (argv, option, True))
     # output files: each refused before the work, naming the option (issue 17, item 3)
     for argv, _ in CLI:
         for option, bad in (('--plot', ''), ('--plot', '.'), ('--plot', '/dev/full'),
                             ('--plot', '/nonexistent/dir/x.png')):
             yield ('cli', 'contact-sim ' + ' '.join(argv + [option, repr(bad)]),
                    (argv + [option, bad], option))
+
+
+def _fixtures(folder=None, write_files=True):
+    """Input files of the issue-34 command lines, written in ``folder`` (default: a new
+    temporary directory); their paths only, unless ``write_files``."""
+    if folder is None:
+        folder = tempfile.mkdtemp(prefix='hostile_inputs_')
+        atexit.register(shutil.rmtree, folder, True)   # 1 MB of fixtures: not left behind
+    folder = str(folder)
+    files = {}
+
+    def write(name, data):
+        files[name] = os.path.join(folder, name)
+        if write_files:
+            with open(files[name], 'wb') as f:
+                f.write(data)
+    write('points.csv', b'speed,restitution\n0.5,0.8\n1,0.75\n2,0.7\n')
+    write('wide.csv', b'speed,restitution\n0.5,' + b'7' * 1_100_000 + b'\n')
+    write('radius.yaml', b'contact_sim:\n  ros__parameters:\n    sphere_radius: -1.0\n')
+    write('latin1.yaml', b'contact_sim:\n  ros__parameters:\n    contact_law: "\xe9"\n')
+    return files
+
+
+def issue34_cli_cases(folder=None, write_files=True):
+    """(argv, the option a refusal must name; None: the command must succeed), with the input
+    files in ``folder`` (``_fixtures``)."""
+    f = _fixtures(folder, write_files)
+    valid = ['--stiffness', '1e10', '--damping', '1e5', '--mass', '0.066']
+    return [
+        (['restitution'], None), (['drop', '--duration', '1'], None),   # the default contact
+        (['restitution', '--law', 'linear', '--law', 'linear', *valid], '--law'),
+        (['restitution', '--speeds', '1', '--speeds', '2', *valid], '--speeds'),
+        (['restitution', '--speeds', '1,2', '--points', '5', *valid], '--points'),
+        (['restitution', '--mass', '1', '--mass', '2', '--stiffness', '1e10', '--damping', '1'],
+         '--mass'),
+        (['drop', '--law', 'linear', '--law', 'hunt_crossley', *valid], '--law'),
+        (['drop', '--gravity', '1e300', *valid], '--gravity'),
+        (['drop', '--sample-rate', 'inf', '--plot', 'x.png', *valid], '--sample-rate'),
+        (['drop', '--sample-rate', '1e400', '--plot', 'x.png', *valid], '--sample-rate'),
+        (['drop', '--duration', '1e400', *valid], '--duration'),
+        (['restitution', '--plot', '/proc/x.png', *valid], '--plot'),
+        (['drop', '--plot', '/proc/x.png', *valid], '--plot'),
+        (['restitution', '--speed-range', '1', '1e400', *valid], '--speed-range'),
+        (['fit', f['wide.csv'], '--stiffness', '1e10', '--mass', '0.066'], f['wide.csv']),
+        (['fit', f['points.csv'], '--confidence', '1e400', '--stiffness', '1e10', '--mass',
+          '0.066'], '--confidence'),
+        (['fit', f['points.csv'], f['points.csv']], 'unrecognized'),
+        (['export', 'mujoco', '--params-file', f['radius.yaml']], '--params-file'),
+        (['export', 'mujoco', '--params-file', f['latin1.yaml']], '--params-file'),
+    ]
 
 
 def node_cases():
@@ -160,6 +266,7 @@ import json, math, sys, warnings
 import numpy as np
 import contact_sim as cs
 from contact_sim.calibration import parse_impact_times
+from contact_sim.drop import CommandedPlate, command_motion, sphere_motion
 C = cs.Contact('azad_featherstone', 1e10, 1e5)
 T = np.cumsum([0.0, 0.45, 0.40, 0.36, 0.32, 0.29])
 # documented non-finite values: a time not reached (nan), a permanent contact's duration (inf),
@@ -172,6 +279,8 @@ def decode(bad):
         return float(bad)
     if isinstance(bad, list) and bad and bad[0] == '__complex__':
         return complex(bad[1], bad[2])
+    if isinstance(bad, list) and bad and bad[0] == '__bytes__':
+        return bad[1].encode('latin-1')
     return bad
 
 def numbers(x, depth=0):
@@ -217,6 +326,8 @@ def _encode(value):
         return repr(value)              # 'nan', 'inf', '-inf'
     if isinstance(value, complex):
         return ['__complex__', value.real, value.imag]
+    if isinstance(value, bytes):
+        return ['__bytes__', value.decode('latin-1')]
     return value
 
 
@@ -268,6 +379,10 @@ class LibraryWorker:
         outcome, message = answer['outcome'], answer.get('message', '')
         if outcome == 'refused' and (not name or name not in message):
             return 'unnamed', message
+        if outcome == 'accepted' and call == '__expr__' and name:   # must be refused
+            return 'accepted', ''
+        if outcome == 'accepted' and isinstance(bad, NOT_NUMBERS):   # text, bytes, True, 1j
+            return 'accepted', ''
         return ('ok' if outcome in ('refused', 'accepted') else outcome), message
 
     def stop(self):
@@ -306,20 +421,26 @@ class CliWorker(LibraryWorker):
     SCRIPT, READY_TIMEOUT = CLI_WORKER, 300.0
 
     def run(self, case):
-        argv, option = case
+        argv, option, *strict = case
         answer, failed = self._ask(argv)
         if failed:
             return failed
-        return verdict(answer['code'], answer['out'], answer['err'], option)
+        return verdict(answer['code'], answer['out'], answer['err'], option, *strict)
 
 
-def verdict(code, stdout, stderr, option):
-    """The outcome of one command line from its exit status and output."""
+def verdict(code, stdout, stderr, option, strict=False):
+    """The outcome of one command line from its exit status and output (``strict``: a bad
+    input that must be refused, so exit 0 is ``accepted``)."""
     text = stdout + stderr
     if 'Traceback' in text:
         return 'traceback', stderr[-300:]
     if 'MemoryError' in text:
         return 'memory', ''
+    if option is None:   # a valid command line: must run
+        return ('ok', '') if code == 0 and not re.search(r'\b(nan|inf)\b', stdout) \
+            else ('refused', stderr.strip()[-200:])
+    if code == 0 and strict and option is not None:
+        return 'accepted', stdout[-200:]
     if code == 0:
         if re.search(r'\b(nan|inf)\b', stdout):
             return 'nonsense', stdout[-200:]
@@ -332,13 +453,13 @@ def verdict(code, stdout, stderr, option):
 
 
 def run_cli(case, timeout, exe):
-    argv, option = case
+    argv, option, *strict = case
     try:
         out = subprocess.run([exe, *argv], capture_output=True, text=True, timeout=timeout,
                              preexec_fn=_limit_memory, cwd=tempfile.gettempdir())
     except subprocess.TimeoutExpired:
         return 'hang', ''
-    return verdict(out.returncode, out.stdout, out.stderr, option)
+    return verdict(out.returncode, out.stdout, out.stderr, option, *strict)
 
 
 def run_node(case, timeout, exe, domain):
@@ -403,9 +524,10 @@ def main(argv=None):
     if cli is not None:
         cli.stop()
     print(f'{len(cases)} cases: ' + ', '.join(f'{counts.get(k, 0)} {k}' for k in
-          ('ok', 'traceback', 'hang', 'memory', 'nonsense', 'unnamed', 'skipped')))
+          ('ok', 'traceback', 'hang', 'memory', 'nonsense', 'unnamed', 'refused',
+           'accepted', 'skipped')))
     return 1 if any(counts.get(k) for k in ('traceback', 'hang', 'memory', 'nonsense',
-                                            'unnamed')) else 0
+                                            'unnamed', 'refused', 'accepted')) else 0
 
 
 if __name__ == '__main__':

@@ -1,13 +1,17 @@
 """`contact-sim`: a thin command line over the core library (no ROS).
 
-Subcommands: materials, restitution, drop, fit, bounces.  Run `contact-sim <subcommand> --help`.
+Subcommands: materials, restitution, drop, fit, bounces, export, audit.  Run
+`contact-sim <subcommand> --help`.  Without contact options, restitution, drop, fit and export
+use the default contact (the node's: a steel ball, R1 = 12.7 mm, on cast iron, the
+azad_featherstone law, lambda* = 8.87e5) and say so in their first output line.
 """
 import argparse
 import importlib
 import sys
 
 from contact_sim.cli import errors, outputs, plotting
-from contact_sim.cli.options import EXIT_HELP
+from contact_sim.cli.contact import use_default_contact
+from contact_sim.cli.options import EXIT_HELP, refuse_repeats
 
 # the subcommand modules, in the order of --help
 SUBCOMMANDS = ('materials', 'restitution', 'drop', 'fit', 'bounces', 'export', 'audit')
@@ -28,7 +32,7 @@ def build_parser(only=None):
             importlib.import_module(f'contact_sim.cli.{name}').add_parser(sub)
         else:
             sub.add_parser(name)
-    return parser
+    return refuse_repeats(parser)   # a repeated option is refused, not silently overridden
 
 
 def requested(argv):
@@ -45,6 +49,7 @@ def main(argv=None):
         outputs.check_outputs(args)   # every output file, before any work
         if getattr(args, 'plot', None) is not None:
             plotting.load_pyplot()
+        use_default_contact(args)   # no contact given: the node's default one, said so
         return args.run(args)
     except errors.REPORTED as error:
         return errors.report(error, args)

@@ -5,7 +5,8 @@ import math
 import sys
 from dataclasses import dataclass, field
 
-from contact_sim.model import MATERIALS, Material, build_contact, build_mass, equivalent_radius
+from contact_sim.model import (DEFAULT_CONTACT, MATERIALS, Material, build_contact, build_mass,
+                               equivalent_radius)
 from contact_sim.validation import InputError
 
 
@@ -46,6 +47,37 @@ def material(args, body):
     except InputError as error:   # keyed by the material's field: say which option it was
         option = dict(options).get(error.field)
         raise error.rekeyed(f'{body}_{option}') if option else error from None
+
+
+# the options that describe a contact: none of them given -> the default contact
+CONTACT_OPTIONS = ('sphere', 'plate', 'radius', 'stiffness', 'mass', 'damping', 'damping_factor',
+                   'params_file') + tuple(f'{body}_{option}' for body in ('sphere', 'plate')
+                                          for option in ('modulus', 'poisson', 'density'))
+# the subcommands that fall back to it (bounces fits its own contact from the recordings)
+DEFAULT_CONTACT_COMMANDS = ('restitution', 'drop', 'fit', 'export')
+
+
+def use_default_contact(args):
+    """With no contact option at all, take the core's default contact (``DEFAULT_CONTACT``, the
+    node's defaults: the README's steel ball on cast iron, its law unless --law is given) and say
+    so in the first line of the output; returns True if it did.
+
+    Refused as before (a missing option named): a contact given in part, e.g. --mass alone."""
+    if getattr(args, 'command', None) not in DEFAULT_CONTACT_COMMANDS \
+            or any(getattr(args, name, None) is not None for name in CONTACT_OPTIONS) \
+            or not math.isinf(getattr(args, 'plate_radius', math.inf)):
+        return False
+    args.sphere, args.plate, args.radius = \
+        DEFAULT_CONTACT.sphere, DEFAULT_CONTACT.plate, DEFAULT_CONTACT.radius
+    if hasattr(args, 'damping_factor'):
+        args.damping_factor = DEFAULT_CONTACT.damping_factor
+    if args.command in ('restitution', 'fit') and args.law is None:   # --law: repeatable
+        args.law = [DEFAULT_CONTACT.law]
+    json = getattr(args, 'format', None) == 'json'   # keep a JSON output parseable
+    print(f'# no contact given: the default contact, {DEFAULT_CONTACT.describe()} (the '
+          'node\'s defaults; give --sphere/--plate/--radius or --stiffness/--mass/--damping for '
+          'another)', file=sys.stderr if json else sys.stdout)
+    return True
 
 
 def _has_density(args):

@@ -35,7 +35,9 @@ def option_names(args, error=None):
     computed = getattr(error, 'value', 0.0) is not None   # a value, not a missing option
     if computed and getattr(args, 'stiffness', 1.0) is None \
             and getattr(args, 'radius', None) is not None:
-        names['stiffness'] = 'the Hertz stiffness of --sphere/--plate/--radius'
+        names['stiffness'] = 'the Hertz stiffness of --sphere/--plate/--radius' + (
+            '/--plate-radius' if getattr(args, 'plate_radius', float('inf')) < float('inf')
+            else '')
         names['mass'] = '--mass' if getattr(args, 'mass', None) is not None else \
             'the mass from --sphere and --radius'
     if getattr(args, 'data', None) is not None and isinstance(args.data, str):
@@ -44,10 +46,14 @@ def option_names(args, error=None):
 
 
 def _source(error, args):
-    """'FILE: ' before a refusal of a data file's column (``fit``), else ''."""
+    """'FILE: ' before a refusal of a data file's column (``fit``), '--params-file FILE: '
+    before a refusal of a value taken from a parameter file, else ''."""
     data = getattr(args, 'data', None)
-    if isinstance(data, str) and getattr(error, 'field', None) in DATA_FIELDS:
+    field = getattr(error, 'field', None)
+    if isinstance(data, str) and field in DATA_FIELDS:
         return ('stdin' if data == '-' else data) + ': '
+    if field is not None and field in getattr(args, 'params_file_keys', ()):
+        return f'--params-file {args.params_file}: '
     return ''
 
 

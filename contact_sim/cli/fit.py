@@ -12,7 +12,7 @@ from contact_sim.cli import plotting
 from contact_sim.cli.contact import build_setup, contact_lines, damping_unit, describe_contact
 from contact_sim.cli.options import LAW_NAMES, contact_command, law_list, plot_option
 from contact_sim.impact import LOSSES   # (a module without the engine: contact_sim._lazy)
-from contact_sim.validation import InputError, require_range
+from contact_sim.validation import InputError, number_from_text, require_range
 
 
 def add_parser(sub):
@@ -32,12 +32,15 @@ def add_parser(sub):
     p.add_argument('--law', action='append', choices=LAW_NAMES,
                    help='force law, repeatable (default: all four, ranked by rms residual)')
     p.add_argument('--confidence', type=float, default=0.95,
-                   help='confidence level of the interval on lambda, 0 < C < 1 (default 0.95)')
+                   help='confidence level of the interval on lambda, 0 < C <= 0.999999 (default 0.95)')
     p.add_argument('--loss', choices=LOSSES, default='linear',
                    help='least-squares loss (default linear; soft_l1 etc. down-weight outliers)')
     plot_option(p, 'the data and the fitted curves on a log speed axis')
     p.set_defaults(run=run)
 
+
+
+MAX_LINE = 10_000   # characters of a data row (csv's own field limit is 131072)
 
 
 def _is_number(text):
@@ -46,6 +49,11 @@ def _is_number(text):
     except ValueError:
         return False
     return True
+
+
+def _cell(name, text):
+    """A positive number from a data file's cell (``InputError`` naming ``name``)."""
+    return require_range(name, number_from_text(name, text), 0.0, low_open=True)
 
 
 def read_restitution_csv(path, with_uncertainties=False):
@@ -59,7 +67,12 @@ def read_restitution_csv(path, with_uncertainties=False):
     try:
         opened = contextlib.nullcontext(sys.stdin) if path == '-' else open(path, encoding='utf-8')
         with opened as source:
-            for number, line in enumerate(source, 1):   # line by line: bounded memory
+            for number, line in enumerate(iter(lambda: source.readline(MAX_LINE + 1), ''), 1):
+                if len(line) > MAX_LINE:   # line by line, each bounded: bounded memory
+                    raise InputError('data', name, 'data = {value} line %d is longer than %d '
+                                     'characters: allowed rows "speed,restitution[,uncertainty]" '
+                                     'of at most %d characters' % (number, MAX_LINE, MAX_LINE),
+                                     value=repr(name))
                 content = line.split('#', 1)[0].strip()
                 if content:
                     rows.append((number, next(csv.reader(io.StringIO(content)))))
@@ -80,10 +93,10 @@ def read_restitution_csv(path, with_uncertainties=False):
         if index == 0 and not any(_is_number(c) for c in cells):
             continue  # a header
         try:
-            speeds.append(require_range('speed', cells[0], 0.0, low_open=True))
-            values.append(require_range('restitution', cells[1], 0.0, low_open=True))
-            sigmas.append(require_range('uncertainty', cells[2], 0.0, low_open=True)
-                          if len(cells) > 2 and cells[2] else math.nan)
+            speeds.append(_cell('speed', cells[0]))
+            values.append(_cell('restitution', cells[1]))
+            sigmas.append(_cell('uncertainty', cells[2]) if len(cells) > 2 and cells[2]
+                          else math.nan)
         except ValueError as error:
             raise ValueError(f'{where}: {error}') from None
     if not speeds:

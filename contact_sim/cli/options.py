@@ -4,6 +4,7 @@ import argparse
 import math
 
 from contact_sim.model import LAWS, MATERIALS, get_law
+from contact_sim.validation import InputError
 
 LAW_NAMES = list(LAWS)  # azad_featherstone, hunt_crossley, lee_wang, linear
 
@@ -53,11 +54,11 @@ def contact_options(damping=True):
                            'sphere; 1/R = 1/R1 + 1/R2')
     for body in ('sphere', 'plate'):   # custom materials, or changes to a library one
         mats.add_argument(f'--{body}-modulus', type=float, metavar='E',
-                          help=f"{body} Young's modulus in Pa, 0 < E")
+                          help=f"{body} Young's modulus in Pa, 1 <= E")
         mats.add_argument(f'--{body}-poisson', type=float, metavar='NU',
                           help=f'{body} Poisson ratio, -1 < NU < 0.5')
         mats.add_argument(f'--{body}-density', type=float, metavar='RHO',
-                          help=f'{body} density in kg/m^3, 0 < RHO' + (
+                          help=f'{body} density in kg/m^3, 0.001 <= RHO' + (
                               ' (for the mass)' if body == 'sphere' else ' (not used)'))
     direct = parent.add_argument_group('contact given directly')
     direct.add_argument('--stiffness', type=float, metavar='K',
@@ -88,3 +89,55 @@ def contact_command(sub, name, help, description, notes, damping=True,
         formatter_class=argparse.RawDescriptionHelpFormatter, help=help, description=description,
         epilog=CONTACT_HELP.format(linear=linear) + (DAMPING_HELP if damping else '') + notes
         + EXIT_HELP)
+
+
+# -- options given once: a repeated option is refused, not silently overridden ----------------
+GIVEN = 'given_options'   # the namespace attribute: the dests given on the command line
+
+
+class _Once:
+    """Mixed into an option's action: records its dest in ``args.given_options`` and refuses a
+    second occurrence unless the action is repeatable (append, count); a repeatable option
+    given twice with the same value is refused too."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        given = getattr(namespace, GIVEN, None)
+        if given is None:
+            given = set()
+            setattr(namespace, GIVEN, given)
+        repeatable = isinstance(self, (argparse._AppendAction, argparse._CountAction))
+        if self.dest in given and not repeatable:
+            raise argparse.ArgumentError(self, 'given twice: allowed once (the last would '
+                                               'silently win)')
+        if isinstance(self, argparse._AppendAction) and self.dest in given \
+                and values in (getattr(namespace, self.dest, None) or ()):
+            raise argparse.ArgumentError(self, f'{values!r} is given twice: allowed each once')
+        given.add(self.dest)
+        super().__call__(parser, namespace, values, option_string)
+
+
+def refuse_repeats(parser):
+    """Make every option of ``parser`` (and of its subcommands) record itself in
+    ``args.given_options`` and refuse being given twice (``--law a --law b`` where --law takes
+    one law); repeatable options (``action='append'``) stay repeatable."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                refuse_repeats(sub)
+        elif action.option_strings and not isinstance(
+                action, (argparse._HelpAction, argparse._VersionAction, _Once)):
+            action.__class__ = type('Once' + type(action).__name__, (_Once, type(action)), {})
+    return parser
+
+
+def given(args, dest):
+    """True when the option stored in ``dest`` was given on the command line."""
+    return dest in (getattr(args, GIVEN, None) or ())
+
+
+def refuse_beside(args, dest, option, other, why):
+    """Refuse ``option`` (stored in ``dest``) given together with ``other``, ``why`` it would be
+    ignored."""
+    if given(args, dest):
+        raise InputError(dest, getattr(args, dest), '%s = {value} is given with %s, which %s: '
+                         'allowed one of them' % (option, other, why))

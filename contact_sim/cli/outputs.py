@@ -61,6 +61,21 @@ def check_output(option, path):
                               'existing directory')
     if not os.access(parent, os.W_OK | os.X_OK):
         _refuse(option, path, f'directory {parent!r} is not writable (permission denied)')
+    _probe(option, path, full)
+
+
+def _probe(option, path, full):
+    """Create ``full`` and remove it again: the only test that /proc, a read-only mount or a
+    full quota refuses before the work rather than after it."""
+    try:
+        fd = os.open(full, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
+    except FileExistsError:   # made meanwhile: the checks above apply to it next time
+        return
+    except OSError as error:
+        _refuse(option, path, f'{error.strerror or error} (a file cannot be created there); '
+                              'allowed a file in a writable directory')
+    os.close(fd)
+    os.unlink(full)
 
 
 def check_outputs(args):

@@ -8,7 +8,8 @@ import numpy as np
 from contact_sim.cli import plotting
 from contact_sim.cli.contact import build_setup, contact_lines, damping_unit, describe_contact, \
     stiffness_unit
-from contact_sim.cli.options import LAW_NAMES, contact_command, law_list, plot_option
+from contact_sim.cli.options import LAW_NAMES, contact_command, law_list, plot_option, \
+    refuse_beside
 from contact_sim.validation import InputError, require_int
 
 MAX_POINTS = 1_000_000   # --points: the table is printed, one line a speed
@@ -57,6 +58,8 @@ def add_parser(sub):
 
 def _speeds(args):
     if args.speeds is not None:
+        refuse_beside(args, 'points', '--points', '--speeds', 'lists the speeds itself '
+                      '(--points counts those of --speed-range)')
         from contact_sim.impact import require_speeds   # the engine: after parsing
         return require_speeds(args.speeds)
     low, high = args.speed_range

@@ -5,7 +5,8 @@ import math
 from contact_sim.model import require_contact
 from contact_sim.phase import phase_scales
 from contact_sim.impact import CONTACT_LENGTH_MAX, CONTACT_TIME_MIN, ZETA_MIN, checked_scales
-from contact_sim.validation import (GRAVITY_MAX, HEIGHT_MAX, MASS_RANGE, InputError,
+from contact_sim import validation
+from contact_sim.validation import (GRAVITY_MAX, HEIGHT_MAX, MASS_RANGE, InputError,  # noqa: F401 (GRAVITY_MAX: re-exported by drop)
                                     require_range)
 
 DROP_RTOL = 1e-10
@@ -38,6 +39,27 @@ def _first_impact_speed(gravity, height, velocity):
     return math.sqrt(velocity * velocity + 2.0 * gravity * height)
 
 
+def _refuse_slow_landing(contact, mass, gravity, height, velocity, plate_speed, speed):
+    """A first impact too slow for its depth scale Z = (m v²/k)^(1/(n+1)) to be a double (a
+    height of 5e-324 m): refused naming the argument it comes from, not a speed nobody gave."""
+    v_min = math.sqrt(2.3e-308 * contact.stiffness / mass)   # m v²/k a normal double
+    if plate_speed >= max(velocity, 0.0) and plate_speed * plate_speed >= 2.0 * gravity * height:
+        key, value, unit = 'plate_speed', plate_speed, 'm/s'
+    elif velocity * velocity >= 2.0 * gravity * height:
+        key, value, unit = 'velocity', velocity, 'm/s'
+    elif gravity < 1e-3:
+        key, value, unit = 'gravity', gravity, 'm/s^2'
+    else:
+        key, value, unit = 'height', height, 'm'
+    bound = ' ({n[height]} = 0 or >= %.3g m at this gravity)' % (v_min * v_min / (2.0 * gravity)) \
+        if key == 'height' else ''
+    raise InputError(key, value, '{n[%s]} = {value} %s gives a first impact at %.3g m/s, too slow '
+                     'for its impact depth to be a double with {n[mass]} = %g kg and '
+                     '{n[stiffness]} = %g: allowed a first impact at 0 or >= %.3g m/s%s'
+                     % (key, unit, speed, mass, contact.stiffness, v_min, bound),
+                     value=repr(value))
+
+
 def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_speed=0.0):
     """Refuse a drop the engine cannot follow, or one outside the contact model's validity.
 
@@ -56,7 +78,7 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
 
     The arguments are checked first, in the ranges ``DropSimulation`` takes them (``MASS_RANGE``
     kg, 0 <= g <= ``GRAVITY_MAX``, 0 <= h <= ``HEIGHT_MAX``, abs(v0) <= ``VELOCITY_MAX``,
-    ``RADIUS_RANGE`` m, a finite ``plate_speed`` >= 0).
+    ``RADIUS_RANGE`` m, 0 <= ``plate_speed`` <= ``VELOCITY_MAX``).
 
     Parameters
     ----------
@@ -108,15 +130,20 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
     gravity = require_gravity(gravity)
     height, velocity = require_height(height), require_velocity(velocity)
     radius = None if radius is None else require_radius(radius)
-    plate_speed = require_range('plate_speed', plate_speed, 0.0, unit='m/s')
+    plate_speed = require_range('plate_speed', plate_speed, 0.0, VELOCITY_MAX, unit='m/s')
     speed = _first_impact_speed(gravity, height, velocity) + plate_speed
     if speed == 0.0 and gravity == 0.0:
         return                      # never lands: nothing to check
     law, k, lam = contact.law, contact.stiffness, contact.damping
     n = law.n
     if speed > 0.0:   # the first impact, by the impact layer's ranges (T, Z, tiny ζ; k or λ)
-        checked_scales(contact, mass, speed, 'speed', zeta_max=math.inf,   # large ζ: below
-                       zeta_min=ZETA_MIN)
+        try:
+            checked_scales(contact, mass, speed, 'speed', zeta_max=math.inf,   # large ζ: below
+                           zeta_min=ZETA_MIN)
+        except InputError as error:
+            if error.field != 'speed':
+                raise
+            _refuse_slow_landing(contact, mass, gravity, height, velocity, plate_speed, speed)
     regimes = []
     if speed > 0.0:
         regimes.append(_scales_or_none(lambda: phase_scales(contact, mass, 0.0, 0.0, speed)))
@@ -188,8 +215,8 @@ def require_mass(mass):
 
 
 def require_gravity(gravity):
-    """Gravity (m/s²): 0 <= g <= ``GRAVITY_MAX``."""
-    return require_range('gravity', gravity, 0.0, GRAVITY_MAX, unit='m/s^2')
+    """Gravity (m/s²): 0 <= g <= ``GRAVITY_MAX`` (``validation.require_gravity``)."""
+    return validation.require_gravity(gravity)
 
 
 def require_radius(radius):

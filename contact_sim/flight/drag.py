@@ -35,7 +35,7 @@ below critical, b < 2 √(c m g) (realistic Stokes drag is four orders of magnit
 the upward leg has another form that is not implemented, and a named ``ValueError`` says so.
 """
 import math
-from dataclasses import dataclass
+from dataclasses import InitVar, dataclass
 
 import numpy as np
 from scipy.optimize import brentq
@@ -263,11 +263,16 @@ class FlightPath:
         Quadratic drag rate κ = c / m, 1/m, >= 0 (default 0: no quadratic drag).
     beta : float
         Linear drag rate β = b / m, 1/s, >= 0, below 2 √(κ g) (default 0).
+    surface : float, optional
+        Keyword only, not stored: the plate's surface at the start, m (default 0, the fixed
+        plate); ``height`` below it starts inside the plate and is refused.  A moving plate's
+        flight, planned relative to the plate, passes ``-math.inf``.
 
     Raises
     ------
     InputError
-        Keyed ``gravity``, ``kappa`` or ``beta``: out of range.
+        Keyed ``height`` (below ``surface``: inside the plate), ``gravity``, ``kappa`` or
+        ``beta``: out of range.
     ValueError
         Naming ``beta``: β >= 2 √(κ g).
 
@@ -287,8 +292,14 @@ class FlightPath:
     gravity: float
     kappa: float = 0.0
     beta: float = 0.0
+    surface: InitVar[float] = 0.0
 
-    def __post_init__(self):
+    def __post_init__(self, surface):
+        if surface != -math.inf:
+            surface = require_real('surface', surface)
+            require_range('height', self.height, surface,
+                          unit='m: a flight starts on or above the plate' if surface == 0.0
+                          else 'm: a flight starts on or above the plate at %g m' % surface)
         for name, value in (('height', require_real('height', self.height)),
                             ('velocity', require_real('velocity', self.velocity)),
                             ('gravity', require_positive('gravity', self.gravity)),

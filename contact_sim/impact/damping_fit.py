@@ -256,7 +256,7 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     restitutions : array_like of float
         Measured e, > 0 (e >= 1 is kept and flagged), one per point.
     confidence : float, optional
-        The interval's level, 0 < confidence < 1 (default 0.95).
+        The interval's level, 0 < confidence <= 0.999999 (default 0.95).
     loss : str, optional
         One of ``LOSSES`` (default ``'linear'``: plain least squares).
     uncertainties : array_like of float, optional

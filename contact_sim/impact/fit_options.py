@@ -11,10 +11,13 @@ MAX_POINTS = 2000   # points of one fit: each costs one inversion of e(λ) (1000
 LOSSES = ('linear', 'soft_l1', 'huber', 'cauchy', 'arctan')   # scipy.optimize.least_squares
 
 
+CONFIDENCE_MAX = 0.999999   # above it the interval's quantile is inf (0.9999999999999999 was)
+
+
 def require_fit_options(confidence, loss):
-    """The checked (confidence, loss) of a fit: 0 < confidence < 1, a loss of ``LOSSES``."""
-    confidence = require_range('confidence', confidence, 0.0, 1.0, low_open=True,
-                               high_open=True)
+    """The checked (confidence, loss) of a fit: 0 < confidence <= ``CONFIDENCE_MAX``, a loss of
+    ``LOSSES``."""
+    confidence = require_range('confidence', confidence, 0.0, CONFIDENCE_MAX, low_open=True)
     if loss not in LOSSES:
         raise InputError('loss', loss, '{n[loss]} = {value} is unknown: allowed one of %s'
                          % ', '.join(LOSSES), value=repr(loss))

@@ -35,7 +35,8 @@ from contact_sim.impact.scales import (checked_scales, checked_scales_at, dampin
                                       impact_scales, require_speeds)
 from contact_sim.impact.tails import restitution_tails
 from contact_sim.model import get_law, require_contact
-from contact_sim.validation import MASS_RANGE, require_mass
+from contact_sim.validation import (MASS_RANGE, InputError, range_text, require_mass,
+                                    require_real_array)
 
 
 def damping_group(law, stiffness, mass, speed, damping):
@@ -64,7 +65,9 @@ def damping_group(law, stiffness, mass, speed, damping):
     Raises
     ------
     InputError
-        Keyed ``law``: an unknown law; keyed ``speed``: a speed that is not a finite real > 0.
+        Keyed ``law``: an unknown law; ``stiffness`` (> 0), ``damping`` (>= 0) or ``mass``
+        (``MASS_RANGE``) not finite real numbers in range; ``speed``: a speed that is not a
+        finite real > 0, or a ζ that overflows.
 
     Examples
     --------
@@ -74,9 +77,31 @@ def damping_group(law, stiffness, mass, speed, damping):
     0.2785
     """
     law = get_law(law)
+    k = _array_in('stiffness', stiffness, 0.0, math.inf, low_open=True)   # numbers or arrays
+    m = _array_in('mass', mass, *MASS_RANGE)
+    lam = _array_in('damping', damping, 0.0, math.inf)
     v = require_speeds(speed, 'speed')
-    length, _ = impact_scales(law, stiffness, mass, v)
-    return damping_group_of(law, length, v, damping, mass)
+    with np.errstate(all='ignore'):
+        length, _ = impact_scales(law, k, m, v)
+        zeta = damping_group_of(law, length, v, lam, m)
+    if not np.all(np.isfinite(zeta)):
+        raise InputError('speed', None, 'the damping group of these {n[speed]}, {n[stiffness]}, '
+                         '{n[mass]} and {n[damping]} overflows: allowed values whose zeta is a '
+                         'finite number')
+    return zeta
+
+
+def _array_in(name, values, low, high, low_open=False):
+    """``values`` (a number or an array) as floats, each finite and in [low, high] (low
+    excluded when ``low_open``), else ``InputError`` naming ``name`` and the range."""
+    x = require_real_array(name, values)
+    bad = (x <= low if low_open else x < low) | (x > high)
+    if np.any(bad):
+        worst = float(x[bad].flat[0])
+        raise InputError(name, worst, '{n[%s]} = {value} is out of range: allowed %s'
+                         % (name, range_text(name, low, high, low_open=low_open)),
+                         value=repr(worst))
+    return x if x.ndim else float(x)
 
 
 def damping_from_group(law, stiffness, mass, speed, zeta):
@@ -89,6 +114,7 @@ def _dimensional(quantity, contact, mass, speeds):
     contact = require_contact(contact)
     law = contact.law
     mass = require_mass(mass)
+    speeds = require_speeds(speeds, 'speeds')   # first: a ragged list has no ndim
     scalar = np.ndim(speeds) == 0
     k = contact.stiffness
     length, time, zeta = checked_scales(contact, mass, speeds)
@@ -167,7 +193,7 @@ def restitution(contact, mass, speeds):
     """
     if isinstance(speeds, (int, float)) and not isinstance(speeds, bool) \
             and math.isfinite(speeds) and speeds > 0.0 \
-            and isinstance(mass, (int, float)) and MASS_RANGE[0] <= mass <= MASS_RANGE[1]:
+            and type(mass) in (int, float) and MASS_RANGE[0] <= mass <= MASS_RANGE[1]:   # no bool
         return _scalar_restitution(contact, float(mass), float(speeds))
     return _dimensional('restitution', contact, mass, speeds)
 

@@ -44,13 +44,16 @@ def damping_group_of(law, length, speed, damping, mass):
     return damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
 
 
-def _scales_accepted(length, time, zeta, zeta_max, zeta_min):
+def _scales_accepted(length, time, zeta, zeta_max, zeta_min, elastic=True):
     """(finite, ok) of impact scales, arrays or floats: Z and T finite positive doubles; and
     also T >= ``CONTACT_TIME_MIN``, Z <= ``CONTACT_LENGTH_MAX``, ζ <= ``zeta_max`` and ζ = 0 or
-    ζ >= ``zeta_min`` (the rule ``checked_scales`` and ``checked_scales_at`` both apply)."""
+    ζ >= ``zeta_min`` (the rule ``checked_scales`` and ``checked_scales_at`` both apply).  ζ = 0
+    counts as elastic only for an ``elastic`` contact (λ = 0): a λ > 0 whose ζ underflows to 0
+    (λ = 5e-324) is below ``zeta_min``."""
     finite = (length > 0.0) & (length < math.inf) & (time > 0.0) & (time < math.inf)  # NaN: no
+    zero_ok = (zeta == 0.0) & (elastic or zeta_min <= 0.0)
     ok = finite & (time >= CONTACT_TIME_MIN) & (length <= CONTACT_LENGTH_MAX) & (zeta <= zeta_max) \
-        & ((zeta == 0.0) | (zeta >= zeta_min))
+        & (zero_ok | (zeta >= zeta_min) & (zeta > 0.0))
     return finite, ok
 
 
@@ -71,7 +74,8 @@ def checked_scales_at(contact, mass, speed, name='speed', zeta_max=ZETA_MAX, zet
         except (OverflowError, ZeroDivisionError):
             pass
         else:
-            if _scales_accepted(length, time, zeta, zeta_max, zeta_min)[1]:
+            if _scales_accepted(length, time, zeta, zeta_max, zeta_min,
+                                contact.damping == 0.0)[1]:
                 return length, time, zeta
     length, time, zeta = checked_scales(contact, mass, speed, name, zeta_max, zeta_min)
     return float(length), float(time), float(zeta)
@@ -115,7 +119,7 @@ def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX, zeta_
     with np.errstate(all='ignore'):
         length, time = impact_scales(law, contact.stiffness, mass, v)
         zeta = damping_group_of(law, length, v, contact.damping, mass)
-    finite, ok = _scales_accepted(length, time, zeta, zeta_max, zeta_min)
+    finite, ok = _scales_accepted(length, time, zeta, zeta_max, zeta_min, contact.damping == 0.0)
     if not np.all(ok):
         i = np.flatnonzero(~np.broadcast_to(ok, np.shape(v)).ravel())[0]
         bad = float(np.ravel(v)[i])
@@ -148,7 +152,9 @@ def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX, zeta_
                              'damp a %g kg sphere at %g m/s: the damping group would be zeta = '
                              '%.3g, elastic to every digit; allowed {n[damping]} = 0 (elastic) or '
                              '{n[damping]} >= %.4g (zeta >= %g)'
-                             % (float(mass), bad, z, contact.damping * (zeta_min / z), zeta_min),
+                             % (float(mass), bad, z,
+                                zeta_min / damping_group_of(law, depth, bad, 1.0, float(mass)),
+                                zeta_min),
                              value='%g' % contact.damping)
         lam_max = contact.damping * (zeta_max / z)
         raise InputError('damping', contact.damping, '{n[damping]} = {value} is too large for a '

@@ -12,7 +12,7 @@ from contact_sim.model import require_contact
 from contact_sim.phase import (DEFAULT_ATOL, DEFAULT_RTOL, contact_phase, lift_off_energy,
                                phase_scales)
 from contact_sim.impact.scales import checked_scales_at
-from contact_sim.validation import (require_int, require_mass, require_nonnegative,
+from contact_sim.validation import (require_gravity, require_int, require_mass,
                                     require_positive, require_rtol)
 
 
@@ -77,7 +77,8 @@ def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_st
     speed : float
         Impact speed, m/s, > 0.
     gravity : float, optional
-        Gravity g, m/s², >= 0 (default 0: no gravity during contact).
+        Gravity g, m/s², 0 <= g <= ``GRAVITY_MAX`` (1e6, as for a drop; default 0: no
+        gravity during contact).
     rtol : float, optional
         The integrator's relative tolerance, 1e-14 <= rtol <= 1e-3.
     max_steps : int, optional
@@ -120,7 +121,7 @@ def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_st
     mass = require_mass(mass)
     speed = require_positive('speed', speed)
     checked_scales_at(contact, mass, speed, 'speed')   # Z, T finite doubles, ζ in range
-    gravity = require_nonnegative('gravity', gravity)
+    gravity = require_gravity(gravity)
     rtol = require_rtol('rtol', rtol)
     max_steps = require_int('max_steps', max_steps, 1, 10 ** 9)
     # heavy damping with n > p: the way out is integrated in the force (``force_tail``)

@@ -43,14 +43,18 @@ def effective_modulus(a, b):
                   + (1.0 - b.poisson_ratio ** 2) / b.youngs_modulus)
 
 
-def equivalent_radius(r1, r2=math.inf):
+RADIUS_MIN = 1e-300   # m: below ~5.6e-309, 1/R overflows and R underflows to 0
+
+
+def equivalent_radius(radius, plate_radius=math.inf):
     """Equivalent radius R of two spheres in contact (equation 10): 1/R = 1/R1 + 1/R2.
 
     Parameters
     ----------
-    r1 : float
-        Radius R1 of the first sphere, m, > 0 (``inf`` allowed if ``r2`` is finite).
-    r2 : float, optional
+    radius : float
+        Radius R1 of the first sphere, m, > 0 (``inf`` allowed if ``plate_radius`` is
+        finite).
+    plate_radius : float, optional
         Radius R2 of the second body, m, > 0; the default ``inf`` is a flat plate.
 
     Returns
@@ -61,7 +65,8 @@ def equivalent_radius(r1, r2=math.inf):
     Raises
     ------
     InputError
-        Keyed ``radius`` or ``plate_radius``: a radius that is not a number > 0.
+        Keyed ``radius`` or ``plate_radius`` (the arguments' names): a radius that is not a
+        number > 0.
     ValueError
         Both radii infinite.
 
@@ -73,11 +78,16 @@ def equivalent_radius(r1, r2=math.inf):
     >>> print(f"{cs.equivalent_radius(0.015, 0.015):.4f}")   # two 15 mm spheres
     0.0075
     """
-    r1 = require_positive('radius', r1, allow_inf=True)
-    r2 = require_positive('plate_radius', r2, allow_inf=True)
+    r1 = require_positive('radius', radius, allow_inf=True)   # named as the caller wrote them
+    r2 = require_positive('plate_radius', plate_radius, allow_inf=True)
     if math.isinf(r1) and math.isinf(r2):
         raise InputError('radius', r1, '{n[radius]} = inf and {n[plate_radius]} = inf: at least '
                          'one radius must be finite')
+    for key, r in (('radius', r1), ('plate_radius', r2)):
+        if r < RADIUS_MIN:   # 1/r overflows: R would be 0
+            raise InputError(key, r, '{n[%s]} = {value} m is out of range: allowed %g <= '
+                             '{n[%s]} (1/R = 1/R1 + 1/R2 a finite double)' % (key, RADIUS_MIN, key),
+                             value=repr(r))
     return 1.0 / (1.0 / r1 + 1.0 / r2)
 
 

@@ -6,9 +6,15 @@ against measured restitution for the pair you simulate.
 """
 from dataclasses import dataclass
 
-from contact_sim.validation import InputError, require_positive, require_range
+from contact_sim.validation import InputError, require_range
 
 _HANDBOOK = 'W. D. Callister, Materials Science and Engineering: An Introduction, Appendix B'
+
+
+# The smallest modulus and density a Material takes: far below any solid's (gels have ~10 Pa),
+# and above the subnormal values whose 1/E or R³ ρ underflow to an E* or a mass of 0.
+MODULUS_MIN = 1.0      # Pa
+DENSITY_MIN = 1e-3     # kg/m³
 
 
 @dataclass(frozen=True)
@@ -20,11 +26,11 @@ class Material:
     name : str
         A non-empty name (the key in ``MATERIALS`` for a library material).
     youngs_modulus : float
-        Young's modulus E, Pa, > 0.
+        Young's modulus E, Pa, >= ``MODULUS_MIN`` (1 Pa).
     poisson_ratio : float
         Poisson ratio ν, dimensionless, -1 < ν < 0.5.
     density : float
-        Density ρ, kg/m³, > 0.
+        Density ρ, kg/m³, >= ``DENSITY_MIN`` (1e-3 kg/m³).
     source : str
         Where the values come from (default ``'user supplied'``).
 
@@ -61,11 +67,13 @@ class Material:
         if not isinstance(self.name, str) or not self.name:
             raise ValueError(f'name = {self.name!r} is invalid: allowed a non-empty string')
         object.__setattr__(self, 'youngs_modulus',
-                           require_positive('youngs_modulus', self.youngs_modulus))
+                           require_range('youngs_modulus', self.youngs_modulus, MODULUS_MIN,
+                                         unit='Pa'))
         object.__setattr__(self, 'poisson_ratio',
                            require_range('poisson_ratio', self.poisson_ratio, -1.0, 0.5,
                                          low_open=True, high_open=True))
-        object.__setattr__(self, 'density', require_positive('density', self.density))
+        object.__setattr__(self, 'density', require_range('density', self.density, DENSITY_MIN,
+                                                          unit='kg/m^3'))
 
 
 #: The library materials, name -> ``Material`` (handbook values, each with its ``source``):

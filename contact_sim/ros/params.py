@@ -22,6 +22,7 @@ from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 import contact_sim as cs
 from contact_sim.drop import GRAVITY_MAX, HEIGHT_MAX, VELOCITY_MAX
 from contact_sim.flight import AIR_DENSITY
+from contact_sim.model import DEFAULT_CONTACT
 from contact_sim.drop import (TABLE_ACCELERATION_MAX, TABLE_AMPLITUDE_MAX, TABLE_FREQUENCY_MAX,
                                TABLE_PHASE_MAX, table_transition, vibrating_table)
 from contact_sim.validation import InputError, require_positive, require_range
@@ -79,27 +80,28 @@ def _custom_material(body, material, density_note=''):
 
 _LAWS = ', '.join(sorted(cs.LAWS))
 _MATERIALS = ', '.join(sorted(cs.MATERIALS))
-_STEEL, _IRON = cs.MATERIALS['steel'], cs.MATERIALS['cast_iron']   # the default pair
+_DEFAULT = DEFAULT_CONTACT   # the core's default contact: the command line's too
+_STEEL, _IRON = cs.MATERIALS[_DEFAULT.sphere], cs.MATERIALS[_DEFAULT.plate]   # the default pair
 _CONTACT_NOTE = 'takes effect from the next contact phase'
 _RESET_NOTE = 'takes effect at the next ~/reset'
 
 PARAMETERS = (
-    Spec('contact_law', 'azad_featherstone',
+    Spec('contact_law', _DEFAULT.law,
          f'Normal-force law F = k z^n + lambda z^p zdot^q (paper eq. 1); {_CONTACT_NOTE}',
          constraints=f'one of: {_LAWS}'),
-    Spec('sphere_material', 'steel',
+    Spec('sphere_material', _DEFAULT.sphere,
          f'Material of the falling sphere: a library name or custom; elastic constants '
          f'{_CONTACT_NOTE}, a density-derived mass at the next ~/reset',
          constraints=f'one of: {_MATERIALS}, custom'),
     *_custom_material('sphere', _STEEL),
-    Spec('sphere_radius', 0.0127,
+    Spec('sphere_radius', _DEFAULT.radius,
          f'Sphere radius R1 [m]; the Hertz stiffness {_CONTACT_NOTE}, a density-derived mass at '
          'the next ~/reset', (0.0, RADIUS_MAX),
          constraints=f'{RADIUS_MIN:g} <= sphere_radius <= {RADIUS_MAX:g}'),
     Spec('sphere_mass', 0.0,
          f'Sphere mass [kg]; 0 = from sphere density and radius, (4/3) pi R1^3 rho; {_RESET_NOTE}',
          (0.0, INF), constraints='0 <= sphere_mass < inf'),
-    Spec('plate_material', 'cast_iron',
+    Spec('plate_material', _DEFAULT.plate,
          f'Material of the plate (or of the lower sphere); {_CONTACT_NOTE}',
          constraints=f'one of: {_MATERIALS}, custom'),
     *_custom_material('plate', _IRON, ' (the plate is immovable: its mass never enters)'),
@@ -116,7 +118,7 @@ PARAMETERS = (
     Spec('damping', 0.0,
          f'Damping override lambda [N s^q/m^(p+q)]; 0 = lambda* sqrt(R) (eq. 9); '
          f'{_CONTACT_NOTE}', (0.0, INF), constraints='0 <= damping < inf'),
-    Spec('damping_factor', 8.87e5,
+    Spec('damping_factor', _DEFAULT.damping_factor,
          f'Damping factor lambda* [N s/m^(p+q+1/2)], N s/m^2 for azad_featherstone; used when '
          f'damping is 0; {_CONTACT_NOTE}', (0.0, INF), constraints='0 <= damping_factor < inf'),
     Spec('gravity', 9.81, f'Gravitational acceleration g, pulling the sphere down [m/s^2]; '

@@ -24,7 +24,7 @@ DROP = ['drop', '--stiffness', '1e10', '--damping', '1e5', '--mass', '0.066', '-
     (['restitution', *MATERIALS, '--damping-factor', '8.87e5', '--speed-range', '0', '1'],
      '--speed-range'),
     (['restitution', *MATERIALS, '--damping-factor', '8.87e5', '--sphere-modulus', '1e-308',
-      '--speeds', '1'], 'Hertz stiffness'),
+      '--speeds', '1'], '--sphere-modulus'),   # issue 34: the option, not 'Hertz stiffness'
     (['restitution', '--stiffness', '1e300', '--mass', '0.066', '--damping', '1e5',
       '--speeds', '1'], '--stiffness'),
     (['restitution', '--stiffness', '1e10', '--mass', '1e300', '--damping', '1e5',
@@ -149,3 +149,91 @@ def test_an_argument_error_is_refused_before_the_engine_is_imported(command):
     code, engine = done.stdout.strip().splitlines()[-2:]
     assert code == '2' and 'error: ' in done.stderr
     assert engine == '[]'
+
+
+# -- issue 34 -------------------------------------------------------------------------------
+@pytest.mark.parametrize('argv, option', [
+    (['drop', '--law', 'linear', '--law', 'hunt_crossley'], '--law'),
+    (['drop', '--gravity', '1', '--gravity', '2'], '--gravity'),
+    (['drop', '--height', '1', '--height', '2'], '--height'),
+    (['restitution', '--speeds', '1', '--speeds', '2'], '--speeds'),
+    (['restitution', '--mass', '1', '--mass', '2'], '--mass'),
+    (['restitution', '--law', 'linear', '--law', 'linear'], '--law'),      # repeatable, same law
+    (['fit', 'x.csv', '--confidence', '0.9', '--confidence', '0.5'], '--confidence'),
+    (['export', 'mujoco', '--law', 'linear', '--law', 'lee_wang'], '--law'),
+    (['bounces', 'x.csv', '--gravity', '9.8', '--gravity', '9.81'], '--gravity'),
+    (['audit', 'mujoco', 'x.xml', '--timestep', '1e-3', '--timestep', '2e-3'], '--timestep')])
+def test_an_option_given_twice_is_refused_not_overridden(capsys, argv, option):
+    # reproduced: the last one silently won (`drop --law linear --law hunt_crossley` ran
+    # hunt_crossley); refused by the shared parser, so every subcommand has the rule
+    code, out, err = run(capsys, argv)
+    assert code == 2 and out == ''
+    assert f'argument {option}' in err and 'given twice' in err
+
+
+def test_a_repeatable_option_takes_different_values():
+    from test_cli import main
+    assert main(['restitution', '--law', 'azad_featherstone', '--law', 'hunt_crossley',
+                 '--stiffness', '1e10', '--mass', '0.066', '--damping', '1', '--speeds', '1']) == 0
+
+
+def test_points_beside_speeds_is_refused(capsys):
+    # reproduced: --points silently ignored beside --speeds
+    code, out, err = run(capsys, [*RESTITUTION, '--points', '5'])
+    assert code == 2 and err.strip().splitlines()[-1].startswith('contact-sim: error: --points')
+
+
+@pytest.mark.parametrize('command, first', [
+    (['restitution', '--speeds', '1'], '# coefficient of restitution'),
+    (['drop', '--duration', '1'], '# drop from 1 m')])
+def test_a_newcomers_first_command_runs_on_the_default_contact(capsys, command, first):
+    # reproduced: `contact-sim restitution` and `contact-sim drop` said "--mass is missing"
+    code, out, err = run(capsys, command)
+    assert code == 0, err
+    lines = out.splitlines()
+    assert lines[0].startswith('# no contact given: the default contact, steel sphere R1 = '
+                               '0.0127 m on cast_iron (flat), azad_featherstone law')
+    assert lines[1].startswith(first)
+    assert 'k = 1.095172e+10' in out   # the Hertz k of steel on cast iron, R = 12.7 mm
+    # the same numbers as the README's contact given in full
+    code, full, _ = run(capsys, [*command, *MATERIALS, '--damping-factor', '8.87e5',
+                                 '--law', 'azad_featherstone'])
+    assert code == 0 and full.splitlines() == lines[1:]   # no note: the contact was given
+
+
+def test_a_partial_contact_is_still_refused_naming_what_is_missing(capsys):
+    code, _, err = run(capsys, ['drop', '--stiffness', '1e10', '--damping', '1'])
+    assert code == 2 and '--mass is missing' in err
+
+
+@pytest.mark.parametrize('path', ['/proc/x.png', '/proc/self/x.png', '/sys/x.png'])
+def test_a_plot_where_no_file_can_be_made_is_refused_before_the_work(capsys, path):
+    # reproduced: --plot /proc/x.png refused only after the whole computation, naming 'plot'
+    code, out, err = run(capsys, [*DROP, '--plot', path])
+    assert code == 2 and out == ''
+    assert err.startswith(f"contact-sim: error: --plot = '{path}' cannot be written")
+
+
+def test_a_data_row_beyond_the_limit_is_refused_naming_the_file(capsys, tmp_path):
+    # reproduced: _csv.Error: field larger than field limit (131072), a traceback
+    data = tmp_path / 'wide.csv'
+    data.write_text('speed,restitution\n0.5,' + '7' * 1_000_000 + '\n')
+    code, out, err = run(capsys, ['fit', str(data), *MATERIALS])
+    assert code == 2 and out == ''
+    assert f"data = '{data}' line 2 is longer than 10000 characters" in err
+
+
+@pytest.mark.parametrize('content, words', [
+    (b'contact_sim:\n  ros__parameters:\n    sphere_radius: -1.0\n',
+     ': sphere_radius = -1.0 is out of range: allowed 0 < sphere_radius'),
+    (b'contact_sim:\n  ros__parameters:\n    contact_law: "\xe9"\n', 'is not UTF-8 text'),
+    (b'#' * 1_000_001, 'bytes: allowed at most 1000000')])
+def test_a_params_file_refusal_names_the_file_once(capsys, tmp_path, content, words):
+    # reproduced: 'allowed 0 < x.yaml: sphere_radius' (the file pasted into the bound) and a
+    # bare "'utf-8' codec can't decode byte 0xe9"
+    path = tmp_path / 'x.yaml'
+    path.write_bytes(content)
+    code, out, err = run(capsys, ['export', 'mujoco', '--params-file', str(path)])
+    assert code == 2 and out == ''
+    assert err.startswith('contact-sim: error: --params-file') and str(path) in err
+    assert words in err and err.count(str(path)) == 1

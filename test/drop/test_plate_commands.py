@@ -138,7 +138,7 @@ def test_a_command_beyond_the_horizon_or_braking_out_of_range_is_refused():
     with pytest.raises(InputError, match=r'positions reaches \|positions\| = 2 m .*braking'):
         plate.command_motion(0.0, 0.0, 0.0, [0.2, 0.4], [0.9, 1.0], [9.0, 10.0])
     # refusals show plain numbers
-    with pytest.raises(InputError, match=r'= \[nan\]'):
+    with pytest.raises(InputError, match=r'^positions\[0\] = nan is not finite'):
         plate.command_motion(0.0, 0.0, 0.0, [1.0], [float('nan')])
 
 

@@ -36,7 +36,7 @@ CASES = [  # (y0, v0, kappa 1/m, beta 1/s): table-tennis-like, golf, linear only
 
 @pytest.mark.parametrize('y0, v0, kappa, beta', CASES)
 def test_flight_matches_tight_integration(y0, v0, kappa, beta):
-    path = FlightPath(y0, v0, G, kappa, beta)
+    path = FlightPath(y0, v0, G, kappa, beta, surface=min(y0, 0.0))   # a lift-off inside
     t_touch = path.time_to_height(0.0)
     sol, t_ref = reference(y0, v0, kappa, beta, 3.0 * t_touch + 1.0)
     assert t_touch == pytest.approx(t_ref, rel=1e-12, abs=1e-13)
@@ -61,7 +61,7 @@ def test_scalar_state_is_a_float_and_vacuum_is_the_parabola():
     assert y == pytest.approx(0.5 + 2.0 * 0.3 - 0.5 * G * 0.09, rel=1e-15)
     assert path.time_to_height(0.0) == pytest.approx((2.0 + math.sqrt(4.0 + 2 * G * 0.5)) / G,
                                                      rel=1e-15)
-    assert FlightPath(-0.1, 0.5, G).time_to_height(0.0) == math.inf   # apex below the plate
+    assert FlightPath(-0.1, 0.5, G, surface=-0.1).time_to_height(0.0) == math.inf   # apex < 0
 
 
 def test_quadratic_drag_classical_forms():

@@ -88,12 +88,12 @@ def test_material_library_has_the_papers_materials_with_sources():
 
 
 @pytest.mark.parametrize('kwargs, field, pattern', [
-    (dict(youngs_modulus=-1.0), 'youngs_modulus', r'youngs_modulus = -1\.0 is out of range: allowed 0 < youngs_modulus'),
-    (dict(youngs_modulus=0.0), 'youngs_modulus', r'allowed 0 < youngs_modulus'),
+    (dict(youngs_modulus=-1.0), 'youngs_modulus', r'youngs_modulus = -1\.0 is out of range: allowed 1 <= youngs_modulus \(Pa\)'),
+    (dict(youngs_modulus=0.0), 'youngs_modulus', r'allowed 1 <= youngs_modulus'),
     (dict(youngs_modulus=float('nan')), 'youngs_modulus', r'youngs_modulus = nan is not finite'),
     (dict(poisson_ratio=0.5), 'poisson_ratio', r'poisson_ratio = 0\.5 is out of range: allowed -1 < poisson_ratio < 0\.5'),
     (dict(poisson_ratio=-1.0), 'poisson_ratio', r'allowed -1 < poisson_ratio < 0\.5'),
-    (dict(density=0.0), 'density', r'density = 0\.0 is out of range: allowed 0 < density'),
+    (dict(density=0.0), 'density', r'density = 0\.0 is out of range: allowed 0\.001 <= density'),
     (dict(density='heavy'), 'density', r"density = 'heavy' is not a number"),
 ])
 def test_material_validation_names_field_value_and_range(kwargs, field, pattern):

@@ -10,7 +10,7 @@ import numpy as np
 from contact_sim.drop.plate.flights import commanded_flight, gap_flight
 from contact_sim.drop.plate.motions import PlateMotion, constant_forcing
 from contact_sim.drop.plate.pieces import piece_forcing, piece_state
-from contact_sim.validation import InputError
+from contact_sim.validation import InputError, require_real_array
 
 
 @dataclass(frozen=True)
@@ -49,16 +49,19 @@ class CommandedPlate(PlateMotion):
     def __post_init__(self):
         times = set_point_times(self.times)
         n = times.size
-        arrays = {'times': times, 'positions': finite_array('positions', self.positions, n),
-                  'velocities': finite_array('velocities', self.velocities, n)}
+        arrays = {'times': times,
+                  'positions': finite_array('positions', self.positions, n, bounded=True),
+                  'velocities': finite_array('velocities', self.velocities, n, bounded=True)}
         for name, arr in arrays.items():
             object.__setattr__(self, name, tuple(arr.tolist()))
         t, p, v = arrays['times'], arrays['positions'], arrays['velocities']
         h = 0.5 * np.diff(t)
-        dv = (v[1:] - v[:-1]) / h if n > 1 else np.empty(0)
-        a1 = 0.5 * (2.0 * (p[1:] - p[:-1] - 2.0 * v[:-1] * h) / h ** 2 - dv) if n > 1 \
-            else np.empty(0)
-        a2 = dv - a1
+        with np.errstate(all='ignore'):   # too close points: refused just below
+            dv = (v[1:] - v[:-1]) / h if n > 1 else np.empty(0)
+            a1 = 0.5 * (2.0 * (p[1:] - p[:-1] - 2.0 * v[:-1] * h) / h ** 2 - dv) if n > 1 \
+                else np.empty(0)
+            a2 = dv - a1
+        _require_gentle(t, a1, a2)
         # pieces: start time, position, velocity, acceleration (the last runs to +inf)
         starts, pos, vel, acc = [], [], [], []
         for i in range(n - 1):
@@ -163,24 +166,48 @@ class CommandedPlate(PlateMotion):
         return math.inf
 
 
-def finite_array(name, values, count=None):
-    try:
-        arr = np.asarray(values, dtype=float).ravel()
-    except (TypeError, ValueError):
-        raise InputError(name, values, '{n[%s]} = {value} is invalid: allowed a sequence of '
-                         'finite numbers' % name, value=repr(values)) from None
-    if not np.all(np.isfinite(arr)):
-        raise InputError(name, values, '{n[%s]} = {value} is out of range: allowed finite '
-                         'numbers' % name, value=repr(arr.tolist()))
+# The set-points any CommandedPlate takes (a command of the node is held to far less,
+# ``commands.COMMAND_POSITION_MAX`` ...): beyond them the pieces' doubles overflow or lose
+# every digit (points 1e-300 s apart need accelerations of 1e300 m/s²).
+SET_POINT_MAX = {'times': 1e9, 'positions': 1e3, 'velocities': 1e3}   # s, m, m/s
+SET_POINT_UNITS = {'times': 's', 'positions': 'm', 'velocities': 'm/s'}
+PIECE_ACCELERATION_MAX = 1e9   # m/s²: the interpolant's, between two points
+
+
+def finite_array(name, values, count=None, bounded=False):
+    """``values`` as a flat float array: real numbers (no text, booleans or complex numbers:
+    ``validation.require_real_array``), finite, within +-``SET_POINT_MAX[name]`` when
+    ``bounded``, and ``count`` of them when given."""
+    arr = require_real_array(name, values).ravel()
+    bound = SET_POINT_MAX.get(name) if bounded else None
+    if bound is not None and arr.size and float(np.max(np.abs(arr))) > bound:
+        worst = float(arr[np.argmax(np.abs(arr))])
+        raise InputError(name, worst, '{n[%s]} holds {value}: allowed -%g <= {n[%s]} <= %g %s'
+                         % (name, bound, name, bound, SET_POINT_UNITS[name]), value=repr(worst))
     if count is not None and arr.size != count:
         raise InputError(name, values, '{n[%s]} has %d values: allowed one per point (%d)'
                          % (name, arr.size, count), value=repr(arr.tolist()))
     return arr
 
 
-def set_point_times(times):
-    """Set-point times (s) as an array: at least one, finite, strictly increasing."""
-    t = finite_array('times', times)
+def _require_gentle(t, a1, a2):
+    """Refuse pieces whose acceleration is not finite or above ``PIECE_ACCELERATION_MAX``
+    (points too close in time for the change of position or velocity between them)."""
+    worst = np.maximum(np.abs(a1), np.abs(a2))
+    bad = np.flatnonzero(~(worst <= PIECE_ACCELERATION_MAX))
+    if bad.size:
+        i = int(bad[0])
+        raise InputError('times', float(t[i + 1] - t[i]), '{n[times]}[%d] and [%d] are {value} s '
+                         'apart: the motion between them needs |acceleration| = %.3g m/s^2; '
+                         'allowed <= %g m/s^2 (points further apart in time or closer in '
+                         'position and velocity)' % (i, i + 1, float(worst[i]),
+                                                     PIECE_ACCELERATION_MAX))
+
+
+def set_point_times(times, bounded=True):
+    """Set-point times (s) as an array: at least one, finite, strictly increasing (and within
+    +-``SET_POINT_MAX['times']`` when ``bounded``)."""
+    t = finite_array('times', times, bounded=bounded)
     if t.size == 0:
         raise InputError('times', times, '{n[times]} is empty: allowed at least one point',
                          value='[]')

@@ -59,7 +59,8 @@ def ballistic_flight(flight, z, zdot, contact, drag_rates, after_lift_off):
     flight.contact_time = t + dt
     leaves = z <= 0.0 or (zdot < 0.0 and dt > surface_time(z, zdot, g))
     if drag_rates is not None and leaves:
-        flight.path = FlightPath(flight.y0, flight.v0, g, *drag_rates)
+        flight.path = FlightPath(flight.y0, flight.v0, g, *drag_rates,
+                                 surface=-math.inf)   # lift-off inside, or a moving plate
         flight.contact_time = t + flight.path.time_to_height(0.0)
         return flight.path.apex_height if after_lift_off else None
     if after_lift_off and g > 0.0 and math.isfinite(dt):
@@ -73,7 +74,8 @@ def gap_flight(plate, flight, z, zdot, contact, drag_rates, after_lift_off):
     returns the apex height (m) of a rising flight ``after_lift_off``, or ``None``."""
     g = flight.gravity
     if drag_rates is not None:
-        flight.path = FlightPath(flight.y0, flight.v0, g, *drag_rates)
+        flight.path = FlightPath(flight.y0, flight.v0, g, *drag_rates,
+                                 surface=-math.inf)   # lift-off inside, or a moving plate
     flight.contact_time = gap_touch_time(plate, flight, z, zdot, contact, drag_rates)
     if after_lift_off and flight.v0 > 0.0:
         path = flight.path

@@ -61,6 +61,7 @@ from contact_sim.validation import InputError, require_instance, require_range, 
 # the vibrating table's ranges (the node's plate_* parameters, sweeps, every SinusoidalPlate)
 TABLE_AMPLITUDE_MAX = 0.1         # m
 TABLE_FREQUENCY_MAX = 1000.0      # Hz
+TABLE_FREQUENCY_MIN = 1e-3        # Hz: else 0 (a period of 1/5e-324 s is no bridge length)
 TABLE_PHASE_MAX = 2.0 * math.pi   # rad: -2π <= ϕ <= 2π
 TABLE_ACCELERATION_MAX = 1000.0   # m/s²: the peak a (2π f)² (Γ ≈ 100)
 
@@ -185,7 +186,7 @@ class SinusoidalPlate(PlateMotion):
     amplitude : float
         a, 0 to ``TABLE_AMPLITUDE_MAX`` (m).
     frequency : float
-        f, 0 to ``TABLE_FREQUENCY_MAX`` (Hz).
+        f, 0 or ``TABLE_FREQUENCY_MIN`` (1e-3) to ``TABLE_FREQUENCY_MAX`` (1000) Hz.
     phase : float
         ϕ, -``TABLE_PHASE_MAX`` to ``TABLE_PHASE_MAX`` (rad).
 
@@ -220,6 +221,10 @@ class SinusoidalPlate(PlateMotion):
     def __post_init__(self):
         a = require_range('amplitude', self.amplitude, 0.0, TABLE_AMPLITUDE_MAX, unit='m')
         f = require_range('frequency', self.frequency, 0.0, TABLE_FREQUENCY_MAX, unit='Hz')
+        if 0.0 < f < TABLE_FREQUENCY_MIN:
+            raise InputError('frequency', f, '{n[frequency]} = {value} Hz is out of range: allowed '
+                             '{n[frequency]} = 0 (the fixed plate) or %g <= {n[frequency]} <= %g '
+                             'Hz' % (TABLE_FREQUENCY_MIN, TABLE_FREQUENCY_MAX), value=repr(f))
         ph = require_range('phase', self.phase, -TABLE_PHASE_MAX, TABLE_PHASE_MAX, unit='rad')
         object.__setattr__(self, 'amplitude', a)
         object.__setattr__(self, 'frequency', f)
