@@ -1,6 +1,5 @@
 """`contact-sim audit ... --coupled`: the model's e(v) with the target coupled in, beside the
 target's (the coupling at the model's own step)."""
-import pytest
 
 from contact_sim import cli
 
@@ -14,7 +13,6 @@ def _rows(out):
 
 
 def test_audit_mujoco_coupled(capsys, tmp_path):
-    pytest.importorskip('mujoco')
     path = tmp_path / 'ball.xml'
     path.write_text('<mujoco><option timestep="0.001"/><worldbody><geom type="plane" '
                     'size="1 1 0.1"/><body pos="0 0 0.1"><freejoint/><geom name="ball" '
@@ -32,7 +30,6 @@ def test_audit_mujoco_coupled(capsys, tmp_path):
 
 
 def test_audit_pybullet_coupled(capsys, tmp_path):
-    pytest.importorskip('pybullet')
     path = tmp_path / 'ball.urdf'
     path.write_text('<?xml version="1.0"?><robot name="b"><link name="ball"><contact><restitution '
                     'value="0.3"/><stiffness value="400"/><damping value="0.5"/></contact>'
@@ -48,7 +45,6 @@ def test_audit_pybullet_coupled(capsys, tmp_path):
 
 
 def test_audit_coupled_refuses_rk4(capsys, tmp_path):
-    pytest.importorskip('mujoco')
     path = tmp_path / 'ball.xml'
     path.write_text('<mujoco><option timestep="0.001" integrator="RK4"/><worldbody><geom '
                     'type="plane" size="1 1 0.1"/><body pos="0 0 0.1"><freejoint/><geom '

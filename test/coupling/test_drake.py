@@ -5,7 +5,7 @@ import pytest
 
 import contact_sim as cs
 
-pydrake = pytest.importorskip('pydrake.all')
+import pydrake.all as pydrake
 from contact_sim.coupling.drake import CoupledContacts  # noqa: E402
 
 G, R = 9.81, 0.0127
@@ -168,7 +168,6 @@ def test_the_example_drops_in_pybullet_and_drake():
     """examples/coupled_engines_drop.py: the first apexes in PyBullet and both Drake plants."""
     import importlib.util
     from pathlib import Path
-    pytest.importorskip('pybullet')
     path = Path(__file__).resolve().parents[2] / 'examples' / 'coupled_engines_drop.py'
     spec = importlib.util.spec_from_file_location('coupled_engines_drop', path)
     example = importlib.util.module_from_spec(spec)

@@ -8,7 +8,7 @@ import pytest
 
 import contact_sim as cs
 
-mujoco = pytest.importorskip('mujoco')
+import mujoco
 from contact_sim.coupling.mujoco import CoupledContacts  # noqa: E402
 
 G = 9.81

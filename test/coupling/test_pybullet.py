@@ -5,7 +5,7 @@ import pytest
 
 import contact_sim as cs
 
-pybullet = pytest.importorskip('pybullet')
+import pybullet
 from contact_sim.coupling.pybullet import CoupledContacts  # noqa: E402
 
 G = 9.81

@@ -6,9 +6,7 @@ Reproduced first: one ``SetParameters`` request with a value of type 99 ended th
 ``[FATAL] Exception in 'services' callback: 99 is not a valid Parameter.Type`` and a traceback
 (rclpy's ``Parameter.from_parameter_msg`` raised in its parameter service's callback).
 """
-import pytest
 
-rclpy = pytest.importorskip('rclpy')
 
 from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue  # noqa: E402
 from rcl_interfaces.srv import (DescribeParameters, GetParameters, GetParameterTypes,  # noqa: E402
