@@ -14,11 +14,12 @@ from contact_sim.model.closed_forms import ClosedForm
 from contact_sim.model.laws import (AZAD_FEATHERSTONE, CLOSED_FORMS, HUNT_CROSSLEY, LAWS, LEE_WANG,
                                     LINEAR, ContactLaw, get_law, register_closed_form)
 from contact_sim.model.master_curves import QUANTITIES, MasterCurve
-from contact_sim.model.materials import MATERIALS, Material, get_material
+from contact_sim.model.materials import (DENSITY_MIN, MATERIALS, MODULUS_MIN, Material,
+                                          get_material)
 from contact_sim.model.defaults import DEFAULT_CONTACT, DefaultContact
 
-__all__ = ['AZAD_FEATHERSTONE', 'CLOSED_FORMS', 'DEFAULT_CONTACT', 'DefaultContact', 'HUNT_CROSSLEY', 'LAWS', 'LEE_WANG', 'LINEAR',
-           'MATERIALS', 'QUANTITIES', 'ClosedForm', 'Contact', 'ContactLaw', 'MasterCurve',
+__all__ = ['AZAD_FEATHERSTONE', 'CLOSED_FORMS', 'DEFAULT_CONTACT', 'DENSITY_MIN', 'DefaultContact',
+           'HUNT_CROSSLEY', 'LAWS', 'LEE_WANG', 'LINEAR', 'MATERIALS', 'MODULUS_MIN', 'QUANTITIES', 'ClosedForm', 'Contact', 'ContactLaw', 'MasterCurve',
            'Material', 'build_contact', 'build_mass', 'effective_modulus', 'equivalent_radius',
            'get_law', 'get_material', 'hertz_stiffness', 'reduced_mass', 'register_closed_form',
            'require_contact', 'sphere_mass']

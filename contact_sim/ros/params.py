@@ -22,9 +22,10 @@ from rcl_interfaces.msg import FloatingPointRange, ParameterDescriptor
 import contact_sim as cs
 from contact_sim.drop import GRAVITY_MAX, HEIGHT_MAX, VELOCITY_MAX
 from contact_sim.flight import AIR_DENSITY
-from contact_sim.model import DEFAULT_CONTACT
+from contact_sim.model import DEFAULT_CONTACT, DENSITY_MIN, MODULUS_MIN
 from contact_sim.drop import (TABLE_ACCELERATION_MAX, TABLE_AMPLITUDE_MAX, TABLE_FREQUENCY_MAX,
-                               TABLE_PHASE_MAX, table_transition, vibrating_table)
+                              TABLE_FREQUENCY_MIN, TABLE_PHASE_MAX, table_transition,
+                              vibrating_table)
 from contact_sim.validation import InputError, require_positive, require_range
 
 NODE_NAME = 'contact_sim'
@@ -50,7 +51,7 @@ HEIGHT_MIN = 1e-9             # m, with VELOCITY_MIN: an impact speed of at leas
 VELOCITY_MIN = 1e-9           # m/s
 STIFFNESS_MIN = 1e-300        # N/m^n: below it the depth check itself underflows
 RADIUS_MIN = 1e-12            # m, either sphere
-FREQUENCY_MIN = 1e-6          # Hz: a period of 11.6 days (the bridge lasts one period)
+FREQUENCY_MIN = TABLE_FREQUENCY_MIN   # Hz: the core's (a table's period, 1000 s, is its bridge)
 
 
 @dataclass(frozen=True)
@@ -71,11 +72,11 @@ def _custom_material(body, material, density_note=''):
         return Spec(f'{body}_{field}', getattr(material, field),
                     f'{description} of the {body} when {body}_material is custom (otherwise '
                     'checked but unused)', rng, constraints=constraint.format(f'{body}_{field}'))
-    return (spec('youngs_modulus', "Young's modulus E [Pa]", (0.0, MODULUS_MAX),
-                 '0 < {} <= %g' % MODULUS_MAX),
+    return (spec('youngs_modulus', "Young's modulus E [Pa]", (MODULUS_MIN, MODULUS_MAX),
+                 '%g <= {} <= %g' % (MODULUS_MIN, MODULUS_MAX)),
             spec('poisson_ratio', 'Poisson ratio nu [-]', (-1.0, 0.5), '-1 < {} < 0.5'),
-            spec('density', 'Density rho [kg/m^3]' + density_note, (0.0, DENSITY_MAX),
-                 '0 < {} <= %g' % DENSITY_MAX))
+            spec('density', 'Density rho [kg/m^3]' + density_note, (DENSITY_MIN, DENSITY_MAX),
+                 '%g <= {} <= %g' % (DENSITY_MIN, DENSITY_MAX)))
 
 
 _LAWS = ', '.join(sorted(cs.LAWS))
