@@ -139,7 +139,8 @@ class ContactSimNode(Node):
             raise StartupError(str(error)) from None
         self._warn_unknown_overrides()
         self._fresh = None        # the drop a change's validation built, for the next ~/reset
-        self._pending = None      # the change validated last: (values, model, drop, settings)
+        self._pending = None      # the change validated last: (values, model, drop, settings, note)
+        self._waiting = None      # the note of a law waiting for its stiffness, once said
         self._offset = 0.0        # s: stamp = offset + simulator time; grows at each ~/reset
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)  # pacing ignores use_sim_time
         # frame_id and publish_clock are read-only
@@ -258,8 +259,9 @@ class ContactSimNode(Node):
             except Exception as error:  # noqa: BLE001 - keep running
                 self.get_logger().error(f'could not apply the accepted parameters: {error}')
                 return
-        if note is not None:
+        if note is not None and note != self._waiting:   # said once while the law waits
             self.get_logger().warning(note)
+        self._waiting = note
         if model is not None:
             self._apply_model(model, drop)
         if settings != self._settings:
