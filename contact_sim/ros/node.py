@@ -470,13 +470,18 @@ def main(args=None):
         log.fatal(f'invalid parameters: {error}')
         return 2
     finally:
+        # the node stops: a signal now (Ctrl-C pressed again) is ignored, not a traceback
+        for sig in previous:
+            signal.signal(sig, signal.SIG_IGN)
         try:
             if node is not None:
                 node.destroy_node()
             rclpy.try_shutdown()
         finally:
-            for sig, handler in previous.items():
-                signal.signal(sig, handler)
+            if args is not None:   # called in a process that goes on: its handlers back
+                for sig, handler in previous.items():
+                    signal.signal(sig, handler)
+            # else the process's own command line: it exits next, still ignoring signals
     return 0
 
 

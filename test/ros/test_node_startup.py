@@ -126,6 +126,27 @@ def test_sigint_while_the_node_reads_its_parameter_file_stops_it_quietly(ros_env
     assert 'Traceback' not in output and '[FATAL]' not in output, output
 
 
+def test_ctrl_c_held_down_stops_the_node_quietly(ros_env, workdir):
+    # SIGINT after SIGINT, as a user pressing Ctrl-C again while the node stops: before, one
+    # that came while main destroyed the node gave a KeyboardInterrupt traceback and exit -2
+    process = Process('contact_sim_node', ['--ros-args', '-r', '__node:=held_down', '-p',
+                                           'publish_clock:=false'], ros_env, workdir)
+    try:
+        deadline = time.monotonic() + TIMEOUT
+        while 'drop from' not in process.output() and process.popen.poll() is None \
+                and time.monotonic() < deadline:
+            time.sleep(0.01)   # polling for the start: not a wait for a fixed time
+        assert 'drop from' in process.output(), process.output()
+        while process.popen.poll() is None and time.monotonic() < deadline:
+            process.popen.send_signal(signal.SIGINT)
+            time.sleep(0.002)  # a signal every 2 ms until the node has exited
+        code, output = finished(process)
+    finally:
+        process.stop()
+    assert code == 0, output
+    assert 'Traceback' not in output and '[FATAL]' not in output, output
+
+
 def test_numbers_past_the_bounds_stop_the_start_with_the_field_and_the_range(ros_env, workdir):
     cases = {'real_time_factor:=1000000000.0': 'real_time_factor = 1000000000.0 is out of range: '
                                                'allowed 0.0001 <= real_time_factor <= 1000',
