@@ -10,6 +10,7 @@ import os
 import signal
 import subprocess
 import time
+from pathlib import Path
 
 import pytest
 
@@ -121,6 +122,30 @@ def test_sigint_while_the_node_reads_its_parameter_file_stops_it_quietly(ros_env
     finally:
         if writer is not None:
             os.close(writer)
+        process.stop()
+    assert code == 0, output
+    assert 'Traceback' not in output and '[FATAL]' not in output, output
+
+
+def test_sigint_while_python_imports_the_package_stops_it_quietly(ros_env, workdir):
+    # caught in the package's import (numba's llvmlite is loaded, main not yet reached): before,
+    # Python's own KeyboardInterrupt traceback (the import took 3.3 s under load)
+    process = Process('contact_sim_node', ['--ros-args', '-r', '__node:=importing'], ros_env,
+                      workdir)
+
+    def importing():
+        try:
+            return 'llvmlite' in Path(f'/proc/{process.popen.pid}/maps').read_text()
+        except OSError:
+            return False
+    try:
+        deadline = time.monotonic() + TIMEOUT
+        while process.popen.poll() is None and not importing() and time.monotonic() < deadline:
+            time.sleep(0.001)   # polling for the import: not a wait for a fixed time
+        assert importing(), process.output()
+        process.popen.send_signal(signal.SIGINT)
+        code, output = finished(process)
+    finally:
         process.stop()
     assert code == 0, output
     assert 'Traceback' not in output and '[FATAL]' not in output, output
