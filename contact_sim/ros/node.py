@@ -223,11 +223,9 @@ class ContactSimNode(Node):
             return SetParametersResult(successful=True)
         try:
             values = self._values(ours)
-            settings = loop_settings(values)
-            model = drop = note = None
-            if any(p.name not in LOOP_PARAMETERS for p in ours):
-                checked, note = awaiting_stiffness(values, self._model)
-                model, drop = build(checked)
+            model, drop, settings, note = self._built(
+                values, physics=any(p.name not in LOOP_PARAMETERS for p in ours))
+            if model is not None:
                 # a new contact acts from the next contact phase of the running drop; one the
                 # running drop refuses waits for the next ~/reset (set one by one, as `ros2
                 # param load` does, a dump's stiffness comes before the drop it suits), unless
@@ -243,6 +241,17 @@ class ContactSimNode(Node):
         self._pending = (values, model, drop, settings, note)
         return SetParametersResult(successful=True, reason=note or '')
 
+    def _built(self, values, physics=True):
+        """What parameter ``values`` make: ``(model, drop, settings, note)``, the model and its
+        fresh drop (``params.build``; None, None unless ``physics``), the loop's settings and the
+        note of a law waiting for its stiffness (``params.awaiting_stiffness``); a refusal is a
+        ValueError."""
+        model = drop = note = None
+        if physics:
+            checked, note = awaiting_stiffness(values, self._model)
+            model, drop = build(checked)
+        return model, drop, loop_settings(values), note
+
     def _on_parameters_set(self, parameters):
         """Apply an accepted change with what its validation built: the contact at once
         (engine: from the next contact phase), the drop at the next ~/reset, the loop's
@@ -254,15 +263,14 @@ class ContactSimNode(Node):
             _, model, drop, settings, note = pending
         else:   # not the change validated last (should not happen): validate it again
             try:
-                checked, note = awaiting_stiffness(values, self._model)
-                settings, (model, drop) = loop_settings(values), build(checked)
+                model, drop, settings, note = self._built(values)
             except Exception as error:  # noqa: BLE001 - keep running
                 self.get_logger().error(f'could not apply the accepted parameters: {error}')
                 return
-        if note is not None and note != self._waiting:   # said once while the law waits
-            self.get_logger().warning(note)
-        self._waiting = note
         if model is not None:
+            if note is not None and note != self._waiting:   # said once while the law waits
+                self.get_logger().warning(note)
+            self._waiting = note
             self._apply_model(model, drop)
         if settings != self._settings:
             self._settings = settings

@@ -105,6 +105,8 @@ def test_a_law_waiting_for_its_stiffness_is_said_once_not_at_every_change(counte
     for gravity in (9.0, 9.5, 9.81):
         (result,) = node.set_parameters([Parameter('gravity', value=gravity)])
         assert result.successful, result.reason
+    assert node.set_parameters([Parameter('real_time_factor', value=2.0)])[0].successful
+    assert node.set_parameters([Parameter('gravity', value=9.7)])[0].successful
     assert len(notes()) == 1, said.warnings       # still waiting: said once
     assert node.set_parameters([Parameter('contact_law', value='hunt_crossley')])[0].successful
     assert node.set_parameters([Parameter('contact_law', value='linear')])[0].successful
