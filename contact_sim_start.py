@@ -12,6 +12,9 @@ import signal
 
 
 def _stop(signum, frame):
+    """The first signal stops the start; the rest (Ctrl-C pressed again) are ignored."""
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, signal.SIG_IGN)
     raise KeyboardInterrupt
 
 
