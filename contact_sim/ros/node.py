@@ -242,10 +242,8 @@ class ContactSimNode(Node):
         return SetParametersResult(successful=True, reason=note or '')
 
     def _built(self, values, physics=True):
-        """What parameter ``values`` make: ``(model, drop, settings, note)``, the model and its
-        fresh drop (``params.build``; None, None unless ``physics``), the loop's settings and the
-        note of a law waiting for its stiffness (``params.awaiting_stiffness``); a refusal is a
-        ValueError."""
+        """``(model, drop, settings, note)`` of ``values``: ``params.build``'s (None, None unless
+        ``physics``), the loop's settings, ``params.awaiting_stiffness``'s note; ValueError."""
         model = drop = note = None
         if physics:
             checked, note = awaiting_stiffness(values, self._model)
@@ -486,10 +484,9 @@ def main(args=None):
                 node.destroy_node()
             rclpy.try_shutdown()
         finally:
-            if args is not None:   # called in a process that goes on: its handlers back
-                for sig, handler in previous.items():
+            if args is not None:   # a caller that goes on gets its handlers back; the console
+                for sig, handler in previous.items():   # script exits next, ignoring signals
                     signal.signal(sig, handler)
-            # else the process's own command line: it exits next, still ignoring signals
     return 0
 
 
