@@ -139,7 +139,8 @@ class ContactSimNode(Node):
             raise StartupError(str(error)) from None
         self._warn_unknown_overrides()
         self._fresh = None        # the drop a change's validation built, for the next ~/reset
-        self._pending = None      # the change validated last: (values, model, drop, settings)
+        self._pending = None      # the change validated last: (values, model, drop, settings, note)
+        self._waiting = None      # the note of a law waiting for its stiffness, once said
         self._offset = 0.0        # s: stamp = offset + simulator time; grows at each ~/reset
         self._steady = Clock(clock_type=ClockType.STEADY_TIME)  # pacing ignores use_sim_time
         # frame_id and publish_clock are read-only
@@ -222,11 +223,9 @@ class ContactSimNode(Node):
             return SetParametersResult(successful=True)
         try:
             values = self._values(ours)
-            settings = loop_settings(values)
-            model = drop = note = None
-            if any(p.name not in LOOP_PARAMETERS for p in ours):
-                checked, note = awaiting_stiffness(values, self._model)
-                model, drop = build(checked)
+            model, drop, settings, note = self._built(
+                values, physics=any(p.name not in LOOP_PARAMETERS for p in ours))
+            if model is not None:
                 # a new contact acts from the next contact phase of the running drop; one the
                 # running drop refuses waits for the next ~/reset (set one by one, as `ros2
                 # param load` does, a dump's stiffness comes before the drop it suits), unless
@@ -242,6 +241,15 @@ class ContactSimNode(Node):
         self._pending = (values, model, drop, settings, note)
         return SetParametersResult(successful=True, reason=note or '')
 
+    def _built(self, values, physics=True):
+        """``(model, drop, settings, note)`` of ``values``: ``params.build``'s (None, None unless
+        ``physics``), the loop's settings, ``params.awaiting_stiffness``'s note; ValueError."""
+        model = drop = note = None
+        if physics:
+            checked, note = awaiting_stiffness(values, self._model)
+            model, drop = build(checked)
+        return model, drop, loop_settings(values), note
+
     def _on_parameters_set(self, parameters):
         """Apply an accepted change with what its validation built: the contact at once
         (engine: from the next contact phase), the drop at the next ~/reset, the loop's
@@ -253,14 +261,14 @@ class ContactSimNode(Node):
             _, model, drop, settings, note = pending
         else:   # not the change validated last (should not happen): validate it again
             try:
-                checked, note = awaiting_stiffness(values, self._model)
-                settings, (model, drop) = loop_settings(values), build(checked)
+                model, drop, settings, note = self._built(values)
             except Exception as error:  # noqa: BLE001 - keep running
                 self.get_logger().error(f'could not apply the accepted parameters: {error}')
                 return
-        if note is not None:
-            self.get_logger().warning(note)
         if model is not None:
+            if note is not None and note != self._waiting:   # said once while the law waits
+                self.get_logger().warning(note)
+            self._waiting = note
             self._apply_model(model, drop)
         if settings != self._settings:
             self._settings = settings
@@ -468,13 +476,17 @@ def main(args=None):
         log.fatal(f'invalid parameters: {error}')
         return 2
     finally:
+        # the node stops: a signal now (Ctrl-C pressed again) is ignored, not a traceback
+        for sig in previous:
+            signal.signal(sig, signal.SIG_IGN)
         try:
             if node is not None:
                 node.destroy_node()
             rclpy.try_shutdown()
         finally:
-            for sig, handler in previous.items():
-                signal.signal(sig, handler)
+            if args is not None:   # a caller that goes on gets its handlers back; the console
+                for sig, handler in previous.items():   # script exits next, ignoring signals
+                    signal.signal(sig, handler)
     return 0
 
 

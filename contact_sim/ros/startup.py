@@ -6,6 +6,7 @@ ends on SIGINT or SIGTERM between two executor turns (no callback cut off, no tr
 import math
 import os
 import signal
+import stat
 import time
 
 import yaml
@@ -117,13 +118,20 @@ def check_params_file(path):
     Raises
     ------
     ArgumentError
-        If the file cannot be read, is larger than ``MAX_PARAMS_FILE_BYTES``, is not UTF-8
+        If the file cannot be read, is not a regular file (a FIFO, a device, a directory: rcl
+        reads the file again after this check), is larger than ``MAX_PARAMS_FILE_BYTES``, is not UTF-8
         YAML, nests deeper than ``MAX_PARAMS_FILE_DEPTH`` or holds more than
         ``MAX_PARAMS_FILE_VALUES`` values, or is not a mapping of node names (``/**`` for any
         node) to mappings with a ``ros__parameters`` mapping.
     """
     where = f'--params-file {path}'
-    try:
+    try:   # rcl reads the file again after this check: a pipe would be empty (and rcl wait
+        mode = os.stat(path).st_mode   # for another writer, silently, for ever)
+        if not stat.S_ISREG(mode):
+            kind = ('a directory' if stat.S_ISDIR(mode) else 'a FIFO (pipe)'
+                    if stat.S_ISFIFO(mode) else 'a device or socket')
+            raise ArgumentError(f'{where}: is {kind}: allowed a regular file (the node checks '
+                                'it, then rcl reads it again)')
         with open(path, 'rb') as file:
             data = file.read(MAX_PARAMS_FILE_BYTES + 1)
     except OSError as error:

@@ -75,3 +75,39 @@ def test_one_model_is_built_per_accepted_change(counted):
         assert response.success and 'drop from 0.5 m' in response.message, response.message
         assert 'k = 5e+09' in response.message, response.message
         assert built() == expected
+
+
+class Said:
+    """A logger that keeps what it is told (the node's ``get_logger()`` in a test)."""
+
+    def __init__(self, logger):
+        self.logger, self.warnings = logger, []
+
+    def warning(self, text, **kwargs):
+        self.warnings.append(text)
+
+    def __getattr__(self, name):
+        return getattr(self.logger, name)
+
+
+def test_a_law_waiting_for_its_stiffness_is_said_once_not_at_every_change(counted):
+    # found by a hostile client: 50,000 accepted changes of gravity while a linear law waited
+    # for its stiffness logged the note 50,000 times
+    node = counted[0]
+    said = Said(node.get_logger())
+    node.get_logger = lambda: said
+
+    def notes():
+        return [text for text in said.warnings if 'waits for its stiffness' in text]
+
+    assert node.set_parameters([Parameter('contact_law', value='linear')])[0].successful
+    assert len(notes()) == 1, said.warnings
+    for gravity in (9.0, 9.5, 9.81):
+        (result,) = node.set_parameters([Parameter('gravity', value=gravity)])
+        assert result.successful, result.reason
+    assert node.set_parameters([Parameter('real_time_factor', value=2.0)])[0].successful
+    assert node.set_parameters([Parameter('gravity', value=9.7)])[0].successful
+    assert len(notes()) == 1, said.warnings       # still waiting: said once
+    assert node.set_parameters([Parameter('contact_law', value='hunt_crossley')])[0].successful
+    assert node.set_parameters([Parameter('contact_law', value='linear')])[0].successful
+    assert len(notes()) == 2, said.warnings   # waiting again: said again

@@ -10,6 +10,7 @@ import os
 import signal
 import subprocess
 import time
+from pathlib import Path
 
 import pytest
 
@@ -100,27 +101,65 @@ def test_parameter_files_past_the_bounds_are_one_fatal_line_before_parsing(ros_e
         assert_one_fatal_line(*finished(process), str(files[name]), reasons[name])
 
 
-def test_sigint_while_the_node_reads_its_parameter_file_stops_it_quietly(ros_env, workdir):
-    # a FIFO holds the node in the file check (main's first stage) until SIGINT comes;
-    # before, SIGINT there gave a KeyboardInterrupt traceback
+def test_a_parameter_file_that_is_not_a_regular_file_is_refused_unread(ros_env, workdir):
+    # a FIFO (`--params-file <(cat dump.yaml)`): the check read it, then rcl opened it again and
+    # waited for another writer, silently, for ever; a directory, a device: one line each too
     fifo = workdir / 'params.fifo'
     os.mkfifo(fifo)
-    process = Process('contact_sim_node', ['--ros-args', '--params-file', str(fifo)], ros_env,
+    cases = {str(fifo): 'is a FIFO (pipe): allowed a regular file',
+             str(workdir): 'is a directory: allowed a regular file',
+             '/dev/zero': 'is a device or socket: allowed a regular file'}
+    processes = {path: Process('contact_sim_node', ['--ros-args', '--params-file', path],
+                               ros_env, workdir) for path in cases}
+    for path, process in processes.items():
+        assert_one_fatal_line(*finished(process), path, cases[path])
+    with pytest.raises(OSError):   # nobody reads the FIFO: a writer finds no reader
+        os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))
+
+
+def test_sigint_while_python_imports_the_package_stops_it_quietly(ros_env, workdir):
+    # caught in the package's import (numba's llvmlite is loaded, main not yet reached): before,
+    # Python's own KeyboardInterrupt traceback (the import took 3.3 s under load), and with
+    # Ctrl-C held down exit code -2
+    process = Process('contact_sim_node', ['--ros-args', '-r', '__node:=importing'], ros_env,
                       workdir)
-    writer = None
+
+    def importing():
+        try:
+            return 'llvmlite' in Path(f'/proc/{process.popen.pid}/maps').read_text()
+        except OSError:
+            return False
     try:
         deadline = time.monotonic() + TIMEOUT
-        while writer is None and process.popen.poll() is None and time.monotonic() < deadline:
-            try:   # succeeds once the node has opened the FIFO to read it
-                writer = os.open(fifo, os.O_WRONLY | os.O_NONBLOCK)
-            except OSError:
-                time.sleep(0.01)   # polling for the reader: not a wait for a fixed time
-        assert writer is not None, process.output()
-        process.popen.send_signal(signal.SIGINT)
+        while process.popen.poll() is None and not importing() and time.monotonic() < deadline:
+            time.sleep(0.001)   # polling for the import: not a wait for a fixed time
+        assert importing(), process.output()
+        while process.popen.poll() is None and time.monotonic() < deadline:
+            process.popen.send_signal(signal.SIGINT)   # held down: one every 2 ms until exit
+            time.sleep(0.002)
         code, output = finished(process)
     finally:
-        if writer is not None:
-            os.close(writer)
+        process.stop()
+    assert code == 0, output
+    assert 'Traceback' not in output and '[FATAL]' not in output, output
+
+
+def test_ctrl_c_held_down_stops_the_node_quietly(ros_env, workdir):
+    # SIGINT after SIGINT, as a user pressing Ctrl-C again while the node stops: before, one
+    # that came while main destroyed the node gave a KeyboardInterrupt traceback and exit -2
+    process = Process('contact_sim_node', ['--ros-args', '-r', '__node:=held_down', '-p',
+                                           'publish_clock:=false'], ros_env, workdir)
+    try:
+        deadline = time.monotonic() + TIMEOUT
+        while 'drop from' not in process.output() and process.popen.poll() is None \
+                and time.monotonic() < deadline:
+            time.sleep(0.01)   # polling for the start: not a wait for a fixed time
+        assert 'drop from' in process.output(), process.output()
+        while process.popen.poll() is None and time.monotonic() < deadline:
+            process.popen.send_signal(signal.SIGINT)
+            time.sleep(0.002)  # a signal every 2 ms until the node has exited
+        code, output = finished(process)
+    finally:
         process.stop()
     assert code == 0, output
     assert 'Traceback' not in output and '[FATAL]' not in output, output
