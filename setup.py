@@ -8,7 +8,6 @@ setup(
     name=package_name,
     version='0.1.0',
     packages=find_packages(exclude=['test']),
-    py_modules=['contact_sim_start'],   # the node's entry point, before the package's import
     package_data={package_name: ['data/*.npz']},
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
@@ -29,7 +28,7 @@ setup(
     entry_points={
         'console_scripts': [
             'contact-sim = contact_sim.cli:main',
-            'contact_sim_node = contact_sim_start:node_main',
+            'contact_sim_node = contact_sim.ros.start:node_main',
             'contact_sim_record = contact_sim.ros.recorder:record_main',
         ],
     },

@@ -152,7 +152,7 @@ def test_there_are_at_least_thirty_examples():
 
 
 ROS_API = ('contact_sim.ros.node:ContactSimNode', 'contact_sim.ros.node:StartupError',
-           'contact_sim.ros.node:main', 'contact_sim_start:node_main',
+           'contact_sim.ros.node:main', 'contact_sim.ros.start:node_main',
            'contact_sim.ros.recorder:Recorder',
            'contact_sim.ros.recorder:record_main', 'contact_sim.ros.recorder:recover_main',
            'contact_sim.ros.record_options:record_parser')

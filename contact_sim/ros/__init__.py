@@ -8,6 +8,8 @@
 - ``messages``: the table of every topic (name, type, QoS, encoder, decoder) and the message
   functions;
 - ``query``: ``~/query_restitution`` names -> answers;
+- ``start``: the console entry point of ``contact_sim_node``, which takes SIGINT and SIGTERM before
+  the node's import;
 - ``node``: ``contact_sim_node`` (``ContactSimNode``: parameters, the plate, services; ``main``);
 - ``loop``: the node's tick loop (``TickLoop``: ticks due, wall budgets, a recorder's pace),
   given the drop, its settings, the model and the stamp offset it runs;
