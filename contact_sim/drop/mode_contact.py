@@ -120,7 +120,7 @@ class InContact(Mode):
                 if finish > t_end:
                     return Move(None, t_end, budget)
                 return Move(self._finish(sim), finish, budget)
-            if (phase.lifted_off or phase.time >= knot) and knot <= t_end:
+            if knot <= t_end and (phase.lifted_off or phase.time >= knot):
                 # the forcing changes at the knot: restart there from the dense output (the last
                 # step integrated the forcing continued smoothly past the knot: exact up to it)
                 z, zdot = phase.state_at(knot)

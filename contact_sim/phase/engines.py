@@ -149,18 +149,18 @@ class PhaseFactory:
             par = self._parameters[lift_events] = constant_parameters(
                 self.contact, self.mass, self.rtol, self.atol, lift_events)
         par = par.copy()
-        storage = phase_storage()
+        st, k, f = storage = phase_storage()
         if scales is None:
-            started = start_scaled(par, *storage, start_time, penetration, penetration_rate,
-                                   self.gravity)
-            peak, scales = started[0], started[1:]      # (Z, T, γ, ζ)
-            if not scales[0] > 0.0:     # no motion and no gravity: phase_scales refuses it
+            peak, length, time, gamma, zeta = start_scaled(par, st, k, f, start_time, penetration,
+                                                           penetration_rate, self.gravity)
+            if not length > 0.0:     # no motion and no gravity: phase_scales refuses it
                 phase_scales(self.contact, self.mass, self.gravity, penetration,
                              penetration_rate)
-            if forcing is None and self._creeps and scales[3] > COMPILED_STIFF_DAMPING:
+            if forcing is None and self._creeps and zeta > COMPILED_STIFF_DAMPING:
                 return None
+            scales = (length, time, gamma, zeta)
         else:
-            peak = start_phase(par, *storage, start_time, penetration, penetration_rate,
+            peak = start_phase(par, st, k, f, start_time, penetration, penetration_rate,
                                scales.length, scales.time, scales.gravity, scales.damping)
         phase = CompiledPhase.__new__(CompiledPhase)
         phase._started(self.contact, self.mass, par, storage, start_time, penetration,
