@@ -140,7 +140,7 @@ class CompiledPhase:
                                   else 1)
         st, k, f = phase_storage()
         peak = start_phase(par, st, k, f, start_time, penetration, penetration_rate, sc.length,
-                           sc.time, sc.gravity, sc.damping)
+                           sc.time, sc.gamma, sc.zeta)
         self._started(contact, mass, par, (st, k, f), start_time, penetration, penetration_rate,
                       peak, sc, keep_points, forcing)
 

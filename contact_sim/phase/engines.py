@@ -126,7 +126,7 @@ class PhaseFactory:
                                   forcing, scales)
         if engine == 'compiled':
             if scales is not None:
-                if not (self._creeps and scales.damping > COMPILED_STIFF_DAMPING):
+                if not (self._creeps and scales.zeta > COMPILED_STIFF_DAMPING):
                     return self._compiled(start_time, penetration, penetration_rate, keep_points,
                                           None, scales)
             else:
@@ -161,7 +161,7 @@ class PhaseFactory:
             scales = (length, time, gamma, zeta)
         else:
             peak = start_phase(par, st, k, f, start_time, penetration, penetration_rate,
-                               scales.length, scales.time, scales.gravity, scales.damping)
+                               scales.length, scales.time, scales.gamma, scales.zeta)
         phase = CompiledPhase.__new__(CompiledPhase)
         phase._started(self.contact, self.mass, par, storage, start_time, penetration,
                        penetration_rate, peak, scales, keep_points, forcing, self._buffer)
