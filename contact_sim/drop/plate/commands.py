@@ -1,6 +1,5 @@
 """Changes of the plate's motion at a time: the vibrating table's C¹ bridge
-(``table_transition``), trajectory commands (``command_motion``), the table's settings
-(``vibrating_table``) and the sphere's absolute motion over the plate (``sphere_motion``)."""
+(``table_transition``) and trajectory commands (``command_motion``)."""
 from dataclasses import dataclass
 
 import numpy as np
@@ -198,24 +197,3 @@ def command_motion(now, position, velocity, times, positions, velocities=None):
                          '<= %g m/s^2 (points further apart in time or closer in position)'
                          % (peak, COMMAND_ACCELERATION_MAX))
     return Command(motion, dropped)
-
-# -- the vibrating table's settings (the node's parameters) ------------------------------------
-
-
-def vibrating_table(amplitude, frequency, phase):
-    """A ``SinusoidalPlate`` from settings in its ranges (``SinusoidalPlate``: 0 <= a <=
-    ``TABLE_AMPLITUDE_MAX`` m, 0 <= f <= ``TABLE_FREQUENCY_MAX`` Hz, abs(ϕ) <= ``TABLE_PHASE_MAX``,
-    peak acceleration a (2π f)² <= ``TABLE_ACCELERATION_MAX``), or ``None`` if it does not vibrate
-    (a = 0 or f = 0: the fixed plate, not a plate held at a sin ϕ).  ``InputError`` keyed
-    ``amplitude``, ``frequency`` or ``phase``."""
-    table = SinusoidalPlate(amplitude, frequency, phase)
-    return table if table.amplitude > 0.0 and table.frequency > 0.0 else None
-
-
-def sphere_motion(radius, penetration, penetration_rate, plate_position=0.0,
-                  plate_velocity=0.0):
-    """The sphere's centre height p + R1 - z (m) and upward velocity ṗ - ż (m/s) in the frame
-    where the plate's surface at rest is at height 0, from the penetration z (m) and its rate ż
-    (m/s) relative to the plate at p (m), moving at ṗ (m/s); floats or numpy arrays."""
-    return plate_position + radius - penetration, plate_velocity - penetration_rate
-

@@ -1,5 +1,7 @@
-"""The plate's motions: the protocol ``PlateMotion``, the fixed plate, the vibrating table and a
-switch from one motion to another at a time (``CommandedPlate``, set-points, is in ``commanded``).
+"""The plate's motions: the protocol ``PlateMotion``, the fixed plate, the vibrating table (and
+``vibrating_table``, the table from its settings or ``None``), a switch from one motion to another
+at a time (``CommandedPlate``, set-points, is in ``commanded``); and ``sphere_motion``, the
+sphere's absolute height and velocity over a plate.
 
 The plate's surface is at height p(t) (m, up positive), with velocity ṗ (m/s) and acceleration
 p̈ (m/s²).  The drop engine (``drop.DropSimulation(..., plate=...)``) works in the relative
@@ -322,6 +324,16 @@ class SinusoidalPlate(PlateMotion):
         return max(t, (lo + 2.0 * math.pi * k - self.phase) / w)
 
 
+def vibrating_table(amplitude, frequency, phase):
+    """A ``SinusoidalPlate`` from settings in its ranges (``SinusoidalPlate``: 0 <= a <=
+    ``TABLE_AMPLITUDE_MAX`` m, 0 <= f <= ``TABLE_FREQUENCY_MAX`` Hz, abs(ϕ) <= ``TABLE_PHASE_MAX``,
+    peak acceleration a (2π f)² <= ``TABLE_ACCELERATION_MAX``), or ``None`` if it does not vibrate
+    (a = 0 or f = 0: the fixed plate, not a plate held at a sin ϕ).  ``InputError`` keyed
+    ``amplitude``, ``frequency`` or ``phase``."""
+    table = SinusoidalPlate(amplitude, frequency, phase)
+    return table if table.amplitude > 0.0 and table.frequency > 0.0 else None
+
+
 @dataclass(frozen=True)
 class SwitchedPlate(PlateMotion):
     """``before`` (a ``PlateMotion``) for t < ``switch_time`` (s), ``after`` from it on.
@@ -424,3 +436,11 @@ def as_plate(plate):
                          'SinusoidalPlate, a CommandedPlate or another plate.PlateMotion',
                          value=repr(plate))
     return plate if plate.moving else FIXED
+
+
+def sphere_motion(radius, penetration, penetration_rate, plate_position=0.0,
+                  plate_velocity=0.0):
+    """The sphere's centre height p + R1 - z (m) and upward velocity ṗ - ż (m/s) in the frame
+    where the plate's surface at rest is at height 0, from the penetration z (m) and its rate ż
+    (m/s) relative to the plate at p (m), moving at ṗ (m/s); floats or numpy arrays."""
+    return plate_position + radius - penetration, plate_velocity - penetration_rate
