@@ -148,7 +148,7 @@ def stiff_drops():
     saved = phase.COMPILED_STIFF_DAMPING
     for lam in (1e7, 2.5e7, 5e7, 1e8, 1e9):
         contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, lam)
-        zeta = phase.phase_scales(contact, 0.066, 10.0, 0.0, math.sqrt(20.0)).damping
+        zeta = phase.phase_scales(contact, 0.066, 10.0, 0.0, math.sqrt(20.0)).zeta
         cells = []
         for engine in phase.ENGINES:
             phase.COMPILED_STIFF_DAMPING = math.inf

@@ -15,7 +15,7 @@ from contact_sim.validation import InputError
 # the compiled engine.  A layer (``contact_sim.impact``) is reached the same way.
 _EXPORTS = {
     'contact_sim.calibration': ('fit_bounces', 'predict_bounces'),
-    'contact_sim.drop': ('Advance', 'DropResult', 'DropSimulation', 'DropState', 'ImpactRecord',
+    'contact_sim.drop': ('AdvanceResult', 'DropResult', 'DropSimulation', 'DropState', 'ImpactRecord',
                          'Samples', 'TickBatch', 'check_drop', 'simulate_drop'),
     'contact_sim.flight': ('AirDrag', 'FlightPath'),
     'contact_sim.impact': ('DampingFit', 'ImpactResult', 'compare_laws', 'contact_duration',
@@ -33,7 +33,7 @@ __version__ = '0.1.0'
 
 __all__ = [
     'AZAD_FEATHERSTONE', 'HUNT_CROSSLEY', 'LAWS', 'LEE_WANG', 'LINEAR', 'MATERIALS',
-    'AirDrag', 'Advance', 'Contact', 'ContactLaw', 'DampingFit', 'DropResult', 'DropSimulation',
+    'AirDrag', 'AdvanceResult', 'Contact', 'ContactLaw', 'DampingFit', 'DropResult', 'DropSimulation',
     'DropState', 'FlightPath', 'ImpactRecord', 'ImpactResult', 'InputError', 'Material', 'Samples',
     'TickBatch', 'build_contact', 'build_mass', 'check_drop', 'compare_laws', 'contact_duration',
     'require_contact', 'damping_for_restitution', 'damping_group', 'effective_modulus',

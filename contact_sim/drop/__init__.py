@@ -52,10 +52,10 @@ _EXPORTS = {
     'simulate': ('simulate_drop',),
     'limits': ('GRAVITY_MAX', 'HEIGHT_MAX', 'VELOCITY_MAX', 'check_drop'),
     'plate': ('FIXED', 'TABLE_ACCELERATION_MAX', 'TABLE_AMPLITUDE_MAX', 'TABLE_FREQUENCY_MAX',
-              'TABLE_FREQUENCY_MIN', 'TABLE_PHASE_MAX', 'CommandedPlate', 'FixedPlate', 'PlateMotion', 'SinusoidalPlate',
-              'SwitchedPlate', 'command_motion', 'sphere_motion', 'table_transition',
+              'TABLE_FREQUENCY_MIN', 'TABLE_PHASE_MAX', 'CommandedPlate', 'FixedPlate', 'PlateMotion',
+              'SinusoidalPlate', 'SwitchedPlate', 'command_motion', 'sphere_motion', 'table_transition',
               'vibrating_table'),
-    'records': ('Advance', 'DropResult', 'DropState', 'ImpactRecord', 'Recorder', 'Samples',
+    'records': ('AdvanceResult', 'DropResult', 'DropState', 'ImpactRecord', 'Recorder', 'Samples',
                 'TickBatch'),
     'sweep': ('bifurcation_diagram', 'sweep'),
     'table': ('VibratingTable', 'period_doubling_threshold', 'period_one_phase',
@@ -64,7 +64,8 @@ _EXPORTS = {
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
 
 __all__ = ['FIXED', 'GRAVITY_MAX', 'HEIGHT_MAX', 'TABLE_ACCELERATION_MAX', 'TABLE_AMPLITUDE_MAX',
-           'TABLE_FREQUENCY_MAX', 'TABLE_FREQUENCY_MIN', 'TABLE_PHASE_MAX', 'VELOCITY_MAX', 'Advance', 'CommandedPlate',
+           'TABLE_FREQUENCY_MAX', 'TABLE_FREQUENCY_MIN', 'TABLE_PHASE_MAX', 'VELOCITY_MAX',
+           'AdvanceResult', 'CommandedPlate',
            'DropResult', 'DropSimulation', 'DropState', 'FixedPlate', 'ImpactRecord',
            'PlateMotion', 'Recorder', 'Samples',
            'SinusoidalPlate', 'SwitchedPlate', 'TickBatch', 'VibratingTable',

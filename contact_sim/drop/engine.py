@@ -16,7 +16,7 @@ from contact_sim.flight import AirDrag
 from contact_sim.drop.mode import NO_POINTS, Event
 from contact_sim.drop.mode_carried import CHUNK
 from contact_sim.drop.plate import as_plate
-from contact_sim.drop.records import Advance, DropState, Recorder, Samples, TickBatch
+from contact_sim.drop.records import AdvanceResult, DropState, Recorder, Samples, TickBatch
 from contact_sim.drop.transitions import TRANSITIONS, free_motion
 from contact_sim.model import require_contact
 from contact_sim.phase import PhaseFactory
@@ -297,7 +297,7 @@ class DropSimulation:
 
         Returns
         -------
-        Advance
+        AdvanceResult
             The contact points passed (the state reached last), impacts completed, apexes.
 
         Raises
@@ -312,7 +312,7 @@ class DropSimulation:
         points.append((self.time, state.penetration, state.penetration_rate, state.force))
         impacts = tuple(self.impacts[n_impacts:])
         apexes = tuple(self.apex_heights[n_apex:])
-        return Advance(_samples_of(points), impacts, apexes)
+        return AdvanceResult(_samples_of(points), impacts, apexes)
 
     def run_to(self, t_end, max_steps=None):
         """``advance`` without gathering the contact points passed: for a caller that reads only

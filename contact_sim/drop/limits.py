@@ -172,7 +172,7 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
                          'resolves; allowed {n[stiffness]} <= %.4g N/m^%g (contact time scale '
                          '>= %g s), or a larger {n[mass]}'
                          % (n, mass, shortest, k_max, n, CONTACT_TIME_MIN))
-    largest = max(sc.damping for sc in regimes)
+    largest = max(sc.zeta for sc in regimes)
     if largest > DAMPING_GROUP_MAX:
         lam_max = lam * (DAMPING_GROUP_MAX / largest)
         raise InputError('damping', lam, '{n[damping]} = {value} is too large for this drop: '

@@ -11,6 +11,7 @@ from operator import itemgetter
 from contact_sim.drop.mode import NO_POINTS, Event, Mode, Move
 from contact_sim.drop.mode_carried import CarryWatch
 from contact_sim.drop.mode_rest import RestWatch
+from contact_sim.phase import potential_at
 
 _TIME = itemgetter(0)   # a point's time (points are (t, z, ż, F))
 
@@ -25,12 +26,9 @@ def energy_bounded_rate(sim, start, z, zdot):
     release; the speed is then taken from the energy at the start instead (the sign kept).
     Unchanged wherever the energy did not grow.
     """
-    contact, mass, mg = sim.contact, sim.mass, sim.mass * sim.gravity
-    k, n1 = contact.stiffness, contact.law.n + 1.0
-    z_start = start[1]      # the potentials of phase.potential_at
-    e_start = (0.5 * mass * start[2] * start[2]
-               + (k * max(z_start, 0.0) ** n1 / n1 - mg * z_start))
-    potential = k * max(z, 0.0) ** n1 / n1 - mg * z
+    contact, mass, g = sim.contact, sim.mass, sim.gravity
+    e_start = 0.5 * mass * start[2] * start[2] + potential_at(contact, mass, g, start[1])
+    potential = potential_at(contact, mass, g, z)
     if not 0.5 * mass * zdot * zdot + potential > e_start:
         return zdot
     return math.copysign(math.sqrt(max(2.0 * (e_start - potential) / mass, 0.0)), zdot)
@@ -122,7 +120,7 @@ class InContact(Mode):
                 if finish > t_end:
                     return Move(None, t_end, budget)
                 return Move(self._finish(sim), finish, budget)
-            if (phase.lifted_off or phase.time >= knot) and knot <= t_end:
+            if knot <= t_end and (phase.lifted_off or phase.time >= knot):
                 # the forcing changes at the knot: restart there from the dense output (the last
                 # step integrated the forcing continued smoothly past the knot: exact up to it)
                 z, zdot = phase.state_at(knot)

@@ -201,7 +201,7 @@ class ImpactRecord:
 
 
 @dataclass(frozen=True)
-class Advance:
+class AdvanceResult:
     """What one ``DropSimulation.advance`` call produced.
 
     Attributes

@@ -33,8 +33,7 @@ def free_motion(sim, t, z, zdot, after_lift_off=False, resumed=False):
         return _contact(sim, t, z, zdot, resumed)
     flight = Flight(sim.plate_motion, sim.gravity, t, z, zdot, sim.contact, sim.drag_rates,
                     after_lift_off)
-    if flight.apex is not None:
-        sim.recorder.apex(flight.apex)
+    sim.recorder.apex(flight.apex)
     return flight
 
 
@@ -57,7 +56,7 @@ def resume(sim, mode, event):
 def go_on(sim, mode, event):
     """The same contact goes on in a new phase (the plate's forcing changed), its record carried."""
     return InContact(sim, event.time, event.penetration, event.penetration_rate,
-                   resumed=event.resumed, record=event.record)
+                     resumed=event.resumed, record=event.record)
 
 
 def bounce(sim, mode, event):
@@ -123,7 +122,7 @@ def replant(sim, mode, event):
     if mode.landed:
         return resume(sim, mode, event)
     return InContact(sim, event.time, event.penetration, event.penetration_rate,
-                   resumed=mode.resumed, record=mode.record_until(event.time))
+                     resumed=mode.resumed, record=mode.record_until(event.time))
 
 
 TRANSITIONS = {

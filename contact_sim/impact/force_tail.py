@@ -91,7 +91,7 @@ def force_tail(law, scales, start_time, deepest, rtol, horizon):
     True
     """
     n, p = law.n, law.p
-    length, time, gamma, zeta = scales.length, scales.time, scales.gravity, scales.damping
+    length, time, gamma, zeta = scales.length, scales.time, scales.gamma, scales.zeta
     tau0 = (deepest[0] - start_time) / time
     x0 = deepest[1] / length
     u0 = deepest[2] * time / length

@@ -126,7 +126,7 @@ def simulate_impact(contact, mass, speed, gravity=0.0, rtol=DEFAULT_RTOL, max_st
     max_steps = require_int('max_steps', max_steps, 1, 10 ** 9)
     # heavy damping with n > p: the way out is integrated in the force (``force_tail``)
     scales = phase_scales(contact, mass, gravity, 0.0, speed)
-    zeta = scales.damping
+    zeta = scales.zeta
     tail = needs_force_tail(contact.law, zeta)
     phase = contact_phase(contact, mass, gravity, 0.0, 0.0, speed, rtol=rtol, engine=engine,
                           atol=way_in_atol(zeta) if tail else DEFAULT_ATOL, keep_points=tail,

@@ -44,11 +44,13 @@ def constant_parameters(contact, mass, rtol, atol, lift_events):
     return par
 
 
-def phase_storage():
+_SHAPES = (compiled.NSTATE, (compiled.A.shape[0], 2), (compiled.D.shape[0] + 3, 2))
+
+
+def phase_storage(empty=np.empty, shapes=_SHAPES):
     """Integrator storage (st, K, F) of ``compiled``'s shapes, uninitialised (``start_phase``
-    sets it)."""
-    return (np.empty(compiled.NSTATE), np.empty((compiled.A.shape[0], 2)),
-            np.empty((compiled.D.shape[0] + 3, 2)))
+    sets it).  (``empty`` and ``shapes`` bound once: a phase a bounce.)"""
+    return empty(shapes[0]), empty(shapes[1]), empty(shapes[2])
 
 
 @njit('float64(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], float64, float64, '
@@ -138,7 +140,7 @@ class CompiledPhase:
                                   else 1)
         st, k, f = phase_storage()
         peak = start_phase(par, st, k, f, start_time, penetration, penetration_rate, sc.length,
-                           sc.time, sc.gravity, sc.damping)
+                           sc.time, sc.gamma, sc.zeta)
         self._started(contact, mass, par, (st, k, f), start_time, penetration, penetration_rate,
                       peak, sc, keep_points, forcing)
 
@@ -159,6 +161,7 @@ class CompiledPhase:
         self._keep_points = keep_points
         self.lifted_off = False
         self.steps = 0
+        self._s = 0.0           # σ = sqrt((t - start) / T) reached: ``start_phase`` set it to 0
         self.peak_force = peak
         self.max_penetration = penetration
         self.end = None  # (t, z, ż) at lift-off
@@ -192,7 +195,7 @@ class CompiledPhase:
         compiled test uses a margin of 1e-12 of the phase's kinetic energy scale, so it may stop
         a step before the caller's own test agrees, never after).  Returns the steps taken."""
         budget = MAX_STEPS if max_steps is None else int(min(max_steps, MAX_STEPS))
-        stop = self._energy_stop(stop_energy)
+        stop = self._energy_stop(stop_energy) if stop_energy > -math.inf else -math.inf
         st, k, f, par, buf = self._st, self._k, self._f, self._par, self._buffer
         t_stop = float(t_stop)
         taken = 0
@@ -204,6 +207,7 @@ class CompiledPhase:
             if reason != BUFFER_FULL:
                 break
         values = st.tolist()            # the results of the steps taken
+        self._s = values[S_S]
         self.steps = int(values[S_STEPS])
         self.peak_force = values[S_PEAK]
         self.max_penetration = values[S_DEPTH]
@@ -218,9 +222,7 @@ class CompiledPhase:
         """The energy (J) at which ``compiled.run`` stops for a caller's test at ``stop_energy``:
         a generous margin above it (1e-9 of it and 1e-12 of the phase's kinetic energy scale
         m (Z/T)²), so that the run stops a step before the caller's own test may agree, never
-        after; -inf stays -inf."""
-        if not stop_energy > -math.inf:
-            return -math.inf
+        after (for a finite ``stop_energy``: ``run`` passes -inf and nan on as -inf)."""
         v = self._length_scale / self._time_scale
         return stop_energy + abs(stop_energy) * 1e-9 + 1e-12 * self.mass * (v * v)
 
@@ -231,7 +233,7 @@ class CompiledPhase:
     @property
     def time(self):
         """Time (s) reached by the integrator (the end of its last step)."""
-        s = self._st[S_S]
+        s = self._s             # σ reached (read from the compiled state by ``run``)
         return self.start_time + self._time_scale * s * s
 
     def _dimensional(self, s, x, u):

@@ -126,7 +126,7 @@ class PhaseFactory:
                                   forcing, scales)
         if engine == 'compiled':
             if scales is not None:
-                if not (self._creeps and scales.damping > COMPILED_STIFF_DAMPING):
+                if not (self._creeps and scales.zeta > COMPILED_STIFF_DAMPING):
                     return self._compiled(start_time, penetration, penetration_rate, keep_points,
                                           None, scales)
             else:
@@ -149,19 +149,19 @@ class PhaseFactory:
             par = self._parameters[lift_events] = constant_parameters(
                 self.contact, self.mass, self.rtol, self.atol, lift_events)
         par = par.copy()
-        storage = phase_storage()
+        st, k, f = storage = phase_storage()
         if scales is None:
-            started = start_scaled(par, *storage, start_time, penetration, penetration_rate,
-                                   self.gravity)
-            peak, scales = started[0], started[1:]      # (Z, T, γ, ζ)
-            if not scales[0] > 0.0:     # no motion and no gravity: phase_scales refuses it
+            peak, length, time, gamma, zeta = start_scaled(par, st, k, f, start_time, penetration,
+                                                           penetration_rate, self.gravity)
+            if not length > 0.0:     # no motion and no gravity: phase_scales refuses it
                 phase_scales(self.contact, self.mass, self.gravity, penetration,
                              penetration_rate)
-            if forcing is None and self._creeps and scales[3] > COMPILED_STIFF_DAMPING:
+            if forcing is None and self._creeps and zeta > COMPILED_STIFF_DAMPING:
                 return None
+            scales = (length, time, gamma, zeta)
         else:
-            peak = start_phase(par, *storage, start_time, penetration, penetration_rate,
-                               scales.length, scales.time, scales.gravity, scales.damping)
+            peak = start_phase(par, st, k, f, start_time, penetration, penetration_rate,
+                               scales.length, scales.time, scales.gamma, scales.zeta)
         phase = CompiledPhase.__new__(CompiledPhase)
         phase._started(self.contact, self.mass, par, storage, start_time, penetration,
                        penetration_rate, peak, scales, keep_points, forcing, self._buffer)

@@ -37,7 +37,7 @@ class PhaseIntegrator:
         law = contact.law
         self._n, self._p, self._q = law.n, law.p, law.q
         self._linear_in_rate = law.linear_in_rate      # q = 1: the rate term is u itself
-        self._gamma, self._zeta = sc.gravity, sc.damping
+        self._gamma, self._zeta = sc.gamma, sc.zeta
         self._lift_events = ((lambda yy: yy[0], lambda yy: self._phi(yy[0], yy[1]))
                              if force_can_vanish_inside(law, gravity) else
                              (lambda yy: yy[0],))
@@ -47,7 +47,7 @@ class PhaseIntegrator:
         # time scale: into rest under gravity, or out to the surface when its force cannot
         # vanish inside (Hunt-Crossley).  Then the implicit Radau method, which also provides
         # step() and dense output.  (A phase that ends at a force zero stays cheaper on DOP853.)
-        method = Radau if is_stiff(law, gravity, sc.damping, STIFF_DAMPING) else DOP853
+        method = Radau if is_stiff(law, gravity, sc.zeta, STIFF_DAMPING) else DOP853
         self._solver = method(self._rhs, 0.0, np.array([x0, u0]), math.inf,
                               rtol=rtol, atol=atol, first_step=FIRST_STEP)
         self._last_dense = None
@@ -186,5 +186,5 @@ class PhaseIntegrator:
     def energy_above_rest(self):
         """Mechanical energy (J) above static equilibrium at the integrator's current state."""
         z, zdot = self.state
-        g = self.scales.gravity * self.scales.length / self.scales.time ** 2
+        g = self.scales.gamma * self.scales.length / self.scales.time ** 2
         return energy_above_rest(self.contact, self.mass, g, z, zdot)

@@ -17,12 +17,13 @@ FIRST_STEP = 0.05
 
 @dataclass(frozen=True)
 class PhaseScales:
-    """Length Z (m), time T (s) and the dimensionless gravity γ and damping ζ of one phase."""
+    """Length Z (m), time T (s) and the dimensionless gravity ``gamma`` γ and damping ``zeta`` ζ
+    of one phase."""
 
     length: float
     time: float
-    gravity: float
-    damping: float
+    gamma: float
+    zeta: float
 
 
 def scales_of(k, lam, mass, gravity, n, p, q, penetration, penetration_rate):

@@ -1,7 +1,5 @@
 """Changes of the plate's motion at a time: the vibrating table's C¹ bridge
-(``table_transition``), trajectory commands (``command_motion``), the table's settings
-(``vibrating_table``) and the sphere's absolute motion over the plate (``sphere_motion``)."""
-import math
+(``table_transition``) and trajectory commands (``command_motion``)."""
 from dataclasses import dataclass
 
 import numpy as np
@@ -10,7 +8,7 @@ from contact_sim.drop.plate.commanded import (SET_POINT_MAX, CommandedPlate, fin
                                               set_point_times)
 from contact_sim.drop.plate.motions import (TABLE_ACCELERATION_MAX, SinusoidalPlate,
                                             SwitchedPlate)
-from contact_sim.validation import InputError, require_range, require_real, require_real_array
+from contact_sim.validation import InputError, require_range, require_real
 
 BRIDGE_TIME = 0.5           # s: the bridge's length when no table frequency gives one
 BRIDGE_SPEED_MAX = 0.5      # m/s: a bridge is no faster than this, the plate now or the table
@@ -200,45 +198,3 @@ def command_motion(now, position, velocity, times, positions, velocities=None):
                          '<= %g m/s^2 (points further apart in time or closer in position)'
                          % (peak, COMMAND_ACCELERATION_MAX))
     return Command(motion, dropped)
-
-# -- the vibrating table's settings (the node's parameters) ------------------------------------
-
-
-def vibrating_table(amplitude, frequency, phase):
-    """A ``SinusoidalPlate`` from settings in its ranges (``SinusoidalPlate``: 0 <= a <=
-    ``TABLE_AMPLITUDE_MAX`` m, 0 <= f <= ``TABLE_FREQUENCY_MAX`` Hz, abs(ϕ) <= ``TABLE_PHASE_MAX``,
-    peak acceleration a (2π f)² <= ``TABLE_ACCELERATION_MAX``), or ``None`` if it does not vibrate
-    (a = 0 or f = 0: the fixed plate, not a plate held at a sin ϕ).  ``InputError`` keyed
-    ``amplitude``, ``frequency`` or ``phase``."""
-    table = SinusoidalPlate(amplitude, frequency, phase)
-    return table if table.amplitude > 0.0 and table.frequency > 0.0 else None
-
-
-def sphere_motion(radius, penetration, penetration_rate, plate_position=0.0,
-                  plate_velocity=0.0):
-    """The sphere's centre height p + R1 - z (m) and upward velocity ṗ - ż (m/s) in the frame
-    where the plate's surface at rest is at height 0, from the penetration z (m) and its rate ż
-    (m/s) relative to the plate at p (m), moving at ṗ (m/s); floats or numpy arrays.
-    ``InputError`` naming the argument that is not a finite real number (or array of them)."""
-    args = (radius, penetration, penetration_rate, plate_position, plate_velocity)
-    if all(type(a) is float for a in args):   # the node's per-tick call: plain floats
-        height, velocity = plate_position + radius - penetration, plate_velocity - penetration_rate
-        if math.isfinite(height) and math.isfinite(velocity):
-            return height, velocity
-    elif not any(isinstance(a, (bool, str, bytes)) for a in args):   # numbers, not as numbers
-        try:
-            with np.errstate(all='ignore'):
-                height = plate_position + radius - penetration
-                velocity = plate_velocity - penetration_rate
-        except TypeError:
-            height = velocity = None
-        if height is not None and all(np.asarray(x).dtype.kind in 'iuf' for x in args) \
-                and np.all(np.isfinite(height)) and np.all(np.isfinite(velocity)):
-            return height, velocity
-    names = ('radius', 'penetration', 'penetration_rate', 'plate_position', 'plate_velocity')
-    for name, value in zip(names, args):
-        require_real_array(name, value)
-    raise InputError('radius', radius, 'the sphere\'s height p + R1 - z or velocity overflows '
-                     'for {n[radius]} = {value}, penetration = %r, plate_position = %r: allowed '
-                     'values whose sums are finite' % (penetration, plate_position))
-

@@ -1,5 +1,7 @@
-"""The plate's motions: the protocol ``PlateMotion``, the fixed plate, the vibrating table and a
-switch from one motion to another at a time (``CommandedPlate``, set-points, is in ``commanded``).
+"""The plate's motions: the protocol ``PlateMotion``, the fixed plate, the vibrating table (and
+``vibrating_table``, the table from its settings or ``None``), a switch from one motion to another
+at a time (``CommandedPlate``, set-points, is in ``commanded``); and ``sphere_motion``, the
+sphere's absolute height and velocity over a plate.
 
 The plate's surface is at height p(t) (m, up positive), with velocity ṗ (m/s) and acceleration
 p̈ (m/s²).  The drop engine (``drop.DropSimulation(..., plate=...)``) works in the relative
@@ -56,7 +58,8 @@ import numpy as np
 
 from contact_sim.drop.plate.flights import ballistic_flight, gap_flight, table_flight
 from contact_sim.phase import Forcing
-from contact_sim.validation import InputError, require_instance, require_range, require_real
+from contact_sim.validation import (InputError, require_instance, require_range, require_real,
+                                    require_real_array)
 
 # the vibrating table's ranges (the node's plate_* parameters, sweeps, every SinusoidalPlate)
 TABLE_AMPLITUDE_MAX = 0.1         # m
@@ -327,6 +330,16 @@ class SinusoidalPlate(PlateMotion):
         return max(t, (lo + 2.0 * math.pi * k - self.phase) / w)
 
 
+def vibrating_table(amplitude, frequency, phase):
+    """A ``SinusoidalPlate`` from settings in its ranges (``SinusoidalPlate``: 0 <= a <=
+    ``TABLE_AMPLITUDE_MAX`` m, 0 <= f <= ``TABLE_FREQUENCY_MAX`` Hz, abs(ϕ) <= ``TABLE_PHASE_MAX``,
+    peak acceleration a (2π f)² <= ``TABLE_ACCELERATION_MAX``), or ``None`` if it does not vibrate
+    (a = 0 or f = 0: the fixed plate, not a plate held at a sin ϕ).  ``InputError`` keyed
+    ``amplitude``, ``frequency`` or ``phase``."""
+    table = SinusoidalPlate(amplitude, frequency, phase)
+    return table if table.amplitude > 0.0 and table.frequency > 0.0 else None
+
+
 @dataclass(frozen=True)
 class SwitchedPlate(PlateMotion):
     """``before`` (a ``PlateMotion``) for t < ``switch_time`` (s), ``after`` from it on.
@@ -429,3 +442,32 @@ def as_plate(plate):
                          'SinusoidalPlate, a CommandedPlate or another plate.PlateMotion',
                          value=repr(plate))
     return plate if plate.moving else FIXED
+
+
+def sphere_motion(radius, penetration, penetration_rate, plate_position=0.0,
+                  plate_velocity=0.0):
+    """The sphere's centre height p + R1 - z (m) and upward velocity ṗ - ż (m/s) in the frame
+    where the plate's surface at rest is at height 0, from the penetration z (m) and its rate ż
+    (m/s) relative to the plate at p (m), moving at ṗ (m/s); floats or numpy arrays.
+    ``InputError`` naming the argument that is not a finite real number (or array of them)."""
+    args = (radius, penetration, penetration_rate, plate_position, plate_velocity)
+    if all(type(a) is float for a in args):   # the node's per-tick call: plain floats
+        height, velocity = plate_position + radius - penetration, plate_velocity - penetration_rate
+        if math.isfinite(height) and math.isfinite(velocity):
+            return height, velocity
+    elif not any(isinstance(a, (bool, str, bytes)) for a in args):   # numbers, not as numbers
+        try:
+            with np.errstate(all='ignore'):
+                height = plate_position + radius - penetration
+                velocity = plate_velocity - penetration_rate
+        except TypeError:
+            height = velocity = None
+        if height is not None and all(np.asarray(x).dtype.kind in 'iuf' for x in args) \
+                and np.all(np.isfinite(height)) and np.all(np.isfinite(velocity)):
+            return height, velocity
+    names = ('radius', 'penetration', 'penetration_rate', 'plate_position', 'plate_velocity')
+    for name, value in zip(names, args):
+        require_real_array(name, value)
+    raise InputError('radius', radius, 'the sphere\'s height p + R1 - z or velocity overflows '
+                     'for {n[radius]} = {value}, penetration = %r, plate_position = %r: allowed '
+                     'values whose sums are finite' % (penetration, plate_position))
