@@ -35,6 +35,10 @@ from contact_sim.validation import InputError, require_nonnegative, require_posi
 
 # a pair whose gap is beyond this (m) and that carries no state is not looked at further
 REACH = 0.05
+# an explicit contact pair's margin (m) that no distance falls below: the pair is switched off
+_NEVER = -1e10
+# two pairs in contact at once whose normal responses couple beyond this fraction are refused
+_COUPLED = 1e-9
 _SPHERE, _PLANE = int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_PLANE)
 _SERVED = {int(mujoco.mjtIntegrator.mjINT_EULER), int(mujoco.mjtIntegrator.mjINT_IMPLICIT),
            int(mujoco.mjtIntegrator.mjINT_IMPLICITFAST)}
@@ -55,6 +59,7 @@ class _Pair:
         self.jacr = np.zeros((3, nv))
         self.response = np.zeros((3, nv))
         self.fromto = np.zeros(6)
+        self.along_normal = None    # (n J, n J M⁻¹, n J M⁻¹ Jᵀ n) of the step's push
 
 
 class CoupledContacts:
@@ -122,9 +127,21 @@ class CoupledContacts:
             raise InputError('pairs', pairs, '{n[pairs]} is empty: allowed one or more '
                              '(geom, geom, Contact) triples')
         self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
+        seen = {}
+        for pair in self.pairs:
+            key = frozenset((pair.sphere, pair.other))
+            if key in seen:
+                raise InputError('pairs', rows[pair.index][:2], '{n[pairs]}[%d] = {value} names '
+                                 'the geoms of pairs[%d] twice: allowed each pair once'
+                                 % (pair.index, seen[key]))
+            seen[key] = pair.index
+        spheres = {pair.sphere for pair in self.pairs}
         for pair in self.pairs:
             model.geom_contype[pair.sphere] = 0
             model.geom_conaffinity[pair.sphere] = 0
+        for i in range(model.npair):    # explicit <contact><pair>s ignore contype: never within
+            if {int(model.pair_geom1[i]), int(model.pair_geom2[i])} & spheres:   # this margin
+                model.pair_margin[i] = _NEVER
         self._applied = np.zeros(model.nv)
 
     def _pair(self, row, index):
@@ -149,6 +166,9 @@ class CoupledContacts:
         if types[0] == _SPHERE and types[1] == _SPHERE and model.body_dofnum[
                 model.geom_bodyid[ids[0]]] == 0:
             sphere, other = ids[1], ids[0]
+        if model.geom_bodyid[ids[0]] == model.geom_bodyid[ids[1]]:
+            raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value}: both geoms are on the '
+                             'same body: allowed geoms of two bodies' % index)
         dofs = [int(model.body_dofnum[model.geom_bodyid[g]]) for g in ids]
         moving = [_moves(model, int(model.geom_bodyid[g])) for g in ids]
         if not any(moving):
@@ -169,6 +189,7 @@ class CoupledContacts:
         applied = self._applied
         applied[:] = 0.0
         smooth = None
+        pushing = []
         for pair in self.pairs:
             dist = mujoco.mj_geomDistance(m, d, pair.sphere, pair.other, self.reach,
                                           pair.fromto)
@@ -176,7 +197,10 @@ class CoupledContacts:
                 continue
             if smooth is None:
                 smooth = self._smooth_acceleration()
-            self._couple(pair, dist, smooth, applied)
+            if self._couple(pair, dist, smooth, applied):
+                pushing.append(pair)
+        if len(pushing) > 1:
+            _refuse_coupled(pushing)
         if smooth is None:
             mujoco.mj_step2(m, d)
             return
@@ -218,7 +242,8 @@ class CoupledContacts:
         step = pair.coupling.step(float(d.time), float(dist), float(normal @ velocity),
                                   1.0 / w_n, float(normal @ acceleration), dt)
         if step.impulse == 0.0:
-            return
+            return False
+        pair.along_normal = (normal @ jac, normal @ response, w_n)
         impulse = step.impulse * normal
         if self.friction > 0.0:
             free = velocity + dt * acceleration + step.impulse * along    # without friction
@@ -228,6 +253,7 @@ class CoupledContacts:
                 impulse = impulse + basis.T @ friction_impulse(
                     step.impulse, basis @ free, basis @ inverse @ basis.T, self.friction)
         applied += jac.T @ (impulse / dt)
+        return True
 
     def _normal(self, pair, centre):
         """The unit normal from the other geom to the sphere."""
@@ -240,6 +266,21 @@ class CoupledContacts:
             n = centre - pair.fromto[3:]    # passed first) to the sphere's centre
         length = math.sqrt(float(n @ n))
         return n / length if length > 0.0 else np.array([0.0, 0.0, 1.0])
+
+
+def _refuse_coupled(pushing):
+    """Refuse two pairs pushing in one step whose normal impulses move each other's gap: each
+    is integrated alone, and together they would pump energy in (a stack of balls)."""
+    for k, first in enumerate(pushing):
+        row, _, w_first = first.along_normal
+        for second in pushing[k + 1:]:
+            _, moved, w_second = second.along_normal
+            if abs(float(row @ moved)) > _COUPLED * math.sqrt(w_first * w_second):
+                raise InputError('pairs', (first.index, second.index), '{n[pairs]}[%d] and '
+                                 'pairs[%d] push at once on a body along lines that move each '
+                                 "other's gap (a stack): allowed pairs whose contacts at one time "
+                                 'are independent (one contact per body, or normals at right '
+                                 'angles on a sphere)' % (first.index, second.index))
 
 
 def _moves(model, body):
