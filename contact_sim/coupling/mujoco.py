@@ -85,8 +85,10 @@ class CoupledContacts:
     ------
     InputError
         Keyed ``pairs`` (not a sequence of (name, name, Contact), a name of no geom, no sphere
-        in a pair, both geoms on bodies without degrees of freedom), ``friction``, ``reach`` or
-        ``integrator`` (RK4: the step this coupling cannot serve).
+        in a pair, both geoms on bodies without degrees of freedom, both on one body, a pair
+        named twice), ``friction``, ``reach`` or ``integrator`` (RK4: the step this coupling
+        cannot serve); at ``step``, keyed ``pairs`` when two pairs push at once on a body
+        along lines that move each other's gap (a stack of balls).
 
     Examples
     --------
