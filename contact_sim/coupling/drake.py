@@ -3,7 +3,7 @@ to the plant's applied spatial force input port.
 
 Each pair names two bodies of a finalized ``MultibodyPlant`` (by ``RigidBody`` or by name): a sphere body and the world (a floor: the plane z = ``floor_height`` of the world, normal
 +z) or another sphere body; the radii are given with the pair, ``(body_a, body_b, contact,
-radius_a, radius_b)`` (0 for the world's floor).  The system reads the plant's state (connect
+radius_a, radius_b)`` (0 for the world's floor; a sphere's centre is its body's origin).  The system reads the plant's state (connect
 ``plant.get_state_output_port()`` to ``get_input_port()``), and at each of the plant's steps
 evaluates, in a plant context of its own: the gap and normal from the bodies' poses, the contact
 point's relative velocity and translational Jacobian (``CalcJacobianTranslationalVelocity``),
@@ -18,12 +18,13 @@ per plant step, keyed on the context's time.  A continuous plant (``time_step`` 
 at the ``period`` given: a periodic update at each period's start plans the step (the
 ``'continuous'`` host), and the output is the force linear in time over the period that brings
 the plant's gap and velocity to the exact ones at its end (exact for an integrator of order 3
-or more on a free body; the tangential impulse is held constant).  The pair's own collision
-is the user's to leave out (register no collision geometry for the coupled bodies, or filter the
-pair in the scene graph).  Units: SI.
+or more on a free body; the tangential impulse is held constant).  Drake's own contact between
+a pair's collision geometries is filtered out in the ``scene_graph`` given (refused without
+it).  Units: SI.
 """
 import numpy as np
 from pydrake.common.value import AbstractValue
+from pydrake.geometry import CollisionFilterDeclaration, GeometrySet
 from pydrake.multibody.math import SpatialForce
 from pydrake.multibody.plant import ExternallyAppliedSpatialForce
 from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
@@ -60,14 +61,19 @@ class CoupledContacts(LeafSystem):
     reach : float, optional
         A pair farther apart than this (m) and carrying no contact state costs its poses only;
         > 0 (default ``REACH``); it must exceed the distance the bodies close in one step.
+    scene_graph : pydrake.geometry.SceneGraph, optional
+        The plant's scene graph, before its context is made: Drake's own contact between the
+        collision geometries of a coupled pair's bodies is filtered out there.  Needed when
+        both bodies of a pair have collision geometry.
 
     Raises
     ------
     InputError
         Keyed ``plant`` (not finalized), ``period`` (a continuous plant without one, or one
         that is not a discrete plant's ``time_step``), ``reach``,
-        ``pairs`` (no such body, no sphere, no degree of freedom, a bad radius), ``friction`` or
-        ``floor_height``.
+        ``pairs`` (no such body, no sphere, no degree of freedom, a bad radius), ``friction``,
+        ``floor_height`` or ``scene_graph`` (missing while both bodies of a pair have collision
+        geometry: Drake's own contact would act beside the coupling).
 
     Examples
     --------
@@ -95,7 +101,8 @@ class CoupledContacts(LeafSystem):
     e = 0.726
     """
 
-    def __init__(self, plant, pairs, friction=0.0, floor_height=0.0, period=None, reach=REACH):
+    def __init__(self, plant, pairs, friction=0.0, floor_height=0.0, period=None, reach=REACH,
+                 scene_graph=None):
         LeafSystem.__init__(self)
         if not plant.is_finalized():
             raise InputError('plant', 'not finalized', '{n[plant]} is {value}: allowed a '
@@ -123,6 +130,7 @@ class CoupledContacts(LeafSystem):
         if not rows:
             raise InputError('pairs', pairs, '{n[pairs]} is empty: allowed one or more rows')
         self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
+        self._leave_drakes_contact(scene_graph)
         self._context = plant.CreateDefaultContext()
         self._memo = (None, [])
         self.DeclareVectorInputPort('plant_state', plant.num_multibody_states())
@@ -132,6 +140,25 @@ class CoupledContacts(LeafSystem):
         if self.continuous:     # the plan of a step, made at its start: (t₀, rows)
             self._plan = self.DeclareAbstractState(AbstractValue.Make((0.0, [])))
             self.DeclarePeriodicUnrestrictedUpdateEvent(self.dt, 0.0, self._update)
+
+    def _leave_drakes_contact(self, scene_graph):
+        """Filter Drake's own contact between each pair's collision geometries out."""
+        plant = self.plant
+        if not plant.geometry_source_is_registered():
+            return
+        for index, (a, b, *_) in enumerate(self.pairs):
+            shapes = [plant.GetCollisionGeometriesForBody(body) for body in (a, b)]
+            if not (shapes[0] and shapes[1]):
+                continue
+            if scene_graph is None:
+                raise InputError('scene_graph', None, "{n[scene_graph]} is missing: pairs[%d]'s "
+                                 "bodies %r and %r have collision geometry, and Drake's own "
+                                 'contact would act beside the coupling: allowed the plant\'s '
+                                 'SceneGraph (the pair is filtered out there)'
+                                 % (index, a.name(), b.name()))
+            scene_graph.collision_filter_manager().Apply(CollisionFilterDeclaration()
+                                                         .ExcludeBetween(GeometrySet(shapes[0]),
+                                                                         GeometrySet(shapes[1])))
 
     def _body(self, value, index):
         plant = self.plant
