@@ -31,7 +31,7 @@ from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
 from pydrake.systems.framework import LeafSystem
 
 from contact_sim.coupling.core import NormalCoupling
-from contact_sim.coupling.friction import friction_impulse
+from contact_sim.coupling.rows import pair_rows, tangential_impulse
 from contact_sim.model import require_contact
 from contact_sim.validation import (InputError, require_nonnegative, require_positive,
                                     require_real)
@@ -122,13 +122,7 @@ class CoupledContacts(LeafSystem):
         self.friction = require_nonnegative('friction', friction)
         self.reach = require_positive('reach', reach)
         self.floor_height = require_real('floor_height', floor_height)
-        try:
-            rows = [tuple(p) for p in pairs]
-        except TypeError:
-            raise InputError('pairs', pairs, '{n[pairs]} = {value} is not a sequence: allowed '
-                             '(body, body, Contact, radius, radius) rows') from None
-        if not rows:
-            raise InputError('pairs', pairs, '{n[pairs]} is empty: allowed one or more rows')
+        rows = pair_rows(pairs, '(body, body, Contact, radius, radius)')
         self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
         self._leave_drakes_contact(scene_graph)
         self._context = plant.CreateDefaultContext()
@@ -255,11 +249,10 @@ class CoupledContacts(LeafSystem):
             if step.impulse == 0.0:
                 continue
             impulse = step.impulse * normal
-            if self.friction > 0.0:
-                basis = _tangents(normal)
-                free = velocity + dt * acceleration + inverse @ impulse
-                impulse = impulse + basis.T @ friction_impulse(
-                    step.impulse, basis @ free, basis @ inverse @ basis.T, self.friction)
+            if self.friction > 0.0:     # Coulomb's, from the velocity without friction
+                impulse = impulse + tangential_impulse(
+                    step.impulse, velocity + dt * acceleration + inverse @ impulse, normal,
+                    inverse, self.friction)
             rate = step.force_rate * normal
             for body, sign in ((sphere, 1.0), (other, -1.0)):
                 if body.index() == plant.world_body().index():
@@ -292,13 +285,3 @@ def _moves(plant, body):
     the body."""
     joints = [i for i in plant.GetJointIndices() if plant.get_joint(i).num_velocities() > 0]
     return bool(joints) and body.index() in set(plant.GetBodiesKinematicallyAffectedBy(joints))
-
-
-def _tangents(normal):
-    """Two unit tangents (rows) orthogonal to the normal and to each other."""
-    x, y, z = (float(v) for v in normal)
-    a, b, c = (0.0, z, -y) if abs(x) < 0.9 else (-z, 0.0, x)
-    norm = (a * a + b * b + c * c) ** 0.5
-    a, b, c = a / norm, b / norm, c / norm
-    return np.array([[a, b, c], [y * c - z * b, z * a - x * c, x * b - y * a]])
-

@@ -29,7 +29,8 @@ import mujoco
 import numpy as np
 
 from contact_sim.coupling.core import NormalCoupling
-from contact_sim.coupling.friction import friction_impulse
+from contact_sim.coupling.rows import (pair_rows, refuse_repeated, refuse_stack,
+                                       tangential_impulse)
 from contact_sim.model import require_contact
 from contact_sim.validation import InputError, require_nonnegative, require_positive
 
@@ -37,8 +38,6 @@ from contact_sim.validation import InputError, require_nonnegative, require_posi
 REACH = 0.05
 # an explicit contact pair's margin (m) that no distance falls below: the pair is switched off
 _NEVER = -1e10
-# two pairs in contact at once whose normal responses couple beyond this fraction are refused
-_COUPLED = 1e-9
 _SPHERE, _PLANE = int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_PLANE)
 _SERVED = {int(mujoco.mjtIntegrator.mjINT_EULER), int(mujoco.mjtIntegrator.mjINT_IMPLICIT),
            int(mujoco.mjtIntegrator.mjINT_IMPLICITFAST)}
@@ -120,23 +119,9 @@ class CoupledContacts:
         self.model, self.data = model, data
         self.friction = require_nonnegative('friction', friction)
         self.reach = require_positive('reach', reach)
-        try:
-            rows = [tuple(p) for p in pairs]
-        except TypeError:
-            raise InputError('pairs', pairs, '{n[pairs]} = {value} is not a sequence: allowed '
-                             '(geom, geom, Contact) triples') from None
-        if not rows:
-            raise InputError('pairs', pairs, '{n[pairs]} is empty: allowed one or more '
-                             '(geom, geom, Contact) triples')
+        rows = pair_rows(pairs, '(geom, geom, Contact)')
         self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
-        seen = {}
-        for pair in self.pairs:
-            key = frozenset((pair.sphere, pair.other))
-            if key in seen:
-                raise InputError('pairs', rows[pair.index][:2], '{n[pairs]}[%d] = {value} names '
-                                 'the geoms of pairs[%d] twice: allowed each pair once'
-                                 % (pair.index, seen[key]))
-            seen[key] = pair.index
+        refuse_repeated([frozenset((p.sphere, p.other)) for p in self.pairs], rows)
         spheres = {pair.sphere for pair in self.pairs}
         for pair in self.pairs:
             model.geom_contype[pair.sphere] = 0
@@ -168,15 +153,15 @@ class CoupledContacts:
         if types[0] == _SPHERE and types[1] == _SPHERE and model.body_dofnum[
                 model.geom_bodyid[ids[0]]] == 0:
             sphere, other = ids[1], ids[0]
-        if model.geom_bodyid[ids[0]] == model.geom_bodyid[ids[1]]:
-            raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value}: both geoms are on the '
-                             'same body: allowed geoms of two bodies' % index)
         dofs = [int(model.body_dofnum[model.geom_bodyid[g]]) for g in ids]
         moving = [_moves(model, int(model.geom_bodyid[g])) for g in ids]
         if not any(moving):
             raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value}: neither geom\'s body '
                              'has a degree of freedom (body dofs %s): allowed a pair that can '
                              'move' % (index, dofs))
+        if model.geom_bodyid[ids[0]] == model.geom_bodyid[ids[1]]:
+            raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value}: both geoms are on the '
+                             'same body: allowed geoms of two bodies' % index)
         return _Pair(model, sphere, other, contact, index)
 
     @property
@@ -247,13 +232,10 @@ class CoupledContacts:
             return False
         pair.along_normal = (normal @ jac, normal @ response, w_n)
         impulse = step.impulse * normal
-        if self.friction > 0.0:
-            free = velocity + dt * acceleration + step.impulse * along    # without friction
-            slide = free - float(free @ normal) * normal
-            if float(slide @ slide) > 0.0:          # sliding: Coulomb's tangential impulse
-                basis = _tangents(normal)
-                impulse = impulse + basis.T @ friction_impulse(
-                    step.impulse, basis @ free, basis @ inverse @ basis.T, self.friction)
+        if self.friction > 0.0:     # Coulomb's, from the velocity without friction
+            impulse = impulse + tangential_impulse(
+                step.impulse, velocity + dt * acceleration + step.impulse * along, normal,
+                inverse, self.friction)
         applied += jac.T @ (impulse / dt)
         return True
 
@@ -277,12 +259,7 @@ def _refuse_coupled(pushing):
         row, _, w_first = first.along_normal
         for second in pushing[k + 1:]:
             _, moved, w_second = second.along_normal
-            if abs(float(row @ moved)) > _COUPLED * math.sqrt(w_first * w_second):
-                raise InputError('pairs', (first.index, second.index), '{n[pairs]}[%d] and '
-                                 'pairs[%d] push at once on a body along lines that move each '
-                                 "other's gap (a stack): allowed pairs whose contacts at one time "
-                                 'are independent (one contact per body, or normals at right '
-                                 'angles on a sphere)' % (first.index, second.index))
+            refuse_stack(first.index, second.index, float(row @ moved), w_first, w_second)
 
 
 def _moves(model, body):
@@ -292,19 +269,6 @@ def _moves(model, body):
             return True
         body = int(model.body_parentid[body])
     return False
-
-
-def _tangents(normal):
-    """Two unit tangents (rows) orthogonal to the normal and to each other (plain arithmetic:
-    numpy's cross costs tens of µs a call)."""
-    x, y, z = (float(v) for v in normal)
-    if abs(x) < 0.9:        # n × (1, 0, 0)
-        a, b, c = 0.0, z, -y
-    else:                   # n × (0, 1, 0)
-        a, b, c = -z, 0.0, x
-    norm = math.sqrt(a * a + b * b + c * c)
-    a, b, c = a / norm, b / norm, c / norm
-    return np.array([[a, b, c], [y * c - z * b, z * a - x * c, x * b - y * a]])
 
 
 def coupled_restitution(contact, radius, mass, speeds, timestep, integrator='implicitfast'):

@@ -22,13 +22,13 @@ coupling: set them to 0 (``changeDynamics``) for the exact figures.  The pair's 
 switched off (``setCollisionFilterPair``).  Articulated links are not coupled here: bases only.
 Units: SI.
 """
-import math
 
 import numpy as np
 import pybullet
 
 from contact_sim.coupling.core import NormalCoupling
-from contact_sim.coupling.friction import friction_impulse
+from contact_sim.coupling.rows import (pair_rows, refuse_repeated, refuse_stack,
+                                       tangential_impulse)
 from contact_sim.model import require_contact
 from contact_sim.validation import InputError, require_nonnegative, require_positive
 
@@ -133,22 +133,9 @@ class CoupledContacts:
         self.client = client
         self.friction = require_nonnegative('friction', friction)
         self.reach = require_positive('reach', reach)
-        try:
-            rows = [tuple(p) for p in pairs]
-        except TypeError:
-            raise InputError('pairs', pairs, '{n[pairs]} = {value} is not a sequence: allowed '
-                             '(body, body, Contact) triples') from None
-        if not rows:
-            raise InputError('pairs', pairs, '{n[pairs]} is empty: allowed one or more '
-                             '(body, body, Contact) triples')
+        rows = pair_rows(pairs, '(body, body, Contact)')
         self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
-        seen = {}
-        for sphere, other, _, _, i in self.pairs:
-            key = frozenset((sphere.body, other.body))
-            if key in seen:
-                raise InputError('pairs', rows[i][:2], '{n[pairs]}[%d] = {value} names the bodies '
-                                 'of pairs[%d] twice: allowed each pair once' % (i, seen[key]))
-            seen[key] = i
+        refuse_repeated([frozenset((p[0].body, p[1].body)) for p in self.pairs], rows)
         self._time = 0.0
 
     def _pair(self, row, index):
@@ -243,13 +230,10 @@ class CoupledContacts:
         if step.impulse == 0.0:
             return None
         impulse = step.impulse * normal
-        if self.friction > 0.0:
-            free = velocity + dt * acceleration + inverse @ impulse     # without friction
-            slide = free - float(free @ normal) * normal
-            if float(slide @ slide) > 0.0:          # sliding: Coulomb's tangential impulse
-                basis = _tangents(normal)
-                impulse = impulse + basis.T @ friction_impulse(
-                    step.impulse, basis @ free, basis @ inverse @ basis.T, self.friction)
+        if self.friction > 0.0:     # Coulomb's, from the velocity without friction
+            impulse = impulse + tangential_impulse(
+                step.impulse, velocity + dt * acceleration + inverse @ impulse, normal, inverse,
+                self.friction)
         force = impulse / dt
         return (index, normal, w_n, [(base, sign * force, point) for base, sign
                                      in ((sphere, 1.0), (other, -1.0)) if base.mass > 0.0])
@@ -275,21 +259,7 @@ def _refuse_coupled(pushing):
                 for other, _, p_second in on_second:
                     if other is base or other.body == base.body:
                         cross += float(n_first @ base.cross(p_first, p_second) @ n_second)
-            if abs(cross) > 1e-9 * np.sqrt(w_first * w_second):
-                raise InputError('pairs', (first, second), '{n[pairs]}[%d] and pairs[%d] push at '
-                                 'once on a body along lines that move each other\'s gap (a '
-                                 'stack): allowed pairs whose contacts at one time are '
-                                 'independent (one contact per body, or normals at right '
-                                 'angles on a sphere)' % (first, second))
-
-
-def _tangents(normal):
-    """Two unit tangents (rows) orthogonal to the normal and to each other."""
-    x, y, z = (float(v) for v in normal)
-    a, b, c = (0.0, z, -y) if abs(x) < 0.9 else (-z, 0.0, x)
-    norm = math.sqrt(a * a + b * b + c * c)
-    a, b, c = a / norm, b / norm, c / norm
-    return np.array([[a, b, c], [y * c - z * b, z * a - x * c, x * b - y * a]])
+            refuse_stack(first, second, cross, w_first, w_second)
 
 
 def coupled_restitution(contact, radius, mass, speeds, timestep):
