@@ -19,8 +19,9 @@ base, the other a plane, box, mesh or sphere (a static body, mass 0, or a free o
 PyBullet steps velocities, then positions with the new velocities (semi-implicit Euler), as the
 coupling assumes.  Its default linear and angular damping (0.04) change velocities outside the
 coupling: set them to 0 (``changeDynamics``) for the exact figures.  The pair's own collision is
-switched off (``setCollisionFilterPair``).  Articulated links are not coupled here: bases only.
-Units: SI.
+switched off (``setCollisionFilterPair``).  Articulated links are not coupled here: bases only
+(a moving body with links is refused; a static one may be the other side, its base only).  The
+sphere's centre is its collision frame's, which may sit off the base's centre of mass.  Units: SI.
 """
 
 import numpy as np
