@@ -31,7 +31,7 @@ from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
 from pydrake.systems.framework import LeafSystem
 
 from contact_sim.coupling.core import NormalCoupling
-from contact_sim.coupling.rows import pair_rows, tangential_impulse
+from contact_sim.coupling.rows import pair_rows, refuse_tunnel, tangential_impulse
 from contact_sim.model import require_contact
 from contact_sim.validation import (InputError, require_nonnegative, require_positive,
                                     require_real)
@@ -127,6 +127,7 @@ class CoupledContacts(LeafSystem):
         self._leave_drakes_contact(scene_graph)
         self._context = plant.CreateDefaultContext()
         self._memo = (None, [])
+        self._far = set()           # the pairs out of reach at the last step
         self.DeclareVectorInputPort('plant_state', plant.num_multibody_states())
         self.DeclareAbstractOutputPort(
             'applied_spatial_force',
@@ -221,7 +222,7 @@ class CoupledContacts(LeafSystem):
         plant.SetPositionsAndVelocities(ctx, state)
         dynamics = None
         forces = []
-        for sphere, other, r_s, r_o, coupling in self.pairs:
+        for index, (sphere, other, r_s, r_o, coupling) in enumerate(self.pairs):
             centre = plant.EvalBodyPoseInWorld(ctx, sphere).translation()
             if r_o == 0.0:
                 normal = np.array([0.0, 0.0, 1.0])
@@ -232,7 +233,11 @@ class CoupledContacts(LeafSystem):
                 normal = d / dist
                 gap = dist - r_s - r_o
             if gap > self.reach and not coupling.carrying:
+                self._far.add(index)
                 continue                # out of reach: no dynamics evaluated
+            if index in self._far and gap < 0.0:
+                refuse_tunnel(index, gap, self.reach)
+            self._far.discard(index)
             if dynamics is None:
                 mass_matrix = plant.CalcMassMatrix(ctx)
                 v = plant.GetVelocities(ctx)

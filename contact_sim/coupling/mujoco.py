@@ -30,7 +30,7 @@ import numpy as np
 
 from contact_sim.coupling.core import NormalCoupling
 from contact_sim.coupling.rows import (pair_rows, refuse_repeated, refuse_stack,
-                                       tangential_impulse)
+                                       refuse_tunnel, tangential_impulse)
 from contact_sim.model import require_contact
 from contact_sim.validation import InputError, require_nonnegative, require_positive
 
@@ -58,6 +58,7 @@ class _Pair:
         self.jacr = np.zeros((3, nv))
         self.response = np.zeros((3, nv))
         self.fromto = np.zeros(6)
+        self.far = False            # out of reach at the last step
         self.along_normal = None    # (n J, n J M⁻¹, n J M⁻¹ Jᵀ n) of the step's push
 
 
@@ -181,7 +182,11 @@ class CoupledContacts:
             dist = mujoco.mj_geomDistance(m, d, pair.sphere, pair.other, self.reach,
                                           pair.fromto)
             if dist >= self.reach and not pair.coupling.carrying:
+                pair.far = True
                 continue
+            if pair.far and dist < 0.0:
+                refuse_tunnel(pair.index, dist, self.reach)
+            pair.far = False
             if smooth is None:
                 smooth = self._smooth_acceleration()
             if self._couple(pair, dist, smooth, applied):

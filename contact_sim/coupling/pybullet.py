@@ -29,7 +29,7 @@ import pybullet
 
 from contact_sim.coupling.core import NormalCoupling
 from contact_sim.coupling.rows import (pair_rows, refuse_repeated, refuse_stack,
-                                       tangential_impulse)
+                                       refuse_tunnel, tangential_impulse)
 from contact_sim.model import require_contact
 from contact_sim.validation import InputError, require_nonnegative, require_positive
 
@@ -138,6 +138,7 @@ class CoupledContacts:
         self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
         refuse_repeated([frozenset((p[0].body, p[1].body)) for p in self.pairs], rows)
         self._time = 0.0
+        self._far = set()           # the pairs out of reach at the last step
 
     def _pair(self, row, index):
         client = self.client
@@ -211,11 +212,15 @@ class CoupledContacts:
         points = pybullet.getClosestPoints(sphere.body, other.body, self.reach, -1, -1,
                                            physicsClientId=client)
         if not points:     # out of reach (a state carried is dropped at the next call:
-            return None     # the clock moved on)
+            self._far.add(index)    # the clock moved on)
+            return None
         nearest = min(points, key=lambda p: p[8])
         flipped = nearest[1] != sphere.body     # Bullet's A is the sphere unless it swapped
         normal = np.asarray(nearest[7], dtype=float) * (-1.0 if flipped else 1.0)
         gap = float(nearest[8])
+        if index in self._far and gap < 0.0:
+            refuse_tunnel(index, gap, self.reach)
+        self._far.discard(index)
         pos, orn = pybullet.getBasePositionAndOrientation(sphere.body, physicsClientId=client)
         centre = np.asarray(pos) + (np.array(pybullet.getMatrixFromQuaternion(orn)).reshape(
             3, 3) @ offset if offset is not None else 0.0)   # the sphere's own centre

@@ -67,6 +67,20 @@ def refuse_stack(first, second, cross, w_first, w_second):
                          'body, or normals at right angles on a sphere)' % (first, second))
 
 
+def refuse_tunnel(index, gap, reach):
+    """Refuse pair ``index`` found penetrating (``gap`` < 0, m) right after a step it was out of
+    ``reach`` (m): its touch fell in a step nobody looked at.
+
+    Raises
+    ------
+    InputError
+        Keyed ``reach``.
+    """
+    raise InputError('reach', reach, '{n[reach]} = {value} m: pairs[%d] closed from beyond it '
+                     'to %.3g m deep in one step, and its touch was missed: allowed a reach above '
+                     'the distance its bodies close in one step' % (index, -gap))
+
+
 def tangential_impulse(normal_impulse, free, normal, inverse, friction):
     """Coulomb's impulse (N·s, world, shape (3,)) on the sliding side, from the contact point's
     relative velocity the step would end with without friction (``free``, m/s), the unit

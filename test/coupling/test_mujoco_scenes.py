@@ -87,3 +87,25 @@ def test_mujocos_explicit_pair_of_a_coupled_geom_is_switched_off():
             assert data.ncon == 0
         runs.append([(i.speed_in, i.speed_out) for i in coupled.impacts])
     assert runs[0] == runs[1]
+
+
+def test_a_ball_closing_more_than_the_reach_in_a_step_is_refused_not_launched():
+    # 20 m/s at 5 ms: 10 cm a step, beyond the default reach of 5 cm (before: the touch fell
+    # in a step the pair was not looked at, and the ball left at 830 m/s, e = 41.5)
+    results = []
+    for reach in (None, 0.2):
+        model, data = scene(ball('ball', 0.0, 0.5), option='gravity="0 0 0"')
+        model.opt.timestep = 0.005
+        data.qvel[2] = -20.0
+        coupled = CoupledContacts(model, data, [('ball', 'floor', STEEL)],
+                                  **({} if reach is None else {'reach': reach}))
+        try:
+            for _ in range(100):
+                coupled.step()
+        except cs.InputError as refused:
+            results.append(refused)
+            continue
+        results.append(data.qvel[2] / 20.0)
+    assert isinstance(results[0], cs.InputError) and results[0].field == 'reach'
+    assert results[1] == pytest.approx(coupled.impacts[0].restitution, rel=1e-6)
+    assert 0.5 < results[1] < 0.7

@@ -92,3 +92,23 @@ def test_a_stack_of_coupled_contacts_is_refused_not_launched(client):
                        for b in (low, up)]
             assert np.all(np.abs(heights) < 1.0)
     assert refused.value.field == 'pairs' and 'pairs[0] and pairs[1]' in str(refused.value)
+
+
+def test_a_ball_closing_more_than_the_reach_in_a_step_is_refused_not_launched(client):
+    # 20 m/s at 5 ms: 10 cm a step, beyond the default reach of 5 cm
+    pybullet.setTimeStep(0.005, physicsClientId=client)
+    ground, ball = floor(client), sphere(client, (0, 0, 0.5))
+    pybullet.resetBaseVelocity(ball, (0.0, 0.0, -20.0), physicsClientId=client)
+    coupled = CoupledContacts(client, [(ball, ground, STEEL)])
+    with pytest.raises(cs.InputError) as refused:
+        for _ in range(100):
+            coupled.step()
+    assert refused.value.field == 'reach'
+    pybullet.resetBasePositionAndOrientation(ball, (0, 0, 0.5), (0, 0, 0, 1),
+                                             physicsClientId=client)
+    pybullet.resetBaseVelocity(ball, (0.0, 0.0, -20.0), physicsClientId=client)
+    coupled = CoupledContacts(client, [(ball, ground, STEEL)], reach=0.2)
+    for _ in range(100):
+        coupled.step()
+    out = pybullet.getBaseVelocity(ball, physicsClientId=client)[0][2] / 20.0
+    assert out == pytest.approx(coupled.impacts[0].restitution, rel=1e-6) and 0.5 < out < 0.7
