@@ -4,7 +4,7 @@
 normal acceleration and the step in; the impulse over the step, the impacts inside it and the
 exact state it carries out), over ``flight`` (the flight inside a step in closed form) and the
 compiled contact phase of ``phase``; ``friction`` (Coulomb's tangential impulse in the same
-step).  The host adapters, one module an engine, each importing its engine there only:
+step); ``rows`` (what the adapters share about their pairs).  The host adapters, one module an engine, each importing its engine there only:
 ``contact_sim.coupling.mujoco``, ``contact_sim.coupling.pybullet``, ``contact_sim.coupling.drake``
 (import them by their module names; this package imports no engine).  Units: SI.
 """

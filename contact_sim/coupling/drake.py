@@ -3,7 +3,7 @@ to the plant's applied spatial force input port.
 
 Each pair names two bodies of a finalized ``MultibodyPlant`` (by ``RigidBody`` or by name): a sphere body and the world (a floor: the plane z = ``floor_height`` of the world, normal
 +z) or another sphere body; the radii are given with the pair, ``(body_a, body_b, contact,
-radius_a, radius_b)`` (0 for the world's floor).  The system reads the plant's state (connect
+radius_a, radius_b)`` (0 for the world's floor; a sphere's centre is its body's origin).  The system reads the plant's state (connect
 ``plant.get_state_output_port()`` to ``get_input_port()``), and at each of the plant's steps
 evaluates, in a plant context of its own: the gap and normal from the bodies' poses, the contact
 point's relative velocity and translational Jacobian (``CalcJacobianTranslationalVelocity``),
@@ -18,19 +18,20 @@ per plant step, keyed on the context's time.  A continuous plant (``time_step`` 
 at the ``period`` given: a periodic update at each period's start plans the step (the
 ``'continuous'`` host), and the output is the force linear in time over the period that brings
 the plant's gap and velocity to the exact ones at its end (exact for an integrator of order 3
-or more on a free body; the tangential impulse is held constant).  The pair's own collision
-is the user's to leave out (register no collision geometry for the coupled bodies, or filter the
-pair in the scene graph).  Units: SI.
+or more on a free body; the tangential impulse is held constant).  Drake's own contact between
+a pair's collision geometries is filtered out in the ``scene_graph`` given (refused without
+it).  Units: SI.
 """
 import numpy as np
 from pydrake.common.value import AbstractValue
+from pydrake.geometry import CollisionFilterDeclaration, GeometrySet
 from pydrake.multibody.math import SpatialForce
 from pydrake.multibody.plant import ExternallyAppliedSpatialForce
 from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
 from pydrake.systems.framework import LeafSystem
 
 from contact_sim.coupling.core import NormalCoupling
-from contact_sim.coupling.friction import friction_impulse
+from contact_sim.coupling.rows import pair_rows, refuse_tunnel, tangential_impulse
 from contact_sim.model import require_contact
 from contact_sim.validation import (InputError, require_nonnegative, require_positive,
                                     require_real)
@@ -60,14 +61,19 @@ class CoupledContacts(LeafSystem):
     reach : float, optional
         A pair farther apart than this (m) and carrying no contact state costs its poses only;
         > 0 (default ``REACH``); it must exceed the distance the bodies close in one step.
+    scene_graph : pydrake.geometry.SceneGraph, optional
+        The plant's scene graph, before its context is made: Drake's own contact between the
+        collision geometries of a coupled pair's bodies is filtered out there.  Needed when
+        both bodies of a pair have collision geometry.
 
     Raises
     ------
     InputError
         Keyed ``plant`` (not finalized), ``period`` (a continuous plant without one, or one
         that is not a discrete plant's ``time_step``), ``reach``,
-        ``pairs`` (no such body, no sphere, no degree of freedom, a bad radius), ``friction`` or
-        ``floor_height``.
+        ``pairs`` (no such body, no sphere, no degree of freedom, a bad radius), ``friction``,
+        ``floor_height`` or ``scene_graph`` (missing while both bodies of a pair have collision
+        geometry: Drake's own contact would act beside the coupling).
 
     Examples
     --------
@@ -95,7 +101,8 @@ class CoupledContacts(LeafSystem):
     e = 0.726
     """
 
-    def __init__(self, plant, pairs, friction=0.0, floor_height=0.0, period=None, reach=REACH):
+    def __init__(self, plant, pairs, friction=0.0, floor_height=0.0, period=None, reach=REACH,
+                 scene_graph=None):
         LeafSystem.__init__(self)
         if not plant.is_finalized():
             raise InputError('plant', 'not finalized', '{n[plant]} is {value}: allowed a '
@@ -115,16 +122,12 @@ class CoupledContacts(LeafSystem):
         self.friction = require_nonnegative('friction', friction)
         self.reach = require_positive('reach', reach)
         self.floor_height = require_real('floor_height', floor_height)
-        try:
-            rows = [tuple(p) for p in pairs]
-        except TypeError:
-            raise InputError('pairs', pairs, '{n[pairs]} = {value} is not a sequence: allowed '
-                             '(body, body, Contact, radius, radius) rows') from None
-        if not rows:
-            raise InputError('pairs', pairs, '{n[pairs]} is empty: allowed one or more rows')
+        rows = pair_rows(pairs, '(body, body, Contact, radius, radius)')
         self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
+        self._leave_drakes_contact(scene_graph)
         self._context = plant.CreateDefaultContext()
         self._memo = (None, [])
+        self._far = set()           # the pairs out of reach at the last step
         self.DeclareVectorInputPort('plant_state', plant.num_multibody_states())
         self.DeclareAbstractOutputPort(
             'applied_spatial_force',
@@ -132,6 +135,25 @@ class CoupledContacts(LeafSystem):
         if self.continuous:     # the plan of a step, made at its start: (t₀, rows)
             self._plan = self.DeclareAbstractState(AbstractValue.Make((0.0, [])))
             self.DeclarePeriodicUnrestrictedUpdateEvent(self.dt, 0.0, self._update)
+
+    def _leave_drakes_contact(self, scene_graph):
+        """Filter Drake's own contact between each pair's collision geometries out."""
+        plant = self.plant
+        if not plant.geometry_source_is_registered():
+            return
+        for index, (a, b, *_) in enumerate(self.pairs):
+            shapes = [plant.GetCollisionGeometriesForBody(body) for body in (a, b)]
+            if not (shapes[0] and shapes[1]):
+                continue
+            if scene_graph is None:
+                raise InputError('scene_graph', None, "{n[scene_graph]} is missing: pairs[%d]'s "
+                                 "bodies %r and %r have collision geometry, and Drake's own "
+                                 'contact would act beside the coupling: allowed the plant\'s '
+                                 'SceneGraph (the pair is filtered out there)'
+                                 % (index, a.name(), b.name()))
+            scene_graph.collision_filter_manager().Apply(CollisionFilterDeclaration()
+                                                         .ExcludeBetween(GeometrySet(shapes[0]),
+                                                                         GeometrySet(shapes[1])))
 
     def _body(self, value, index):
         plant = self.plant
@@ -200,7 +222,7 @@ class CoupledContacts(LeafSystem):
         plant.SetPositionsAndVelocities(ctx, state)
         dynamics = None
         forces = []
-        for sphere, other, r_s, r_o, coupling in self.pairs:
+        for index, (sphere, other, r_s, r_o, coupling) in enumerate(self.pairs):
             centre = plant.EvalBodyPoseInWorld(ctx, sphere).translation()
             if r_o == 0.0:
                 normal = np.array([0.0, 0.0, 1.0])
@@ -211,7 +233,11 @@ class CoupledContacts(LeafSystem):
                 normal = d / dist
                 gap = dist - r_s - r_o
             if gap > self.reach and not coupling.carrying:
+                self._far.add(index)
                 continue                # out of reach: no dynamics evaluated
+            if index in self._far and gap < 0.0:
+                refuse_tunnel(index, gap, self.reach)
+            self._far.discard(index)
             if dynamics is None:
                 mass_matrix = plant.CalcMassMatrix(ctx)
                 v = plant.GetVelocities(ctx)
@@ -228,11 +254,10 @@ class CoupledContacts(LeafSystem):
             if step.impulse == 0.0:
                 continue
             impulse = step.impulse * normal
-            if self.friction > 0.0:
-                basis = _tangents(normal)
-                free = velocity + dt * acceleration + inverse @ impulse
-                impulse = impulse + basis.T @ friction_impulse(
-                    step.impulse, basis @ free, basis @ inverse @ basis.T, self.friction)
+            if self.friction > 0.0:     # Coulomb's, from the velocity without friction
+                impulse = impulse + tangential_impulse(
+                    step.impulse, velocity + dt * acceleration + inverse @ impulse, normal,
+                    inverse, self.friction)
             rate = step.force_rate * normal
             for body, sign in ((sphere, 1.0), (other, -1.0)):
                 if body.index() == plant.world_body().index():
@@ -265,13 +290,3 @@ def _moves(plant, body):
     the body."""
     joints = [i for i in plant.GetJointIndices() if plant.get_joint(i).num_velocities() > 0]
     return bool(joints) and body.index() in set(plant.GetBodiesKinematicallyAffectedBy(joints))
-
-
-def _tangents(normal):
-    """Two unit tangents (rows) orthogonal to the normal and to each other."""
-    x, y, z = (float(v) for v in normal)
-    a, b, c = (0.0, z, -y) if abs(x) < 0.9 else (-z, 0.0, x)
-    norm = (a * a + b * b + c * c) ** 0.5
-    a, b, c = a / norm, b / norm, c / norm
-    return np.array([[a, b, c], [y * c - z * b, z * a - x * c, x * b - y * a]])
-

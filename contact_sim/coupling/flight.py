@@ -15,6 +15,8 @@ from scipy.optimize import brentq
 # samples of φ on the search interval before Brent's method refines a sign change (as the drop's
 # fixed-plate flights look for the force's return)
 SAMPLES = 64
+# brentq's smallest relative tolerance (4 eps): below it scipy raises ValueError
+_RTOL = 4.0 * float(np.finfo(float).eps)
 
 
 def parabola(z, zdot, acceleration, t):
@@ -122,6 +124,6 @@ def _force_return(contact, z, zdot, a, t_search, leaving):
         if phi(t) > 0.0:
             if not negative:
                 return t
-            return brentq(phi, previous, t, xtol=1e-15 * max(t, 1e-30), rtol=4e-16)
+            return brentq(phi, previous, t, xtol=1e-15 * max(t, 1e-30), rtol=_RTOL)
         previous, negative = t, True
     return None

@@ -29,12 +29,15 @@ import mujoco
 import numpy as np
 
 from contact_sim.coupling.core import NormalCoupling
-from contact_sim.coupling.friction import friction_impulse
+from contact_sim.coupling.rows import (pair_rows, refuse_repeated, refuse_stack,
+                                       refuse_tunnel, tangential_impulse)
 from contact_sim.model import require_contact
 from contact_sim.validation import InputError, require_nonnegative, require_positive
 
 # a pair whose gap is beyond this (m) and that carries no state is not looked at further
 REACH = 0.05
+# an explicit contact pair's margin (m) that no distance falls below: the pair is switched off
+_NEVER = -1e10
 _SPHERE, _PLANE = int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_PLANE)
 _SERVED = {int(mujoco.mjtIntegrator.mjINT_EULER), int(mujoco.mjtIntegrator.mjINT_IMPLICIT),
            int(mujoco.mjtIntegrator.mjINT_IMPLICITFAST)}
@@ -55,6 +58,8 @@ class _Pair:
         self.jacr = np.zeros((3, nv))
         self.response = np.zeros((3, nv))
         self.fromto = np.zeros(6)
+        self.far = False            # out of reach at the last step
+        self.along_normal = None    # (n J, n J M⁻¹, n J M⁻¹ Jᵀ n) of the step's push
 
 
 class CoupledContacts:
@@ -80,8 +85,10 @@ class CoupledContacts:
     ------
     InputError
         Keyed ``pairs`` (not a sequence of (name, name, Contact), a name of no geom, no sphere
-        in a pair, both geoms on bodies without degrees of freedom), ``friction``, ``reach`` or
-        ``integrator`` (RK4: the step this coupling cannot serve).
+        in a pair, both geoms on bodies without degrees of freedom, both on one body, a pair
+        named twice), ``friction``, ``reach`` or ``integrator`` (RK4: the step this coupling
+        cannot serve); at ``step``, keyed ``pairs`` when two pairs push at once on a body
+        along lines that move each other's gap (a stack of balls).
 
     Examples
     --------
@@ -113,18 +120,16 @@ class CoupledContacts:
         self.model, self.data = model, data
         self.friction = require_nonnegative('friction', friction)
         self.reach = require_positive('reach', reach)
-        try:
-            rows = [tuple(p) for p in pairs]
-        except TypeError:
-            raise InputError('pairs', pairs, '{n[pairs]} = {value} is not a sequence: allowed '
-                             '(geom, geom, Contact) triples') from None
-        if not rows:
-            raise InputError('pairs', pairs, '{n[pairs]} is empty: allowed one or more '
-                             '(geom, geom, Contact) triples')
+        rows = pair_rows(pairs, '(geom, geom, Contact)')
         self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
+        refuse_repeated([frozenset((p.sphere, p.other)) for p in self.pairs], rows)
+        spheres = {pair.sphere for pair in self.pairs}
         for pair in self.pairs:
             model.geom_contype[pair.sphere] = 0
             model.geom_conaffinity[pair.sphere] = 0
+        for i in range(model.npair):    # explicit <contact><pair>s ignore contype: never within
+            if {int(model.pair_geom1[i]), int(model.pair_geom2[i])} & spheres:   # this margin
+                model.pair_margin[i] = _NEVER
         self._applied = np.zeros(model.nv)
 
     def _pair(self, row, index):
@@ -155,6 +160,9 @@ class CoupledContacts:
             raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value}: neither geom\'s body '
                              'has a degree of freedom (body dofs %s): allowed a pair that can '
                              'move' % (index, dofs))
+        if model.geom_bodyid[ids[0]] == model.geom_bodyid[ids[1]]:
+            raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value}: both geoms are on the '
+                             'same body: allowed geoms of two bodies' % index)
         return _Pair(model, sphere, other, contact, index)
 
     @property
@@ -169,14 +177,22 @@ class CoupledContacts:
         applied = self._applied
         applied[:] = 0.0
         smooth = None
+        pushing = []
         for pair in self.pairs:
             dist = mujoco.mj_geomDistance(m, d, pair.sphere, pair.other, self.reach,
                                           pair.fromto)
             if dist >= self.reach and not pair.coupling.carrying:
+                pair.far = True
                 continue
+            if pair.far and dist < 0.0:
+                refuse_tunnel(pair.index, dist, self.reach)
+            pair.far = False
             if smooth is None:
                 smooth = self._smooth_acceleration()
-            self._couple(pair, dist, smooth, applied)
+            if self._couple(pair, dist, smooth, applied):
+                pushing.append(pair)
+        if len(pushing) > 1:
+            _refuse_coupled(pushing)
         if smooth is None:
             mujoco.mj_step2(m, d)
             return
@@ -218,16 +234,15 @@ class CoupledContacts:
         step = pair.coupling.step(float(d.time), float(dist), float(normal @ velocity),
                                   1.0 / w_n, float(normal @ acceleration), dt)
         if step.impulse == 0.0:
-            return
+            return False
+        pair.along_normal = (normal @ jac, normal @ response, w_n)
         impulse = step.impulse * normal
-        if self.friction > 0.0:
-            free = velocity + dt * acceleration + step.impulse * along    # without friction
-            slide = free - float(free @ normal) * normal
-            if float(slide @ slide) > 0.0:          # sliding: Coulomb's tangential impulse
-                basis = _tangents(normal)
-                impulse = impulse + basis.T @ friction_impulse(
-                    step.impulse, basis @ free, basis @ inverse @ basis.T, self.friction)
+        if self.friction > 0.0:     # Coulomb's, from the velocity without friction
+            impulse = impulse + tangential_impulse(
+                step.impulse, velocity + dt * acceleration + step.impulse * along, normal,
+                inverse, self.friction)
         applied += jac.T @ (impulse / dt)
+        return True
 
     def _normal(self, pair, centre):
         """The unit normal from the other geom to the sphere."""
@@ -242,6 +257,16 @@ class CoupledContacts:
         return n / length if length > 0.0 else np.array([0.0, 0.0, 1.0])
 
 
+def _refuse_coupled(pushing):
+    """Refuse two pairs pushing in one step whose normal impulses move each other's gap: each
+    is integrated alone, and together they would pump energy in (a stack of balls)."""
+    for k, first in enumerate(pushing):
+        row, _, w_first = first.along_normal
+        for second in pushing[k + 1:]:
+            _, moved, w_second = second.along_normal
+            refuse_stack(first.index, second.index, float(row @ moved), w_first, w_second)
+
+
 def _moves(model, body):
     """Whether the body or one of its ancestors has a degree of freedom."""
     while body > 0:
@@ -249,19 +274,6 @@ def _moves(model, body):
             return True
         body = int(model.body_parentid[body])
     return False
-
-
-def _tangents(normal):
-    """Two unit tangents (rows) orthogonal to the normal and to each other (plain arithmetic:
-    numpy's cross costs tens of µs a call)."""
-    x, y, z = (float(v) for v in normal)
-    if abs(x) < 0.9:        # n × (1, 0, 0)
-        a, b, c = 0.0, z, -y
-    else:                   # n × (0, 1, 0)
-        a, b, c = -z, 0.0, x
-    norm = math.sqrt(a * a + b * b + c * c)
-    a, b, c = a / norm, b / norm, c / norm
-    return np.array([[a, b, c], [y * c - z * b, z * a - x * c, x * b - y * a]])
 
 
 def coupled_restitution(contact, radius, mass, speeds, timestep, integrator='implicitfast'):

@@ -19,16 +19,17 @@ base, the other a plane, box, mesh or sphere (a static body, mass 0, or a free o
 PyBullet steps velocities, then positions with the new velocities (semi-implicit Euler), as the
 coupling assumes.  Its default linear and angular damping (0.04) change velocities outside the
 coupling: set them to 0 (``changeDynamics``) for the exact figures.  The pair's own collision is
-switched off (``setCollisionFilterPair``).  Articulated links are not coupled here: bases only.
-Units: SI.
+switched off (``setCollisionFilterPair``).  Articulated links are not coupled here: bases only
+(a moving body with links is refused; a static one may be the other side, its base only).  The
+sphere's centre is its collision frame's, which may sit off the base's centre of mass.  Units: SI.
 """
-import math
 
 import numpy as np
 import pybullet
 
 from contact_sim.coupling.core import NormalCoupling
-from contact_sim.coupling.friction import friction_impulse
+from contact_sim.coupling.rows import (pair_rows, refuse_repeated, refuse_stack,
+                                       refuse_tunnel, tangential_impulse)
 from contact_sim.model import require_contact
 from contact_sim.validation import InputError, require_nonnegative, require_positive
 
@@ -60,12 +61,25 @@ class _Base:
         com = np.asarray(pos)       # the base frame is the inertial frame (PyBullet's bases)
         r = np.asarray(point) - com
         inverse_inertia = rot @ np.diag(self.inverse_inertia) @ rot.T
-        skew = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+        self._world = (com, inverse_inertia)
+        skew = _skew(r)
         w = self.inverse_mass * np.eye(3) - skew @ inverse_inertia @ skew
         wx, wy, wz = ang            # ω × r by hand: numpy's cross costs tens of µs a call
         velocity = np.array([lin[0] + wy * r[2] - wz * r[1], lin[1] + wz * r[0] - wx * r[2],
                              lin[2] + wx * r[1] - wy * r[0]])
         return w, velocity
+
+    def cross(self, first, second):
+        """The velocity at ``first`` per unit impulse at ``second`` (3x3, 1/kg), at the pose of
+        the last ``response``."""
+        com, inverse_inertia = self._world
+        return (self.inverse_mass * np.eye(3)
+                - _skew(np.asarray(first) - com) @ inverse_inertia @ _skew(np.asarray(second) - com))
+
+
+def _skew(r):
+    """[r]×: the matrix of r × (m)."""
+    return np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
 
 
 class CoupledContacts:
@@ -87,7 +101,9 @@ class CoupledContacts:
     ------
     InputError
         Keyed ``pairs`` (a body id that is not a body, no sphere in a pair, two bodies without
-        mass), ``friction`` or ``reach``.
+        mass, a moving body with links, one body twice, a pair named twice), ``friction`` or
+        ``reach``; at ``step``, keyed ``pairs`` when two pairs push at once on a body along
+        lines that move each other's gap (a stack), and ``numSubSteps`` > 1.
 
     Examples
     --------
@@ -118,16 +134,11 @@ class CoupledContacts:
         self.client = client
         self.friction = require_nonnegative('friction', friction)
         self.reach = require_positive('reach', reach)
-        try:
-            rows = [tuple(p) for p in pairs]
-        except TypeError:
-            raise InputError('pairs', pairs, '{n[pairs]} = {value} is not a sequence: allowed '
-                             '(body, body, Contact) triples') from None
-        if not rows:
-            raise InputError('pairs', pairs, '{n[pairs]} is empty: allowed one or more '
-                             '(body, body, Contact) triples')
+        rows = pair_rows(pairs, '(body, body, Contact)')
         self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
+        refuse_repeated([frozenset((p[0].body, p[1].body)) for p in self.pairs], rows)
         self._time = 0.0
+        self._far = set()           # the pairs out of reach at the last step
 
     def _pair(self, row, index):
         client = self.client
@@ -142,6 +153,9 @@ class CoupledContacts:
                 raise InputError('pairs', body, '{n[pairs]}[%d] names body {value}, which is no '
                                  'body of the client: allowed the ids of its bodies' % index)
         contact = require_contact(row[2], 'pairs')
+        if int(row[0]) == int(row[1]):
+            raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value} names the same body '
+                             'twice: allowed two bodies' % index)
         radii = [_sphere_radius(client, int(b)) for b in row[:2]]
         if radii[0] is None and radii[1] is None:
             raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value} has no body whose base '
@@ -153,9 +167,14 @@ class CoupledContacts:
             raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value}: both bodies have mass '
                              '0 (static, no degree of freedom): allowed a pair that can move'
                              % index)
+        for base in bases:
+            if base.mass > 0.0 and pybullet.getNumJoints(base.body, physicsClientId=client):
+                raise InputError('pairs', base.body, '{n[pairs]}[%d]: body {value} moves and has '
+                                 'links (its base alone is not its response to a push): allowed '
+                                 'bodies without links, or a static base (mass 0)' % index)
         pybullet.setCollisionFilterPair(int(row[0]), int(row[1]), -1, -1, 0,
                                         physicsClientId=client)
-        return bases[0], bases[1], radii[sphere], NormalCoupling(contact)
+        return bases[0], bases[1], radii[sphere], NormalCoupling(contact), index
 
     @property
     def impacts(self):
@@ -177,24 +196,34 @@ class CoupledContacts:
                              'allowed 0 or 1 (the coupling gives one impulse a step)')
         gravity = np.array([params['gravityAccelerationX'], params['gravityAccelerationY'],
                             params['gravityAccelerationZ']])
-        for pair in self.pairs:
-            self._couple(pair, dt, gravity)
+        pushing = [push for push in (self._couple(pair, dt, gravity) for pair in self.pairs)
+                   if push is not None]
+        if len(pushing) > 1:
+            _refuse_coupled(pushing)
+        for base, force, point in (f for push in pushing for f in push[3]):
+            pybullet.applyExternalForce(base.body, -1, force.tolist(), point.tolist(),
+                                        pybullet.WORLD_FRAME, physicsClientId=client)
         pybullet.stepSimulation(physicsClientId=client)
         self._time += dt
 
     def _couple(self, pair, dt, gravity):
         client = self.client
-        sphere, other, radius, coupling = pair
+        sphere, other, (radius, offset), coupling, index = pair
         points = pybullet.getClosestPoints(sphere.body, other.body, self.reach, -1, -1,
                                            physicsClientId=client)
         if not points:     # out of reach (a state carried is dropped at the next call:
-            return          # the clock moved on)
+            self._far.add(index)    # the clock moved on)
+            return None
         nearest = min(points, key=lambda p: p[8])
         flipped = nearest[1] != sphere.body     # Bullet's A is the sphere unless it swapped
         normal = np.asarray(nearest[7], dtype=float) * (-1.0 if flipped else 1.0)
         gap = float(nearest[8])
-        centre = np.asarray(pybullet.getBasePositionAndOrientation(
-            sphere.body, physicsClientId=client)[0])
+        if index in self._far and gap < 0.0:
+            refuse_tunnel(index, gap, self.reach)
+        self._far.discard(index)
+        pos, orn = pybullet.getBasePositionAndOrientation(sphere.body, physicsClientId=client)
+        centre = np.asarray(pos) + (np.array(pybullet.getMatrixFromQuaternion(orn)).reshape(
+            3, 3) @ offset if offset is not None else 0.0)   # the sphere's own centre
         point = centre - radius * normal
         w_s, v_s = sphere.response(client, point)
         w_o, v_o = other.response(client, point)
@@ -205,38 +234,38 @@ class CoupledContacts:
         step = coupling.step(self._time, gap, float(normal @ velocity), 1.0 / w_n,
                              float(normal @ acceleration), dt)
         if step.impulse == 0.0:
-            return
+            return None
         impulse = step.impulse * normal
-        if self.friction > 0.0:
-            free = velocity + dt * acceleration + inverse @ impulse     # without friction
-            slide = free - float(free @ normal) * normal
-            if float(slide @ slide) > 0.0:          # sliding: Coulomb's tangential impulse
-                basis = _tangents(normal)
-                impulse = impulse + basis.T @ friction_impulse(
-                    step.impulse, basis @ free, basis @ inverse @ basis.T, self.friction)
+        if self.friction > 0.0:     # Coulomb's, from the velocity without friction
+            impulse = impulse + tangential_impulse(
+                step.impulse, velocity + dt * acceleration + inverse @ impulse, normal, inverse,
+                self.friction)
         force = impulse / dt
-        for base, sign in ((sphere, 1.0), (other, -1.0)):
-            if base.mass > 0.0:
-                pybullet.applyExternalForce(base.body, -1, (sign * force).tolist(),
-                                            point.tolist(), pybullet.WORLD_FRAME,
-                                            physicsClientId=client)
+        return (index, normal, w_n, [(base, sign * force, point) for base, sign
+                                     in ((sphere, 1.0), (other, -1.0)) if base.mass > 0.0])
 
 
 def _sphere_radius(client, body):
-    """The radius (m) of the body's base sphere, or ``None``."""
+    """(The radius (m) of the body's base sphere, its centre in the base's frame (m) or ``None``
+    at the origin), or ``None``."""
     shapes = pybullet.getCollisionShapeData(body, -1, physicsClientId=client)
     if len(shapes) == 1 and shapes[0][2] == pybullet.GEOM_SPHERE:
-        return float(shapes[0][3][0])
+        offset = np.asarray(shapes[0][5], dtype=float)
+        return float(shapes[0][3][0]), (offset if np.any(offset) else None)
     return None
 
 
-def _tangents(normal):
-    """Two unit tangents (rows) orthogonal to the normal and to each other."""
-    x, y, z = (float(v) for v in normal)
-    a, b, c = (0.0, z, -y) if abs(x) < 0.9 else (-z, 0.0, x)
-    norm = math.sqrt(a * a + b * b + c * c)
-    a, b, c = a / norm, b / norm, c / norm
-    return np.array([[a, b, c], [y * c - z * b, z * a - x * c, x * b - y * a]])
+def _refuse_coupled(pushing):
+    """Refuse two pairs pushing in one step on a common body along lines that move each
+    other's gap: each is integrated alone, and together they would pump energy in (a stack)."""
+    for k, (first, n_first, w_first, on_first) in enumerate(pushing):
+        for second, n_second, w_second, on_second in pushing[k + 1:]:
+            cross = 0.0
+            for base, _, p_first in on_first:
+                for other, _, p_second in on_second:
+                    if other is base or other.body == base.body:
+                        cross += float(n_first @ base.cross(p_first, p_second) @ n_second)
+            refuse_stack(first, second, cross, w_first, w_second)
 
 
 def coupled_restitution(contact, radius, mass, speeds, timestep):

@@ -174,3 +174,17 @@ def test_a_step_out_of_reach_returns_finite_numbers():
     assert math.isfinite(out.penetration) and math.isfinite(out.penetration_rate)
     assert out.penetration == pytest.approx(-(0.5 - 1e-3 * (1.0 + 0.5 * G * 1e-3)
                                               - 0.5 * G * 1e-6), rel=1e-12)
+
+
+def test_the_force_returns_inside_the_surface_on_a_strong_push():
+    # a flight inside the surface (z > 0, force zero: receding fast enough) pushed back in:
+    # the force's return was bracketed, then brentq refused its own rtol (ValueError raised
+    # from the step of a coupled ball on a crate standing on MuJoCo's floor)
+    law, k, lam = STEEL.law, STEEL.stiffness, STEEL.damping
+    z = 1e-6
+    v = -1.01 * (k * z ** (law.n - law.p) / lam) ** (1.0 / law.q)
+    for a in (1e4, 1e5):
+        t = touch_time(STEEL, z, v, a, 1e-3)
+        assert 0.0 < t < 1e-3
+        zt, vt = z + v * t + 0.5 * a * t * t, v + a * t
+        assert abs(k * zt ** (law.n - law.p) + lam * vt) <= 1e-9 * k * z ** (law.n - law.p)
