@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from .params import DEFAULTS, build_model, make_simulation
+from .params import DEFAULTS, build
 
 RUNS = (
     ('the default drop', {}),
@@ -50,7 +50,7 @@ def precompile(out=sys.stdout):
     start = time.monotonic()
     for name, values in RUNS:
         began = time.monotonic()
-        sim = make_simulation(build_model({**DEFAULTS, **values}))
+        _, sim = build({**DEFAULTS, **values})   # the model and its drop, as the node builds
         times = np.arange(1, round(SECONDS / TICK) + 1) * TICK
         done = 0
         while done < times.size:

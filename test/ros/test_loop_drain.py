@@ -56,8 +56,8 @@ def stopping(monkeypatch):
     monkeypatch.setattr(loop.time, 'monotonic', lambda: now[0])
     logger = Logger()
     node = SimpleNamespace(_stopping=False, _timer=SimpleNamespace(cancel=lambda: None),
-                           _mid_tick=lambda: False, get_logger=lambda: logger, _out=Outbox(),
-                           _pace=Pace())
+                           _mid_tick=lambda: False, _node=SimpleNamespace(get_logger=lambda: logger),
+                           _out=Outbox(), _pace=Pace())
     return node, logger, now
 
 

@@ -9,8 +9,7 @@ import sys
 
 from .harness import TIMEOUT
 
-KERNEL_MODULES = ('contact_sim.phase.compiled', 'contact_sim.phase.compiled_start',
-                  'contact_sim.drop.compiled_train', 'contact_sim.drop.plate.compiled_flight',
+KERNEL_MODULES = ('contact_sim.phase.compiled', 'contact_sim.drop.plate.compiled_flight',
                   'contact_sim.drop.plate.compiled_ballistic')
 PROBE = ('import sys; {step}; print(sorted(m for m in {modules!r} if m in sys.modules))')
 
