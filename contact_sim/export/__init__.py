@@ -18,7 +18,7 @@ _EXPORTS = {
     'choices': ('ENGINE_NAMES', 'TIMESTEPS'),
     'common': ('Export', 'Target', 'make_target'),
     'engines': ('ENGINES', 'Engine', 'export_contact'),
-    'mujoco_engine': ('GeomContact', 'audit', 'geom_contact'),
+    'mujoco_audit': ('GeomContact', 'audit', 'geom_contact'),
     'pybullet_audit': ('LinkContact', 'audit_link', 'link_contact'),
     'tolerance': ('TimestepSearch', 'require_tolerance', 'timestep_for_tolerance'),
 }
