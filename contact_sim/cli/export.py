@@ -19,9 +19,21 @@ from contact_sim.model import get_law
 from contact_sim.validation import InputError, require_int
 
 # --points and the number of --speeds: each speed is thrown about 100 times by the fit and the
-# gravity check; PyBullet at 1e-3 s takes about PER_POINT_SECONDS a speed here (see
-# docs/export.md), so this many finish in a few minutes
+# gravity check; PyBullet took 37 s for 10 speeds at 1e-3 s and 74 s at 1e-4 s (docs/export.md),
+# so 40 finish in about 5 minutes at steps down to 1e-4 s; below, the flight to the plate grows
+# as 1 / step, and the bound shrinks with it
 MAX_POINTS = 40
+FULL_POINTS_STEP = 1e-4   # s: the smallest step at which MAX_POINTS speeds are allowed
+
+
+def max_points(timestep):
+    """The most speeds an export at ``timestep`` (s) takes: ``MAX_POINTS``, fewer below
+    ``FULL_POINTS_STEP`` in proportion (at least 2)."""
+    if not timestep or timestep >= FULL_POINTS_STEP or timestep != timestep:
+        return MAX_POINTS
+    return max(2, int(MAX_POINTS * timestep / FULL_POINTS_STEP))
+
+
 # argparse takes '-1e-3' for an option (its own pattern knows -1 and -.5 only): this one lets
 # `--timestep -1e-3` reach the range check, which names the range
 NEGATIVE_NUMBER = re.compile(r'^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf(inity)?$', re.I)
@@ -35,13 +47,21 @@ def accept_negative_numbers(parser):
 
 
 def bounded_speeds(args):
-    """The speeds of --speeds or --speed-range/--points, at most ``MAX_POINTS`` of them,
-    checked before any engine runs."""
+    """The speeds of --speeds or --speed-range/--points, at most ``max_points`` of them at the
+    step, checked before any engine runs."""
+    timestep = getattr(args, 'timestep', None)
+    most = max_points(timestep if isinstance(timestep, float) else None)
+    at = f' at --timestep {timestep:g} s' if most < MAX_POINTS else ''
     if args.speeds is None:
-        require_int('points', args.points, 2, MAX_POINTS)
-    elif len(args.speeds) > MAX_POINTS:
+        try:
+            require_int('points', args.points, 2, most)
+        except InputError as error:
+            raise InputError('points', args.points, error.template + at
+                             + ' (each speed is thrown about 100 times in the engine)',
+                             **error.params) from None
+    elif len(args.speeds) > most:
         raise InputError('speeds', len(args.speeds), '{n[speeds]} has {value} speeds: allowed '
-                         f'1 to {MAX_POINTS} (each is thrown about 100 times in the engine)',
+                         f'1 to {most}{at} (each is thrown about 100 times in the engine)',
                          value=len(args.speeds))
     return _speeds(args)
 

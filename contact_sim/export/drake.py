@@ -64,9 +64,9 @@ def export_drake(target, timestep):
     d = lam / k
     drake_plant._pydrake()   # ImportError without pydrake: nothing is claimed
 
-    def measured(dissipation, gravity=0.0):
+    def measured(dissipation, gravity=0.0, per_phase=False):
         return drake_plant.measure(target.radius, target.mass, target.speeds, k, dissipation,
-                                   timestep, gravity)
+                                   timestep, gravity, per_phase)
     top = max(20.0 * d, 20.0 / float(np.min(target.speeds)))
     reach = None
     if timestep > 0.0:
@@ -75,9 +75,10 @@ def export_drake(target, timestep):
     e, duration, peak = measured(d).T
     source = 'measured'
     sag = target.mass * scene.GRAVITY / k
-    with_gravity = measured(d, scene.GRAVITY)[:, 0] if sag < target.radius else e
+    with_gravity = (measured(d, scene.GRAVITY, per_phase=True)[:, :, 0] if sag < target.radius
+                    else e)
     floor = 0.0 if timestep == 0.0 else 1.0 / (STEPS_PER_RADIAN * target_frequency(target))
-    checked = scene.assess(target, e, with_gravity, sag, timestep, floor, source, 'Drake')
+    checked = scene.assess(target, e, with_gravity, sag, timestep, floor, source, 'Drake', sag)
     params = {'point_contact_stiffness': k, 'hunt_crossley_dissipation': d, 'time_step': timestep}
     ball_k, ball_d = drake_plant.pair_properties(k, d)
     snippet = '\n'.join(_collision(name, geometry, ball_k, ball_d) for name, geometry in (

@@ -112,19 +112,20 @@ def throw(system, radius, speed, gap, chunk, gravity=0.0, patience=1_000_000):
         z, vz = plant.GetPositions(context)[6], plant.GetVelocities(context)[5]
         if gravity == 0.0 and vz > 0.0 and z > radius + gap:
             return vz / speed, touching * chunk, peak
-        if gravity > 0.0 and touched is not None:
-            if vz > 0.0 and z >= radius and force <= 0.0:
-                rebound = math.sqrt(vz * vz + 2.0 * gravity * (z - radius))
-                return rebound / impact, touching * chunk, peak
-            if step - touched > patience:
-                return 0.0, touching * chunk, peak
+        if touched is not None and vz > 0.0 and z >= radius and force <= 0.0:   # lift-off
+            rebound = math.sqrt(vz * vz + 2.0 * gravity * (z - radius))
+            return rebound / impact, touching * chunk, peak
+        if touched is not None and step - touched > patience:   # it stays on the plate
+            return 0.0, touching * chunk, peak
     raise ArithmeticError(f'Drake did not rebound at {speed:g} m/s')   # never in tests
 
 
-def measure(radius, mass, speeds, stiffness, dissipation, time_step, gravity=0.0):
+def measure(radius, mass, speeds, stiffness, dissipation, time_step, gravity=0.0,
+            per_phase=False):
     """Drake's (e, duration, peak force) at each of ``speeds`` (m/s), an array (n, 3): the mean
     over ``PHASES`` start offsets within a step for the discrete plant, one throw for the
-    continuous plant (``time_step`` 0); with ``gravity`` (m/s^2) as ``throw`` says."""
+    continuous plant (``time_step`` 0); with ``gravity`` (m/s^2) as ``throw`` says; each
+    throw, (n, PHASES or 1, 3), with ``per_phase``."""
     logger = logging.getLogger('drake')   # quiet the half-space's notice on deformable contact
     level = logger.level
     logger.setLevel(logging.ERROR)
@@ -133,13 +134,14 @@ def measure(radius, mass, speeds, stiffness, dissipation, time_step, gravity=0.0
         period = 2.0 * math.pi / math.sqrt(stiffness / mass)
         if time_step == 0.0:
             chunk = period / 2.0 / CHUNKS_PER_CONTACT
-            return np.array([throw(system, radius, v, 2.0 * chunk * v, chunk, gravity,
-                                   int(50 * period / chunk)) for v in speeds])
-        offsets = (np.arange(PHASES) + 0.5) / PHASES
-        patience = int(50 * period / time_step) + 10
-        return np.array([np.mean([throw(system, radius, v, f * v * time_step, time_step,
-                                        gravity, patience) for f in offsets], axis=0)
-                         for v in speeds])
+            rows = np.array([[throw(system, radius, v, 2.0 * chunk * v, chunk, gravity,
+                                    int(50 * period / chunk))] for v in speeds])
+        else:
+            offsets = (np.arange(PHASES) + 0.5) / PHASES
+            patience = int(50 * period / time_step) + 10
+            rows = np.array([[throw(system, radius, v, f * v * time_step, time_step, gravity,
+                                    patience) for f in offsets] for v in speeds])
+        return rows if per_phase else rows.mean(axis=1)
     finally:
         logger.setLevel(level)
 

@@ -61,7 +61,8 @@ def export_gazebo(target, timestep):
     with_gravity = (_with_gravity(kp, kd, target.mass, target.speeds) if sag < target.radius
                     else e)
     floor = 1.0 / (STEPS_PER_RADIAN * target_frequency(target))
-    checked = scene.assess(target, e, with_gravity, sag, timestep, floor, 'predicted', 'Gazebo')
+    checked = scene.assess(target, e, with_gravity, sag, timestep, floor, 'predicted', 'Gazebo',
+                           sag)
     max_vel = 2.0 * float(target.speeds.max())
     params = {'kp': kp, 'kd': kd, 'restitution_coefficient': 0.0, 'threshold': 0.0}
     snippet = ('<surface>\n  <bounce>\n    <restitution_coefficient>0</restitution_coefficient>\n'

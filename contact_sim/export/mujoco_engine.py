@@ -73,10 +73,10 @@ def quiet():
 
 def throw(model, radius, speed, gap, patience):
     """(e, contact duration in s, peak normal force in N) of one throw at ``speed`` (m/s), the
-    ball starting ``gap`` (m) above the plane.  Gravity off: e is the rebound speed over
-    ``speed`` once the ball is back above its start.  Gravity on: e is the separation speed
-    over the impact speed at the plate (the free flight's own gain and loss taken out), 0 if
-    the ball has not left the plate ``patience`` steps after it touched.  The duration is the
+    ball starting ``gap`` (m) above the plane: e is the separation speed at the plate (the ball
+    back at the surface, moving up, no force) over the impact speed there (with gravity, the
+    free flight's own gain and loss taken out), 0 if the ball has not left the plate
+    ``patience`` steps after it touched.  The duration is the
     steps with a contact force > 0 times the step."""
     mujoco = _mujoco()
     data = mujoco.MjData(model)
@@ -101,10 +101,9 @@ def throw(model, radius, speed, gap, patience):
         z, vz = float(data.qpos[2]), float(data.qvel[2])
         if g == 0.0 and vz > 0.0 and z > radius + gap:
             return vz / speed, touching * model.opt.timestep, peak
-        if g > 0.0 and touched is not None:
-            if vz > 0.0 and z >= radius and not pushing:
-                rebound = math.sqrt(vz * vz + 2.0 * g * (z - radius))
-                return rebound / impact, touching * model.opt.timestep, peak
+        if touched is not None and vz > 0.0 and z >= radius and not pushing:   # lift-off
+            rebound = math.sqrt(vz * vz + 2.0 * g * (z - radius))
+            return rebound / impact, touching * model.opt.timestep, peak
         if touched is not None and step - touched > patience:   # it stays on the plate
             return 0.0, touching * model.opt.timestep, peak
     raise ArithmeticError(f'MuJoCo did not rebound at {speed:g} m/s')   # never in tests
@@ -132,14 +131,16 @@ def rest_sag(model, radius, patience):
 
 
 def measure_contact(radius, mass, speeds, timestep, ball, integrator=INTEGRATOR, floor='',
-                    gravity=False, patience=100_000):
+                    gravity=False, patience=100_000, per_phase=False):
     """MuJoCo's (e, duration, peak force) at each of ``speeds`` (m/s), an array (n, 3), the
-    mean over ``PHASES`` start offsets within one step (s), with the geoms' contact attributes
-    ``ball`` and ``floor`` (MJCF text), gravity off (on with ``gravity``)."""
+    mean over ``PHASES`` start offsets within one step (s) (each, (n, PHASES, 3), with
+    ``per_phase``), with the geoms' contact attributes ``ball`` and ``floor`` (MJCF text),
+    gravity off (on with ``gravity``)."""
     model = load(model_xml(radius, mass, timestep, ball, integrator, floor, gravity))
     offsets = (np.arange(PHASES) + 0.5) / PHASES
-    return np.array([np.mean([throw(model, radius, v, f * v * timestep, patience)
-                              for f in offsets], axis=0) for v in speeds])
+    rows = np.array([[throw(model, radius, v, f * v * timestep, patience) for f in offsets]
+                     for v in speeds])
+    return rows if per_phase else rows.mean(axis=1)
 
 
 def measure(radius, mass, speeds, timestep, ball, integrator=INTEGRATOR, floor=''):
@@ -187,10 +188,11 @@ def export_mujoco(target, timestep):
     model = load(model_xml(target.radius, target.mass, timestep, ball, gravity=True))
     sag = rest_sag(model, target.radius, patience)
     with_gravity = (measure_contact(target.radius, target.mass, target.speeds, timestep, ball,
-                                    gravity=True, patience=patience)[:, 0]
+                                    gravity=True, patience=patience, per_phase=True)[:, :, 0]
                     if sag < target.radius else e)
     floor = 1.0 / (STEPS_PER_RADIAN * target_frequency(target))
-    checked = scene.assess(target, e, with_gravity, sag, timestep, floor, 'measured', 'MuJoCo')
+    checked = scene.assess(target, e, with_gravity, sag, timestep, floor, 'measured', 'MuJoCo',
+                           scene.GRAVITY / (w * w))
     params = {'solref': list(solref(zeta)), 'solimp': list(SOLIMP), 'priority': PRIORITY,
               'timestep': timestep, 'integrator': INTEGRATOR}
     snippet = (f'<option timestep="{timestep:.9g}" integrator="{INTEGRATOR}"/>\n'

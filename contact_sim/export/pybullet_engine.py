@@ -42,9 +42,9 @@ def throw(client, radius, mass, speed, gap, timestep, kwargs, ground=None, gravi
     """(e, contact duration in s, peak normal force in N) of one throw at ``speed`` (m/s) in
     the PyBullet ``client``, the ball starting ``gap`` (m) above a plane, at ``timestep`` (s),
     with ``changeDynamics(**kwargs)`` on the ball (and ``ground`` on the plane, if given); the
-    duration counts the steps with a contact point of positive normal force.  Gravity off: e
-    once the ball is back above its start.  Gravity on: the separation speed over the impact
-    speed at the plate (the free flight taken out), 0 if the ball has not left the plate
+    duration counts the steps with a contact point of positive normal force.  e is the
+    separation speed at the plate over the impact speed there (with gravity, the free flight
+    taken out), 0 if the ball has not left the plate
     ``patience`` steps after it touched."""
     p = _pybullet()
     g = scene.GRAVITY if gravity else 0.0
@@ -62,12 +62,11 @@ def throw(client, radius, mass, speed, gap, timestep, kwargs, ground=None, gravi
         vz = p.getBaseVelocity(ball, physicsClientId=client)[0][2]
         if g == 0.0 and vz > 0.0 and height > radius + gap:
             return vz / speed, touching * timestep, peak
-        if g > 0.0 and touched is not None:
-            if vz > 0.0 and height >= radius and force <= 0.0:
-                rebound = math.sqrt(vz * vz + 2.0 * g * (height - radius))
-                return rebound / impact, touching * timestep, peak
-            if step - touched > patience:
-                return 0.0, touching * timestep, peak
+        if touched is not None and vz > 0.0 and height >= radius and force <= 0.0:
+            rebound = math.sqrt(vz * vz + 2.0 * g * (height - radius))   # lift-off
+            return rebound / impact, touching * timestep, peak
+        if touched is not None and step - touched > patience:   # it stays on the plate
+            return 0.0, touching * timestep, peak
     raise ArithmeticError(f'PyBullet did not rebound at {speed:g} m/s')   # never in tests
 
 
@@ -110,17 +109,19 @@ def rest_sag(radius, mass, timestep, kwargs, patience):
 
 
 def measure_contact(radius, mass, speeds, timestep, kwargs, ground=None, gravity=False,
-                    patience=1_000_000):
+                    patience=1_000_000, per_phase=False):
     """PyBullet's (e, duration, peak force) at each of ``speeds`` (m/s), an array (n, 3), the
-    mean over ``PHASES`` start offsets within one step (s), with ``changeDynamics(**kwargs)``
-    on the ball and ``ground`` on the plane, gravity off (on with ``gravity``)."""
+    mean over ``PHASES`` start offsets within one step (s) (each, (n, PHASES, 3), with
+    ``per_phase``), with ``changeDynamics(**kwargs)`` on the ball and ``ground`` on the plane,
+    gravity off (on with ``gravity``)."""
     p = _pybullet()
     client = p.connect(p.DIRECT)
     try:
         fractions = (np.arange(PHASES) + 0.5) / PHASES
-        return np.array([np.mean([throw(client, radius, mass, v, START_GAP + f * v * timestep,
-                                        timestep, kwargs, ground, gravity, patience)
-                                  for f in fractions], axis=0) for v in speeds])
+        rows = np.array([[throw(client, radius, mass, v, START_GAP + f * v * timestep,
+                                timestep, kwargs, ground, gravity, patience)
+                          for f in fractions] for v in speeds])
+        return rows if per_phase else rows.mean(axis=1)
     finally:
         p.disconnect(physicsClientId=client)
 
@@ -156,11 +157,12 @@ def export_pybullet(target, timestep):
     patience = int(100.0 * math.pi / (w * timestep)) + 10   # 50 contact periods
     sag = rest_sag(target.radius, target.mass, timestep, kwargs(zeta), patience)
     with_gravity = (measure_contact(target.radius, target.mass, target.speeds, timestep,
-                                    kwargs(zeta), gravity=True, patience=patience)[:, 0]
+                                    kwargs(zeta), gravity=True, patience=patience,
+                                    per_phase=True)[:, :, 0]
                     if sag < target.radius else e)
     floor = 1.0 / (STEPS_PER_RADIAN * target_frequency(target))
     checked = scene.assess(target, e, with_gravity, sag, timestep, floor, 'measured',
-                           'PyBullet')
+                           'PyBullet', scene.GRAVITY / (w * w))
     params = dict(kwargs(zeta), timestep=timestep)
     arguments = ', '.join(f'{key}={value!r}' for key, value in kwargs(zeta).items())
     snippet = (f'p.setTimeStep({timestep!r})\n'

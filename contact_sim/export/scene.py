@@ -27,7 +27,8 @@ class Scene:
     radius : float
         The ball's radius, m.
     restitution : numpy.ndarray
-        e with gravity at the target's speeds (0 where the ball did not leave the plate).
+        e with gravity at the target's speeds, the mean over the impact's phases within a step
+        (0 where the ball did not leave the plate).
     lowest_speed : float or None
         The lowest of the speeds (m/s) at and above which every speed's e with gravity is
         within ``CLAIM_TOLERANCE`` of the claim; None if the fastest misses.
@@ -67,27 +68,41 @@ class Scene:
         return out
 
 
+def worst_errors(claimed, with_gravity):
+    """max abs(e with gravity - e claimed) at each speed, over the phases (the columns of a
+    2-D ``with_gravity``)."""
+    with_gravity = np.asarray(with_gravity, float)
+    if with_gravity.ndim == 1:
+        with_gravity = with_gravity[:, None]
+    return np.max(np.abs(with_gravity - np.asarray(claimed, float)[:, None]), axis=1)
+
+
 def lowest_holding_speed(speeds, claimed, with_gravity):
     """The lowest of ``speeds`` (m/s) at and above which abs(with_gravity - claimed) <=
-    ``CLAIM_TOLERANCE`` at every speed, or None if the fastest misses."""
-    order = np.argsort(speeds)[::-1]
+    ``CLAIM_TOLERANCE`` at every speed (and every phase, the columns of a 2-D
+    ``with_gravity``), or None if the fastest misses."""
+    errors = worst_errors(claimed, with_gravity)
     lowest = None
-    for i in order:
-        if abs(with_gravity[i] - claimed[i]) > CLAIM_TOLERANCE:
+    for i in np.argsort(speeds)[::-1]:
+        if errors[i] > CLAIM_TOLERANCE:
             break
         lowest = float(speeds[i])
     return lowest
 
 
-def assess(target, claimed, with_gravity, sag, timestep, step_floor, source, engine):
+def assess(target, claimed, with_gravity, sag, timestep, step_floor, source, engine,
+           spring_sag):
     """The ``Scene`` of a claim, or ``InputError`` keyed ``timestep`` if the contact cannot
     hold the ball up (sag >= radius).
 
     Parameters
     ----------
     target : common.Target
-    claimed, with_gravity : numpy.ndarray
-        e at the target's speeds, gravity off (the claim) and on.
+    claimed : numpy.ndarray
+        e at the target's speeds, gravity off (the claim).
+    with_gravity : numpy.ndarray
+        e at the target's speeds with gravity, one column a phase of the impact within a step
+        (or one value a speed); the claim must hold at every phase.
     sag : float
         The ball's depth at rest, m (inf if it fell through).
     timestep : float
@@ -99,6 +114,9 @@ def assess(target, claimed, with_gravity, sag, timestep, step_floor, source, eng
         ``'measured'`` or ``'predicted'``.
     engine : str
         The engine's name, for the message.
+    spring_sag : float
+        The sag of the engine's spring alone, m g / k (m): where the ball fell through, the
+        largest step that holds it is estimated from it.
 
     Raises
     ------
@@ -109,8 +127,9 @@ def assess(target, claimed, with_gravity, sag, timestep, step_floor, source, eng
     step_sets_stiffness = timestep > 0.0 and timestep > step_floor
     if not sag < radius:   # inf or nan included: the ball fell through
         depth = 'falls through the plate' if not math.isfinite(sag) else f'sinks {sag:.3g} m'
-        if step_sets_stiffness and math.isfinite(sag):
-            largest = timestep * math.sqrt(radius / sag) * 0.99   # the sag grows as step^2
+        if step_sets_stiffness:
+            basis = sag if math.isfinite(sag) else spring_sag
+            largest = timestep * math.sqrt(radius / basis) * 0.99   # the sag grows as step^2
             allowed = f'allowed a step below {largest:.2g} s for this contact'
         else:
             allowed = 'no step holds it: the contact itself is too soft for its mass'
@@ -120,8 +139,10 @@ def assess(target, claimed, with_gravity, sag, timestep, step_floor, source, eng
                          value=f'{timestep:g}')
     lowest = lowest_holding_speed(target.speeds, claimed, with_gravity)
     suggested = None
-    errors = np.abs(np.asarray(with_gravity) - np.asarray(claimed))
+    errors = worst_errors(claimed, with_gravity)
     if step_sets_stiffness and np.any(errors > CLAIM_TOLERANCE):
         step = timestep * CLAIM_TOLERANCE / float(errors.max())
         suggested = step if step >= step_floor else None
-    return Scene(float(sag), radius, np.asarray(with_gravity, float), lowest, suggested, source)
+    with_gravity = np.asarray(with_gravity, float)
+    mean = with_gravity.mean(axis=1) if with_gravity.ndim == 2 else with_gravity
+    return Scene(float(sag), radius, mean, lowest, suggested, source)
