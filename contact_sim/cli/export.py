@@ -29,7 +29,8 @@ FULL_POINTS_STEP = 1e-4   # s: the smallest step at which MAX_POINTS speeds are 
 def max_points(timestep):
     """The most speeds an export at ``timestep`` (s) takes: ``MAX_POINTS``, fewer below
     ``FULL_POINTS_STEP`` in proportion (at least 2)."""
-    if not timestep or timestep >= FULL_POINTS_STEP or timestep != timestep:
+    from contact_sim.export.common import MIN_TIMESTEP   # a step out of range is refused
+    if not timestep or not MIN_TIMESTEP <= timestep < FULL_POINTS_STEP:   # after, by its check
         return MAX_POINTS
     return max(2, int(MAX_POINTS * timestep / FULL_POINTS_STEP))
 
@@ -162,7 +163,9 @@ def run(args):
 def print_search(search):
     """The time step search's outcome, as comment lines."""
     for timestep, error in search.tried:
-        print(f'# time step {timestep:g} s: max |error| = {error:.4f}')
+        print(f'# time step {timestep:g} s: ' + ('unusable, its contact cannot hold the ball up'
+                                                 if error is None else
+                                                 f'max |error| = {error:.4f}'))
     if search.timestep is not None:
         print(f'# tolerance {search.tolerance:g}: the largest time step that meets it is '
               f'{search.timestep:g} s')

@@ -143,8 +143,9 @@ def geom_contact(path, geom):
 def audit(contact, speeds):
     """MuJoCo's e at ``speeds`` (m/s) of a ``GeomContact``: the ball, with its own contact
     attributes, thrown at a plane with the floor's (MuJoCo's defaults if the model has no
-    floor), gravity off, as ``mujoco_engine.measure``."""
+    floor), gravity off, as ``mujoco_engine.measure``: the throw starts and ends beyond the
+    pair's margin."""
     ball = mjcf(contact.ball or contact.attributes())
     floor = mjcf(contact.floor) if contact.floor is not None else ''
     return mujoco_engine.measure(contact.radius, contact.mass, speeds, contact.timestep, ball,
-                                 contact.integrator, floor)
+                                 contact.integrator, floor, margin=contact.combined()[2])

@@ -21,6 +21,7 @@ SOLIMP = (0.95, 0.95, 0.001, 0.5, 2.0)   # constant impedance: the contact stays
 INTEGRATOR = 'Euler'
 PHASES = 4                        # start offsets within one step, averaged
 PRIORITY = 1                      # the ball's geom priority: its contact wins over the floor's
+UNSTABLE = 1.5                    # e above this: the step gave the ball energy, unstable
 STABLE_DAMPING = 0.5              # B dt at most this: Euler's explicit damping is stable to ~2
 # what in a user's model changes the claim (the throw has none of these)
 PITFALLS = ('a floor geom with priority >= 1 (the ball\'s solref/solimp are then mixed with '
@@ -71,16 +72,18 @@ def quiet():
             lambda text: warnings.warn(f'MuJoCo: {text}', RuntimeWarning, stacklevel=2))
 
 
-def throw(model, radius, speed, gap, patience):
+def throw(model, radius, speed, gap, patience, margin=0.0):
     """(e, contact duration in s, peak normal force in N) of one throw at ``speed`` (m/s), the
     ball starting ``gap`` (m) above the plane: e is the separation speed at the plate (the ball
     back at the surface, moving up, no force) over the impact speed there (with gravity, the
     free flight's own gain and loss taken out), 0 if the ball has not left the plate
     ``patience`` steps after it touched.  The duration is the
-    steps with a contact force > 0 times the step."""
+    steps with a contact force > 0 times the step.  With a contact ``margin`` (m) the plate's
+    surface is that much higher: the throw starts and ends beyond it."""
     mujoco = _mujoco()
     data = mujoco.MjData(model)
-    data.qpos[2] = radius + gap
+    surface = radius + margin
+    data.qpos[2] = surface + gap
     data.qvel[2] = -speed
     g = -float(model.opt.gravity[2])
     impact = math.sqrt(speed * speed + 2.0 * g * gap)
@@ -99,11 +102,14 @@ def throw(model, radius, speed, gap, patience):
             raise ArithmeticError(f'MuJoCo went unstable at {speed:g} m/s (a NaN or huge '
                                   'acceleration): this contact and step cannot be run')
         z, vz = float(data.qpos[2]), float(data.qvel[2])
-        if g == 0.0 and vz > 0.0 and z > radius + gap:
-            return vz / speed, touching * model.opt.timestep, peak
-        if touched is not None and vz > 0.0 and z >= radius and not pushing:   # lift-off
-            rebound = math.sqrt(vz * vz + 2.0 * g * (z - radius))
-            return rebound / impact, touching * model.opt.timestep, peak
+        if vz > 0.0 and (g == 0.0 and z > surface + gap
+                         or touched is not None and z >= surface and not pushing):   # lift-off
+            e = math.sqrt(vz * vz + 2.0 * g * (z - surface)) / impact
+            if e > UNSTABLE:   # a passive contact cannot give the ball this energy
+                raise ArithmeticError(f'MuJoCo went unstable at {speed:g} m/s (the ball came '
+                                      f'back {e:.3g} times as fast): this contact and step '
+                                      'cannot be run')
+            return e, touching * model.opt.timestep, peak
         if touched is not None and step - touched > patience:   # it stays on the plate
             return 0.0, touching * model.opt.timestep, peak
     raise ArithmeticError(f'MuJoCo did not rebound at {speed:g} m/s')   # never in tests
@@ -131,21 +137,22 @@ def rest_sag(model, radius, patience):
 
 
 def measure_contact(radius, mass, speeds, timestep, ball, integrator=INTEGRATOR, floor='',
-                    gravity=False, patience=100_000, per_phase=False):
+                    gravity=False, patience=100_000, per_phase=False, margin=0.0):
     """MuJoCo's (e, duration, peak force) at each of ``speeds`` (m/s), an array (n, 3), the
     mean over ``PHASES`` start offsets within one step (s) (each, (n, PHASES, 3), with
     ``per_phase``), with the geoms' contact attributes ``ball`` and ``floor`` (MJCF text),
-    gravity off (on with ``gravity``)."""
+    gravity off (on with ``gravity``), the pair's contact ``margin`` (m) as ``throw`` says."""
     model = load(model_xml(radius, mass, timestep, ball, integrator, floor, gravity))
     offsets = (np.arange(PHASES) + 0.5) / PHASES
-    rows = np.array([[throw(model, radius, v, f * v * timestep, patience) for f in offsets]
-                     for v in speeds])
+    rows = np.array([[throw(model, radius, v, f * v * timestep, patience, margin)
+                      for f in offsets] for v in speeds])
     return rows if per_phase else rows.mean(axis=1)
 
 
-def measure(radius, mass, speeds, timestep, ball, integrator=INTEGRATOR, floor=''):
+def measure(radius, mass, speeds, timestep, ball, integrator=INTEGRATOR, floor='', margin=0.0):
     """MuJoCo's e at each of ``speeds`` (m/s), gravity off (``measure_contact``)."""
-    return measure_contact(radius, mass, speeds, timestep, ball, integrator, floor)[:, 0]
+    return measure_contact(radius, mass, speeds, timestep, ball, integrator, floor,
+                           margin=margin)[:, 0]
 
 
 def max_zeta(frequency, timestep):

@@ -14,6 +14,9 @@ from contact_sim.validation import InputError
 
 GRAVITY = 9.81          # m/s^2: the scene's gravity
 CLAIM_TOLERANCE = 0.01  # largest abs(e with gravity - e claimed) for the claim to hold
+# the export's own check is held to this fraction of the tolerance, at each of its phases, so
+# that a drop at any other phase of the step stays within the tolerance
+CHECK_FRACTION = 0.5
 
 
 @dataclass(frozen=True)
@@ -79,12 +82,12 @@ def worst_errors(claimed, with_gravity):
 
 def lowest_holding_speed(speeds, claimed, with_gravity):
     """The lowest of ``speeds`` (m/s) at and above which abs(with_gravity - claimed) <=
-    ``CLAIM_TOLERANCE`` at every speed (and every phase, the columns of a 2-D
-    ``with_gravity``), or None if the fastest misses."""
+    ``CHECK_FRACTION`` ``CLAIM_TOLERANCE`` at every speed (and every phase, the columns of a
+    2-D ``with_gravity``), or None if the fastest misses."""
     errors = worst_errors(claimed, with_gravity)
     lowest = None
     for i in np.argsort(speeds)[::-1]:
-        if errors[i] > CLAIM_TOLERANCE:
+        if errors[i] > CHECK_FRACTION * CLAIM_TOLERANCE:
             break
         lowest = float(speeds[i])
     return lowest
@@ -140,8 +143,8 @@ def assess(target, claimed, with_gravity, sag, timestep, step_floor, source, eng
     lowest = lowest_holding_speed(target.speeds, claimed, with_gravity)
     suggested = None
     errors = worst_errors(claimed, with_gravity)
-    if step_sets_stiffness and np.any(errors > CLAIM_TOLERANCE):
-        step = timestep * CLAIM_TOLERANCE / float(errors.max())
+    if step_sets_stiffness and np.any(errors > CHECK_FRACTION * CLAIM_TOLERANCE):
+        step = timestep * CHECK_FRACTION * CLAIM_TOLERANCE / float(errors.max())
         suggested = step if step >= step_floor else None
     with_gravity = np.asarray(with_gravity, float)
     mean = with_gravity.mean(axis=1) if with_gravity.ndim == 2 else with_gravity
