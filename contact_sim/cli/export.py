@@ -29,7 +29,7 @@ FULL_POINTS_STEP = 1e-4   # s: the smallest step at which MAX_POINTS speeds are 
 def max_points(timestep):
     """The most speeds an export at ``timestep`` (s) takes: ``MAX_POINTS``, fewer below
     ``FULL_POINTS_STEP`` in proportion (at least 2)."""
-    from contact_sim.export.common import MIN_TIMESTEP   # a step out of range is refused
+    from contact_sim.export import MIN_TIMESTEP   # a step out of range is refused
     if not timestep or not MIN_TIMESTEP <= timestep < FULL_POINTS_STEP:   # after, by its check
         return MAX_POINTS
     return max(2, int(MAX_POINTS * timestep / FULL_POINTS_STEP))

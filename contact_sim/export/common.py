@@ -8,12 +8,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from contact_sim.export.choices import MAX_TIMESTEP, MIN_TIMESTEP
 from contact_sim.impact import contact_duration, max_penetration, peak_force, restitution
 from contact_sim.model import Contact, require_contact
 from contact_sim.validation import InputError, require_positive, require_range
 
-MIN_TIMESTEP = 1e-5   # s: the smallest step tried (a throw is then 10^5 steps at 0.1 m/s)
-MAX_TIMESTEP = 1e-2   # s: at longer steps a stiffness that resolves the contact sinks any ball
 
 
 @dataclass(frozen=True)
