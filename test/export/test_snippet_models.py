@@ -133,8 +133,9 @@ class DrakeBall:
         self.context = self.plant.GetMyMutableContextFromRoot(
             self.simulator.get_mutable_context())
         self.plant.SetFreeBodyPose(self.context, self.body, d.RigidTransform([0.0, 0.0, z]))
-        self.plant.SetFreeBodySpatialVelocity(self.body, d.SpatialVelocity(
-            [0.0] * 3, [0.0, 0.0, vz]), self.context)
+        self.plant.SetFreeBodySpatialVelocity(
+            context=self.context, body=self.body,
+            V_JpJc=d.SpatialVelocity([0.0] * 3, [0.0, 0.0, vz]))
         if self.timestep == 0.0:
             self.simulator.get_mutable_integrator().set_target_accuracy(1e-8)
         self.simulator.Initialize()
