@@ -37,7 +37,7 @@ def max_points(timestep):
 
 # argparse takes '-1e-3' for an option (its own pattern knows -1 and -.5 only): this one lets
 # `--timestep -1e-3` reach the range check, which names the range
-NEGATIVE_NUMBER = re.compile(r'^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-inf(inity)?$', re.I)
+NEGATIVE_NUMBER = re.compile(r'^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf(inity)?|nan)$', re.I)
 
 
 def accept_negative_numbers(parser):
