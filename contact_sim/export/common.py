@@ -132,11 +132,16 @@ class Export:
             return f"the best choice misses by {self.max_abs_error:.4f} (half the target's " \
                    f'spread: {half:.4f})'
         low, high = self.reach
-        side = ('lossier' if float(np.max(self.engine_restitution - self.target.restitution))
-                > 0 else 'livelier')
+        target = self.target.restitution
+        if float(np.min(target)) < low:
+            why = 'the target is lossier'
+        elif float(np.max(target)) > high:
+            why = 'the target is livelier'
+        else:
+            why = "within that range no one damping follows the target's e(v)"
         return (f'the best choice misses by {self.max_abs_error:.4f}, more than half the '
                 f"target's spread ({half:.4f}): at this step the engine's damping range gives "
-                f'e from {low:.4f} to {high:.4f}, the target is {side}')
+                f'e from {low:.4f} to {high:.4f}; {why}')
 
 
 def require_timestep(timestep, continuous=False):
