@@ -4,9 +4,10 @@ PyBullet, gives (the engine run: the sphere thrown at a plane, gravity off), bes
 contact's, with the export's suggestion for the same time step."""
 import numpy as np
 
-from contact_sim.cli.export import export_of, print_snippet
+from contact_sim.cli.export import accept_negative_numbers, export_of, print_scene, print_snippet
 from contact_sim.cli.restitution import add_speed_options
 from contact_sim.cli.options import LAW_NAMES, contact_command
+from contact_sim.validation import InputError
 
 
 def _mujoco():
@@ -38,9 +39,11 @@ def add_parser(sub):
         sub, 'audit',
         help="the e(v) a geom of a MuJoCo model or a link of a URDF gives, beside a target's",
         description="The e(v) of a sphere geom in the user's MuJoCo model (its solref, solimp,\n"
-                    "the model's time step and integrator; the sphere thrown at a plane at\n"
-                    "MuJoCo's defaults, gravity off), beside the target contact's e(v), and the\n"
-                    'parameters `contact-sim export mujoco` suggests for that time step.\n'
+                    "the model's time step and integrator; the sphere thrown, gravity off, at a\n"
+                    "plane with the contact attributes of the model's floor, the first plane on\n"
+                    "the world body, so that MuJoCo combines the two as in the model), beside\n"
+                    "the target contact's e(v), and the parameters `contact-sim export mujoco`\n"
+                    'suggests for that time step.\n'
                     'pybullet: the sphere link of a URDF (its <contact> restitution, stiffness,\n'
                     'damping as PyBullet reads them) thrown at a plane of restitution 1 at\n'
                     '--timestep, beside the target, with `contact-sim export pybullet`\'s.',
@@ -61,6 +64,7 @@ def add_parser(sub):
                    help='also the e(v) with the target contact coupled into the engine '
                         '(contact_sim.coupling, docs/coupling.md), at the model\'s step')
     add_speed_options(p, (0.1, 10.0), 10)
+    accept_negative_numbers(p)
     p.set_defaults(run=run, params_file=None, plot=None)
 
 
@@ -77,8 +81,14 @@ def run(args):
     except ValueError as error:   # InputError: spelled as this command's arguments
         raise ValueError(error.render(names)) from None
     args.timestep = contact.timestep
-    _, suggestion = export_of(args)
-    target = suggestion.target
+    try:
+        _, suggestion = export_of(args)
+        target, refusal = suggestion.target, None
+    except InputError as error:   # the suggestion at the model's step cannot hold the ball up
+        if error.field != '--timestep':
+            raise
+        suggestion, refusal = None, error.render({'--timestep': "the model's timestep"})
+        target = _target(args)
     model_e = measure(contact, target.speeds)
     coupled = None
     if getattr(args, 'coupled', False):
@@ -87,18 +97,43 @@ def run(args):
         except ValueError as error:   # InputError (RK4): spelled as this command's arguments
             raise ValueError(error.render(names) if hasattr(error, 'render') else str(error)) \
                 from None
-    print(f'# {args.model}, {option[2:]} {getattr(args, option[2:])}: {contact.describe()}')
-    print(f'# model e measured; max |error| = '
-          f'{float(np.max(np.abs(model_e - target.restitution))):.4f}; the export\'s '
-          f'suggestion: {suggestion.max_abs_error:.4f}' + (
-              '' if coupled is None else f'; coupled: '
-              f'{float(np.max(np.abs(coupled - target.restitution))):.4f}'))
-    print(f'# {"speed (m/s)":>13} {"target e":>10} {"model e":>10} {"error":>10} '
-          f'{"suggested":>10}' + ('' if coupled is None else f' {"coupled":>10}'))
+    described = contact.describe()
+    lines = described if isinstance(described, list) else [described]
+    print(f'# {args.model}, {option[2:]} {getattr(args, option[2:])}: {lines[0]}')
+    for line in lines[1:]:
+        print(f'# {line}')
+    error = float(np.max(np.abs(model_e - target.restitution)))
+    coupled_error = '' if coupled is None else \
+        f'; coupled: {float(np.max(np.abs(coupled - target.restitution))):.4f}'
+    if refusal is not None:
+        print(f'# model e measured (gravity off); max |error| = {error:.4f}; no suggestion: '
+              f'{refusal}{coupled_error}')
+    else:
+        print(f'# model e measured (gravity off); max |error| = {error:.4f}; the export\'s '
+              f'suggestion: {suggestion.max_abs_error:.4f}{coupled_error}')
+    print(f'# {"speed (m/s)":>13} {"target e":>10} {"model e":>10} {"error":>10}'
+          + ('' if suggestion is None else f' {"suggested":>10}')
+          + ('' if coupled is None else f' {"coupled":>10}'))
+    suggested = (np.full(len(target.speeds), np.nan) if suggestion is None
+                 else suggestion.engine_restitution)
     extra = coupled if coupled is not None else [None] * len(target.speeds)
-    for v, t, m, s, c in zip(target.speeds, target.restitution, model_e,
-                             suggestion.engine_restitution, extra):
-        print(f'{v:15.6g} {t:10.5f} {m:10.5f} {m - t:+10.5f} {s:10.5f}'
+    for v, t, m, s, c in zip(target.speeds, target.restitution, model_e, suggested, extra):
+        print(f'{v:15.6g} {t:10.5f} {m:10.5f} {m - t:+10.5f}'
+              + ('' if suggestion is None else f' {s:10.5f}')
               + ('' if c is None else f' {c:10.5f}'))
-    print_snippet(suggestion)
+    if suggestion is not None:
+        print('# the suggestion:')
+        print_scene(suggestion)
+        print_snippet(suggestion)
     return 0
+
+
+def _target(args):
+    """The target the options describe, without an export."""
+    from contact_sim.cli.contact import build_setup
+    from contact_sim.cli.export import bounded_speeds
+    from contact_sim.export import make_target
+    from contact_sim.model import get_law
+    law = get_law(args.law or 'azad_featherstone')
+    setup = build_setup(args, [law])
+    return make_target(setup.contacts[law.name], setup.mass, args.radius, bounded_speeds(args))

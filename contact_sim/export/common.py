@@ -8,11 +8,11 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize_scalar
 
+from contact_sim.export.choices import MAX_TIMESTEP, MIN_TIMESTEP
 from contact_sim.impact import contact_duration, max_penetration, peak_force, restitution
 from contact_sim.model import Contact, require_contact
-from contact_sim.validation import require_positive, require_range
+from contact_sim.validation import InputError, require_positive, require_range
 
-MAX_TIMESTEP = 0.1   # s: an engine step longer than this cannot resolve any impact
 
 
 @dataclass(frozen=True)
@@ -67,7 +67,10 @@ class EngineFit:
     ``snippet`` to paste, the e at the target's speeds, whether that e was ``'measured'`` (the
     engine run) or ``'predicted'`` (its law evaluated here), a ``note`` on what the parameters do
     to the contact, and the contact ``duration`` (s) and ``peak_force`` (N) the engine gives at
-    each speed (measured or from its law, as e; None where neither is known)."""
+    each speed (measured or from its law, as e; None where neither is known); ``reach``, the
+    (lowest, highest) e the engine's damping range gives at this step (None if not known), the
+    ``scene.Scene`` (the claim with gravity) and the ``pitfalls``: what in a user's model
+    changes the claim."""
 
     parameters: dict
     snippet: str
@@ -76,6 +79,9 @@ class EngineFit:
     note: str
     duration: object = None
     peak_force: object = None
+    reach: object = None
+    scene: object = None
+    pitfalls: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -97,6 +103,9 @@ class Export:
     note: str = ''   # what the parameters do to the contact's duration and depth (text only)
     engine_duration: object = None     # s at each speed, as the e (the text table only)
     engine_peak_force: object = None   # N at each speed, as the e (the text table only)
+    reach: object = None       # (lowest, highest) e of the engine's damping range, this step
+    scene: object = None       # scene.Scene: the claim checked with gravity on
+    pitfalls: tuple = ()       # what in a user's model changes the claim (text)
 
     @property
     def max_abs_error(self):
@@ -111,14 +120,42 @@ class Export:
                 'target_restitution': self.target.restitution.tolist(),
                 'engine_restitution': self.engine_restitution.tolist(),
                 'engine_restitution_source': self.engine_restitution_source,
-                'max_abs_error': self.max_abs_error}
+                'max_abs_error': self.max_abs_error,
+                'lowest_speed_with_gravity': (None if self.scene is None
+                                              else self.scene.lowest_speed),
+                'rest_sag': None if self.scene is None else self.scene.sag}
+
+    def miss(self):
+        """Why the best choice misses by ``max_abs_error`` (one line of text)."""
+        half = float(np.ptp(self.target.restitution)) / 2.0
+        if self.reach is None or self.max_abs_error <= half + 0.005:
+            return f"the best choice misses by {self.max_abs_error:.4f} (half the target's " \
+                   f'spread: {half:.4f})'
+        low, high = self.reach
+        target = self.target.restitution
+        if float(np.min(target)) < low:
+            why = 'the target is lossier'
+        elif float(np.max(target)) > high:
+            why = 'the target is livelier'
+        else:
+            why = "within that range no one damping follows the target's e(v)"
+        return (f'the best choice misses by {self.max_abs_error:.4f}, more than half the '
+                f"target's spread ({half:.4f}): at this step the engine's damping range gives "
+                f'e from {low:.4f} to {high:.4f}; {why}')
 
 
 def require_timestep(timestep, continuous=False):
-    """``timestep`` (s) if 0 < timestep <= ``MAX_TIMESTEP`` (0 too if the engine has a
-    ``continuous`` plant), else ``InputError`` keyed ``timestep``."""
-    return require_range('timestep', timestep, 0.0, MAX_TIMESTEP, low_open=not continuous,
-                         unit='s')
+    """``timestep`` (s) if ``MIN_TIMESTEP`` <= timestep <= ``MAX_TIMESTEP`` (0 too if the
+    engine has a ``continuous`` plant), else ``InputError`` keyed ``timestep``."""
+    if continuous and timestep == 0.0:
+        return 0.0
+    try:
+        return require_range('timestep', timestep, MIN_TIMESTEP, MAX_TIMESTEP, unit='s')
+    except InputError as error:
+        if not continuous:
+            raise
+        raise InputError('timestep', timestep, error.template + ', or 0 (the continuous plant)',
+                         **error.params) from None
 
 
 def target_frequency(target):

@@ -59,8 +59,9 @@ def ball_properties(stiffness, dissipation, ground_stiffness, ground_dissipation
     return k1, d1
 
 
-def build(radius, mass, stiffness, dissipation, time_step):
-    """(diagram, plant, ball body) of the throw: the ball over a half-space at z = 0."""
+def build(radius, mass, stiffness, dissipation, time_step, gravity=0.0):
+    """(diagram, plant, ball body) of the throw: the ball over a half-space at z = 0, with
+    ``gravity`` (m/s^2, default 0)."""
     d = _pydrake()
     builder = d.DiagramBuilder()
     config = d.MultibodyPlantConfig(time_step=time_step, contact_model='point',
@@ -74,15 +75,17 @@ def build(radius, mass, stiffness, dissipation, time_step):
         d.AddContactMaterial(dissipation=dissipation, point_stiffness=k,
                              friction=d.CoulombFriction(0.0, 0.0), properties=properties)
         plant.RegisterCollisionGeometry(body, d.RigidTransform(), shape, name, properties)
-    plant.mutable_gravity_field().set_gravity_vector([0.0, 0.0, 0.0])
+    plant.mutable_gravity_field().set_gravity_vector([0.0, 0.0, -gravity])
     plant.Finalize()
     return builder.Build(), plant, ball
 
 
-def throw(system, radius, speed, gap, chunk):
+def throw(system, radius, speed, gap, chunk, gravity=0.0, patience=1_000_000):
     """(e, contact duration in s, peak normal force in N) of one throw at ``speed`` (m/s) from
     ``gap`` (m) above the half-space, the state looked at every ``chunk`` (s): the duration
-    counts the chunks that end with a contact force > 0."""
+    counts the chunks that end with a contact force > 0.  With ``gravity`` (m/s^2), e is the
+    separation speed over the impact speed at the plate (the free flight taken out), 0 if the
+    ball has not left the plate ``patience`` chunks after it touched."""
     d = _pydrake()
     diagram, plant, ball = system
     simulator = d.Simulator(diagram)
@@ -94,36 +97,51 @@ def throw(system, radius, speed, gap, chunk):
         simulator.get_mutable_integrator().set_target_accuracy(ACCURACY)
     simulator.Initialize()
     results = plant.get_contact_results_output_port()
-    touching, peak, t = 0, 0.0, 0.0
-    for _ in range(1_000_000):
+    touching, peak, t, touched = 0, 0.0, 0.0, None
+    impact = math.sqrt(speed * speed + 2.0 * gravity * gap)
+    for step in range(10_000_000):
         t += chunk
         simulator.AdvanceTo(t)
         contacts = results.Eval(context)
+        force = 0.0
         if contacts.num_point_pair_contacts():
             force = abs(float(contacts.point_pair_contact_info(0).contact_force()[2]))
             if force > 0.0:
                 touching, peak = touching + 1, max(peak, force)
+                touched = step if touched is None else touched
         z, vz = plant.GetPositions(context)[6], plant.GetVelocities(context)[5]
-        if vz > 0.0 and z > radius + gap:
+        if gravity == 0.0 and vz > 0.0 and z > radius + gap:
             return vz / speed, touching * chunk, peak
+        if touched is not None and vz > 0.0 and z >= radius and force <= 0.0:   # lift-off
+            rebound = math.sqrt(vz * vz + 2.0 * gravity * (z - radius))
+            return rebound / impact, touching * chunk, peak
+        if touched is not None and step - touched > patience:   # it stays on the plate
+            return 0.0, touching * chunk, peak
     raise ArithmeticError(f'Drake did not rebound at {speed:g} m/s')   # never in tests
 
 
-def measure(radius, mass, speeds, stiffness, dissipation, time_step):
+def measure(radius, mass, speeds, stiffness, dissipation, time_step, gravity=0.0,
+            per_phase=False):
     """Drake's (e, duration, peak force) at each of ``speeds`` (m/s), an array (n, 3): the mean
     over ``PHASES`` start offsets within a step for the discrete plant, one throw for the
-    continuous plant (``time_step`` 0)."""
+    continuous plant (``time_step`` 0); with ``gravity`` (m/s^2) as ``throw`` says; each
+    throw, (n, PHASES or 1, 3), with ``per_phase``."""
     logger = logging.getLogger('drake')   # quiet the half-space's notice on deformable contact
     level = logger.level
     logger.setLevel(logging.ERROR)
     try:
-        system = build(radius, mass, stiffness, dissipation, time_step)
+        system = build(radius, mass, stiffness, dissipation, time_step, gravity)
+        period = 2.0 * math.pi / math.sqrt(stiffness / mass)
         if time_step == 0.0:
-            chunk = math.pi / math.sqrt(stiffness / mass) / CHUNKS_PER_CONTACT
-            return np.array([throw(system, radius, v, 2.0 * chunk * v, chunk) for v in speeds])
-        offsets = (np.arange(PHASES) + 0.5) / PHASES
-        return np.array([np.mean([throw(system, radius, v, f * v * time_step, time_step)
-                                  for f in offsets], axis=0) for v in speeds])
+            chunk = period / 2.0 / CHUNKS_PER_CONTACT
+            rows = np.array([[throw(system, radius, v, 2.0 * chunk * v, chunk, gravity,
+                                    int(50 * period / chunk))] for v in speeds])
+        else:
+            offsets = (np.arange(PHASES) + 0.5) / PHASES
+            patience = int(50 * period / time_step) + 10
+            rows = np.array([[throw(system, radius, v, f * v * time_step, time_step, gravity,
+                                    patience) for f in offsets] for v in speeds])
+        return rows if per_phase else rows.mean(axis=1)
     finally:
         logger.setLevel(level)
 

@@ -22,8 +22,8 @@ class Engine:
     linear: bool
 
 
-LINEAR_LIMIT = ('a linear spring-damper gives one e at every speed: the best choice misses a '
-                'speed-dependent target by half its spread, at any time step')
+LINEAR_LIMIT = ('a linear spring-damper gives one e at every speed: no choice misses a '
+                'speed-dependent target by less than half its spread, at any time step')
 ENGINES = {engine.name: engine for engine in (
     Engine('mujoco', mujoco_engine.export_mujoco, mujoco_engine.version, LINEAR_LIMIT, True),
     Engine('pybullet', pybullet_engine.export_pybullet, pybullet_engine.version, LINEAR_LIMIT,
@@ -66,4 +66,4 @@ def export_contact(engine, target, timestep):
     fit = chosen.export(target, timestep)
     return Export(engine, chosen.version(), target, fit.parameters, fit.snippet,
                   np.asarray(fit.restitution), fit.source, fit.note, fit.duration,
-                  fit.peak_force)
+                  fit.peak_force, fit.reach, fit.scene, tuple(fit.pitfalls))

@@ -1,22 +1,37 @@
 """MuJoCo: its soft contact depends on ``solref``, ``solimp``, the time step and the integrator,
-so the engine itself is run: a free sphere thrown at a plane at each speed, gravity off.
+so the engine itself is run: a free sphere thrown at a plane at each speed, gravity off (the
+claim), then dropped and left to rest with gravity on (``scene``).
 
 With ``solref = (-K, -B)`` (the direct form) and ``solimp`` with dmin = dmax, the penetration r
-obeys r'' = -(B r' + K r) per unit mass (the constraint force never pulls), so e does not depend
-on the speed: one linear choice.  K = w^2 with w the target's contact frequency, lowered until a
-step is at most 0.1 rad of it; B = 2 zeta w, with zeta fitted to the measured e."""
-from dataclasses import dataclass
+obeys r'' = -d (B r' + K r) (the constraint force never pulls), so e does not depend on the speed
+nor on the mass: one linear choice.  K = w^2 with w the target's contact frequency, lowered until
+a step is at most 0.1 rad of it; B = 2 zeta w, with zeta fitted to the measured e from 0 up to
+``max_zeta``, past critical damping as far as the step stays stable.  The ball's geom gets
+``priority="1"``, so that a floor at priority 0 does not mix its own solref/solimp in."""
+import math
 
 import numpy as np
 
+from contact_sim.export import scene
 from contact_sim.export.common import (EngineFit, fit_minimax, linear_contact_note, require_timestep,
-                                        resolved_frequency)
-from contact_sim.validation import InputError
+                                        resolved_frequency, target_frequency)
 
 STEPS_PER_RADIAN = 10.0           # w dt <= 0.1: e then moves < 0.01 with the impact's phase
 SOLIMP = (0.95, 0.95, 0.001, 0.5, 2.0)   # constant impedance: the contact stays linear
 INTEGRATOR = 'Euler'
 PHASES = 4                        # start offsets within one step, averaged
+PRIORITY = 1                      # the ball's geom priority: its contact wins over the floor's
+UNSTABLE = 1.5                    # e above this: the step gave the ball energy, unstable
+STABLE_DAMPING = 1.0              # B dt at most this: unstable near 2 (zeta 10 at w dt 0.1)
+# what in a user's model changes the claim (the throw has none of these)
+PITFALLS = ('a floor geom with priority >= 1 (the ball\'s solref/solimp are then mixed with '
+            'the floor\'s, by solmix, or ignored)',
+            'the floor\'s own margin or gap, or the ball\'s (MuJoCo uses the larger margin: 1 mm '
+            'moves e by several hundredths)',
+            'a second <option> element: put timestep and integrator in the model\'s own <option>, '
+            'a second one overrides the first\'s attributes',
+            'other geoms or an <inertial> on the ball\'s body change nothing here (solref in '
+            'this form is per unit mass), but a softer or moving floor does')
 
 
 def _mujoco():
@@ -27,68 +42,139 @@ def _mujoco():
 def geom_attributes(solref, solimp):
     """The MJCF attributes ``solref="..." solimp="..."`` of the ball's geom."""
     return (f'solref="{solref[0]:.9g} {solref[1]:.9g}" '
-            f'solimp="{" ".join(f"{x:g}" for x in solimp)}"')
+            f'solimp="{" ".join(f"{x:g}" for x in solimp)}" priority="{PRIORITY}"')
 
 
-def model_xml(radius, mass, timestep, solref, solimp=SOLIMP, integrator=INTEGRATOR):
+def model_xml(radius, mass, timestep, ball, integrator=INTEGRATOR, floor='', gravity=False):
     """The MJCF of the throw: a free sphere of ``radius`` (m) and ``mass`` (kg) over a plane,
-    gravity off, at ``timestep`` (s) with ``integrator``; the ball's geom carries the contact."""
-    return (f'<mujoco><option timestep="{timestep!r}" gravity="0 0 0" integrator="{integrator}"/>'
-            '<worldbody><geom name="plane" type="plane" size="1 1 0.1"/>'
+    gravity off (on with ``gravity``), at ``timestep`` (s) with ``integrator``; ``ball`` and
+    ``floor`` are the geoms' contact attributes (MJCF text)."""
+    g = f'0 0 {-scene.GRAVITY:g}' if gravity else '0 0 0'
+    return (f'<mujoco><option timestep="{timestep!r}" gravity="{g}" integrator="{integrator}"/>'
+            f'<worldbody><geom name="plane" type="plane" size="1 1 0.1" {floor}/>'
             f'<body name="ball" pos="0 0 1"><freejoint/><geom name="ball" type="sphere" '
-            f'size="{radius!r}" mass="{mass!r}" {geom_attributes(solref, solimp)}/></body>'
-            '</worldbody></mujoco>')
+            f'size="{radius!r}" mass="{mass!r}" {ball}/></body></worldbody></mujoco>')
 
 
-def throw(model, radius, speed, gap):
+def load(xml):
+    """The ``MjModel`` of ``xml``, MuJoCo's warnings kept out of MUJOCO_LOG.TXT (``quiet``)."""
+    quiet()
+    return _mujoco().MjModel.from_xml_string(xml)
+
+
+def quiet():
+    """Route MuJoCo's warnings to Python's ``warnings`` instead of MUJOCO_LOG.TXT in the
+    working directory (MuJoCo writes the file only when no user handler is set)."""
+    import warnings
+    mujoco = _mujoco()
+    if mujoco.get_mju_user_warning() is None:
+        mujoco.set_mju_user_warning(
+            lambda text: warnings.warn(f'MuJoCo: {text}', RuntimeWarning, stacklevel=2))
+
+
+def throw(model, radius, speed, gap, patience, margin=0.0):
     """(e, contact duration in s, peak normal force in N) of one throw at ``speed`` (m/s), the
-    ball starting ``gap`` (m) above the plane: e is the rebound speed over ``speed`` once the
-    ball is back above its start, the duration the steps with a contact force > 0 times the
-    step."""
+    ball starting ``gap`` (m) above the plane: e is the separation speed at the plate (the ball
+    back at the surface, moving up, no force) over the impact speed there (with gravity, the
+    free flight's own gain and loss taken out), 0 if the ball has not left the plate
+    ``patience`` steps after it touched.  The duration is the
+    steps with a contact force > 0 times the step.  With a contact ``margin`` (m) the plate's
+    surface is that much higher: the throw starts and ends beyond it."""
     mujoco = _mujoco()
     data = mujoco.MjData(model)
-    data.qpos[2] = radius + gap
+    surface = radius + margin
+    data.qpos[2] = surface + gap
     data.qvel[2] = -speed
+    g = -float(model.opt.gravity[2])
+    impact = math.sqrt(speed * speed + 2.0 * g * gap)
     force = np.zeros(6)
-    touching, peak = 0, 0.0
-    for _ in range(1_000_000):
+    touching, peak, touched = 0, 0.0, None
+    for step in range(10_000_000):
         mujoco.mj_step(model, data)
+        pushing = False
         if data.ncon:
             mujoco.mj_contactForce(model, data, 0, force)
-            if force[0] > 0.0:
+            pushing = force[0] > 0.0
+            if pushing:
                 touching, peak = touching + 1, max(peak, float(force[0]))
-        if data.qvel[2] > 0.0 and data.qpos[2] > radius + gap:
-            return data.qvel[2] / speed, touching * model.opt.timestep, peak
+                touched = step if touched is None else touched
+        if data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number:   # MuJoCo reset the data
+            raise ArithmeticError(f'MuJoCo went unstable at {speed:g} m/s (a NaN or huge '
+                                  'acceleration): this contact and step cannot be run')
+        z, vz = float(data.qpos[2]), float(data.qvel[2])
+        if vz > 0.0 and (g == 0.0 and z > surface + gap
+                         or touched is not None and z >= surface and not pushing):   # lift-off
+            e = math.sqrt(vz * vz + 2.0 * g * (z - surface)) / impact
+            if e > UNSTABLE:   # a passive contact cannot give the ball this energy
+                raise ArithmeticError(f'MuJoCo went unstable at {speed:g} m/s (the ball came '
+                                      f'back {e:.3g} times as fast): this contact and step '
+                                      'cannot be run')
+            return e, touching * model.opt.timestep, peak
+        if touched is not None and step - touched > patience:   # it stays on the plate
+            return 0.0, touching * model.opt.timestep, peak
     raise ArithmeticError(f'MuJoCo did not rebound at {speed:g} m/s')   # never in tests
 
 
-def measure_contact(radius, mass, speeds, timestep, solref, solimp=SOLIMP,
-                    integrator=INTEGRATOR):
+def patience_steps(frequency, timestep):
+    """Steps of 50 periods of a contact of angular ``frequency`` (rad/s) at ``timestep`` (s)."""
+    return int(100.0 * math.pi / (frequency * timestep)) + 10
+
+
+def rest_sag(model, radius, patience):
+    """The ball's depth in the plate at rest (m): dropped from touching it, with gravity, the
+    mean depth over the last tenth of ``patience`` steps (inf if it fell through)."""
+    mujoco = _mujoco()
+    data = mujoco.MjData(model)
+    data.qpos[2] = radius
+    depths = []
+    for step in range(patience):
+        mujoco.mj_step(model, data)
+        if data.qpos[2] < -radius:
+            return math.inf
+        if step >= patience - patience // 10 - 1:
+            depths.append(radius - float(data.qpos[2]))
+    return float(np.mean(depths))
+
+
+def measure_contact(radius, mass, speeds, timestep, ball, integrator=INTEGRATOR, floor='',
+                    gravity=False, patience=100_000, per_phase=False, margin=0.0):
     """MuJoCo's (e, duration, peak force) at each of ``speeds`` (m/s), an array (n, 3), the
-    mean over ``PHASES`` start offsets within one step (s), with the geom ``solref``,
-    ``solimp``."""
-    model = _mujoco().MjModel.from_xml_string(
-        model_xml(radius, mass, timestep, solref, solimp, integrator))
+    mean over ``PHASES`` start offsets within one step (s) (each, (n, PHASES, 3), with
+    ``per_phase``), with the geoms' contact attributes ``ball`` and ``floor`` (MJCF text),
+    gravity off (on with ``gravity``), the pair's contact ``margin`` (m) as ``throw`` says."""
+    model = load(model_xml(radius, mass, timestep, ball, integrator, floor, gravity))
     offsets = (np.arange(PHASES) + 0.5) / PHASES
-    return np.array([np.mean([throw(model, radius, v, f * v * timestep) for f in offsets],
-                             axis=0) for v in speeds])
+    rows = np.array([[throw(model, radius, v, f * v * timestep, patience, margin)
+                      for f in offsets] for v in speeds])
+    return rows if per_phase else rows.mean(axis=1)
 
 
-def measure(radius, mass, speeds, timestep, solref, solimp=SOLIMP, integrator=INTEGRATOR):
-    """MuJoCo's e at each of ``speeds`` (m/s) (``measure_contact``): the e a user gets from
-    the geom ``solref``, ``solimp``."""
-    return measure_contact(radius, mass, speeds, timestep, solref, solimp, integrator)[:, 0]
+def measure(radius, mass, speeds, timestep, ball, integrator=INTEGRATOR, floor='', margin=0.0):
+    """MuJoCo's e at each of ``speeds`` (m/s), gravity off (``measure_contact``)."""
+    return measure_contact(radius, mass, speeds, timestep, ball, integrator, floor,
+                           margin=margin)[:, 0]
+
+
+def max_zeta(frequency, timestep):
+    """The largest damping ratio the export tries at ``frequency`` (rad/s) and ``timestep``
+    (s): B dt = 2 zeta w dt at most ``STABLE_DAMPING``, and at most 50."""
+    return min(STABLE_DAMPING / (2.0 * frequency * timestep), 50.0)
 
 
 def export_mujoco(target, timestep):
-    """MuJoCo parameters for ``target`` (``common.Target``) at ``timestep`` (s), and the e(v)
-    MuJoCo gives with them (measured).
+    """MuJoCo parameters for ``target`` (``common.Target``) at ``timestep`` (s), the e(v)
+    MuJoCo gives with them (measured, gravity off), and the claim checked with gravity.
 
     Returns
     -------
     EngineFit
-        The parameters, the MJCF ``<geom>``, the measured e(v) and what the contact's
-        duration and depth become.
+        The parameters, the MJCF ``<geom>``, the measured e(v), what the contact's duration
+        and depth become, the e the damping range reaches and the ``scene.Scene``.
+
+    Raises
+    ------
+    InputError
+        Keyed ``timestep``: out of range, or the contact cannot hold the ball up.
     """
     timestep = require_timestep(timestep)
     w = resolved_frequency(target, timestep, STEPS_PER_RADIAN)
@@ -97,80 +183,32 @@ def export_mujoco(target, timestep):
         return (-w * w, -2.0 * zeta * w)
 
     def engine_e(zeta):
-        return measure(target.radius, target.mass, target.speeds, timestep, solref(zeta))
-    zeta, _ = fit_minimax(engine_e, target, 0.0, 1.0)
+        return measure(target.radius, target.mass, target.speeds, timestep,
+                       geom_attributes(solref(zeta), SOLIMP))
+    top = max_zeta(w, timestep)
+    zeta, _ = fit_minimax(engine_e, target, 0.0, top)
+    ball = geom_attributes(solref(zeta), SOLIMP)
     e, duration, peak = measure_contact(target.radius, target.mass, target.speeds, timestep,
-                                        solref(zeta)).T
-    params = {'solref': list(solref(zeta)), 'solimp': list(SOLIMP), 'timestep': timestep,
-              'integrator': INTEGRATOR}
-    snippet = (f'<option timestep="{timestep:g}" integrator="{INTEGRATOR}"/>\n'
+                                        ball).T
+    reach = (float(np.mean(engine_e(top))), float(np.mean(engine_e(0.0))))
+    patience = patience_steps(w, timestep)
+    model = load(model_xml(target.radius, target.mass, timestep, ball, gravity=True))
+    sag = rest_sag(model, target.radius, patience)
+    with_gravity = (measure_contact(target.radius, target.mass, target.speeds, timestep, ball,
+                                    gravity=True, patience=patience, per_phase=True)[:, :, 0]
+                    if sag < target.radius else e)
+    floor = 1.0 / (STEPS_PER_RADIAN * target_frequency(target))
+    checked = scene.assess(target, e, with_gravity, sag, timestep, floor, 'measured', 'MuJoCo',
+                           scene.GRAVITY / (w * w))
+    params = {'solref': list(solref(zeta)), 'solimp': list(SOLIMP), 'priority': PRIORITY,
+              'timestep': timestep, 'integrator': INTEGRATOR}
+    snippet = (f'<option timestep="{timestep:.9g}" integrator="{INTEGRATOR}"/>\n'
                f'<geom name="ball" type="sphere" size="{target.radius:g}" '
-               f'mass="{target.mass:.6g}" {geom_attributes(solref(zeta), SOLIMP)}/>')
+               f'mass="{target.mass:.6g}" {ball}/>')
     return EngineFit(params, snippet, e, 'measured', linear_contact_note(target, w), duration,
-                     peak)
+                     peak, reach=reach, scene=checked, pitfalls=PITFALLS)
 
 
 def version():
     """The installed MuJoCo's version."""
     return _mujoco().__version__
-
-
-# MuJoCo's integrator enum -> its MJCF name
-INTEGRATORS = {'mjINT_EULER': 'Euler', 'mjINT_RK4': 'RK4', 'mjINT_IMPLICIT': 'implicit',
-               'mjINT_IMPLICITFAST': 'implicitfast'}
-
-
-@dataclass(frozen=True)
-class GeomContact:
-    """What a user's MuJoCo model gives a sphere geom's contact: its radius (m), its body's mass
-    (kg), ``solref``, ``solimp``, the model's time step (s) and integrator."""
-
-    radius: float
-    mass: float
-    solref: tuple
-    solimp: tuple
-    timestep: float
-    integrator: str
-
-    def describe(self):
-        """One line: the geom's contact as MuJoCo reads it."""
-        return (f'solref = {list(self.solref)}, solimp = {list(self.solimp)}, timestep = '
-                f'{self.timestep:g} s, integrator {self.integrator}, R = {self.radius:g} m, '
-                f'm = {self.mass:.6g} kg')
-
-
-def geom_contact(path, geom):
-    """The contact of the sphere ``geom`` (a name) in the MJCF file ``path``.
-
-    Raises
-    ------
-    InputError
-        Keyed ``model`` if the file does not load, ``geom`` if the geom is not a sphere of it.
-    """
-    mujoco = _mujoco()
-    try:
-        model = mujoco.MjModel.from_xml_path(str(path))
-    except ValueError as error:   # MuJoCo's parse and compile errors
-        raise InputError('model', path, '{n[model]} = {value} does not load in MuJoCo: '
-                         f'{str(error).strip()}', value=repr(str(path))) from None
-    index = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
-    if index < 0 or model.geom_type[index] != mujoco.mjtGeom.mjGEOM_SPHERE:
-        raise InputError('geom', geom, '{n[geom]} = {value} is not a sphere geom of the model: '
-                         'allowed the name of a sphere geom on a free body', value=repr(geom))
-    integrator = mujoco.mjtIntegrator(model.opt.integrator).name
-    if integrator not in INTEGRATORS:
-        raise InputError('model', path, '{n[model]} = {value} uses the integrator '
-                         f'{integrator}: allowed ' + ', '.join(INTEGRATORS.values()),
-                         value=repr(str(path)))
-    return GeomContact(float(model.geom_size[index][0]),
-                       float(model.body_mass[model.geom_bodyid[index]]),
-                       tuple(map(float, model.geom_solref[index])),
-                       tuple(map(float, model.geom_solimp[index])),
-                       float(model.opt.timestep), INTEGRATORS[integrator])
-
-
-def audit(contact, speeds):
-    """MuJoCo's e at ``speeds`` (m/s) of a ``GeomContact`` (a free sphere thrown at a plane at
-    MuJoCo's defaults, gravity off, as ``measure``)."""
-    return measure(contact.radius, contact.mass, speeds, contact.timestep, contact.solref,
-                   contact.solimp, contact.integrator)
