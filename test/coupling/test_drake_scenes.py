@@ -7,7 +7,7 @@ import pytest
 
 import contact_sim as cs
 
-pydrake = pytest.importorskip('pydrake.all')
+import pydrake.all as pydrake
 from contact_sim.coupling.drake import CoupledContacts  # noqa: E402
 
 R = 0.0127

@@ -6,7 +6,7 @@ import pytest
 
 import contact_sim as cs
 
-mujoco = pytest.importorskip('mujoco')
+import mujoco
 from contact_sim.coupling.mujoco import CoupledContacts  # noqa: E402
 
 R = 0.0127

@@ -6,7 +6,7 @@ import pytest
 
 import contact_sim as cs
 
-pybullet = pytest.importorskip('pybullet')
+import pybullet
 from contact_sim.coupling.pybullet import CoupledContacts  # noqa: E402
 
 R = 0.0127
