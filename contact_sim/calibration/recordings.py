@@ -469,7 +469,7 @@ def read_impact_times(path, columns=None, group_by=None, where=None, notes=None)
     if name.lower().endswith(('.xlsx', '.xls')):
         from contact_sim.calibration.workbooks import sheets_to_read, workbook_sheets
         read, left = sheets_to_read(workbook_sheets(path))
-        sequences, empty, used = [], [], []
+        sequences, empty, used, first = [], [], [], len(notes)
         for sheet, rows in read:
             source = f'{name} [{sheet}]' if len(read) > 1 else name
             try:
@@ -485,7 +485,7 @@ def read_impact_times(path, columns=None, group_by=None, where=None, notes=None)
             raise ValueError('; '.join(empty) or f'{name} has no sheet of impact times')
         left += empty
         words = ', '.join(repr(s) for s in used)
-        notes.insert(0, f'{name}: {len(sequences)} run(s) read from sheet(s) {words}'
+        notes.insert(first, f'{name}: {len(sequences)} run(s) read from sheet(s) {words}'
                      + (f'; not read: {"; ".join(left)}' if left else ''))
     else:
         sequences = parse_impact_times(_read_text(path), source=name, columns=columns,
