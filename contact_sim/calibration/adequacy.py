@@ -18,7 +18,8 @@ clock alone gives, σ_e = e √(1/T_i² + 1/T_{i+1}²) Δ/√6 for a resolution 
   scatter, so it is no test by itself.)
 
 A constant e with ordinary bounce-to-bounce scatter therefore passes; a trend the law cannot
-follow fails, and the reason names it: the slope of the measured e against v, and of the law's.
+follow fails, and the reason names it: the slope of the measured e against v, and of the law's,
+over every flight kept (held out or not: the trend is the recording's).
 ``own_scatter`` (the click times' law-free scatter, s) is kept for the report.
 Units: SI.
 """
@@ -231,10 +232,11 @@ def check_adequacy(fit):
     if not p < P_INADEQUATE:
         return Adequacy(True, reason=against, **verdict)
     reason = f'{best.law.name} does not describe this recording: {against}'
-    slope, t = _trend(v[on], e[on])
-    law_slope, _ = _trend(v[on], e[on] - d[on])
+    # the trend is the recording's: read from every flight kept, held out or not
+    slope, t = _trend(v[keep], e[keep])
+    law_slope, _ = _trend(v[keep], e[keep] - d[keep])
     if math.isfinite(t) and abs(t) > TREND_T:
-        lo, hi = float(v[on].min()), float(v[on].max())
+        lo, hi = float(v[keep].min()), float(v[keep].max())
         rising = [f.law.name for f in fit.fits
                   if float(restitution_curve(f, fit.mass, hi))
                   > float(restitution_curve(f, fit.mass, lo))]
