@@ -184,3 +184,21 @@ def test_a_slow_rise_held_out_is_named_from_every_flight():
     verdict = fit.adequacy
     assert verdict.judged_on == 'hold-out' and not verdict.adequate
     assert 'rises with speed' in verdict.reason
+
+
+def test_a_constant_e_held_out_is_not_called_inadequate_for_its_short_flights():
+    # found (review of issue 32): the held-out flights are the last and shortest, where 0.1 ms
+    # click noise scatters e the most; judged against one scatter for all flights, 2 of these
+    # 12 drops of a constant e (the linear law exact) were INADEQUATE (p < 0.001), none without
+    # the hold-out, and one run of a recording flipped against the other
+    verdicts = []
+    for seed in range(100, 112):
+        rng = np.random.default_rng(seed)
+        v, t = math.sqrt(2.0 * G), [0.2 + math.sqrt(2.0 / G)]
+        for _ in range(39):
+            v *= 0.98
+            t.append(t[-1] + 2.0 * v / G)
+        fit = fit_bounces([np.array(t) + rng.normal(0.0, 1e-4, 40)], 0.064, {'linear': 1.3e8},
+                          holdout=0.3)
+        verdicts.append(fit.adequacy.adequate and fit.adequacy.judged_on == 'hold-out')
+    assert all(verdicts)
