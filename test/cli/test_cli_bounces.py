@@ -389,3 +389,16 @@ def test_bench_recordings_reads_the_report_it_runs(golf_csv, capsys):
     if word != 'not judged':
         misfit, scatter = (float(x) for x in got['e'].split(' / '))
         assert misfit > 0.0 and scatter > 0.0
+
+
+def test_cli_bounces_height_given_overrides_the_file_names_heights(golf_csv, tmp_path, capsys):
+    # found (review of issue 32): one run of a file named with two heights could not be read
+    # even with --height: 'names 2 heights for 1 runs'
+    named = tmp_path / 'golf_80cm_100cm.csv'
+    named.write_text(golf_csv.read_text())
+    base = ['bounces', str(named), '--mass', str(GOLF_MASS), '--stiffness', str(GOLF_K),
+            '--radius', '0.0214', '--drag-coefficient', '0.3', '--law', 'azad_featherstone',
+            '--column', '1']
+    assert cli.main(base) == 2 and 'names 2 heights for 1 runs' in capsys.readouterr().err
+    assert cli.main(base + ['--height', '0.8']) == 0
+    assert 'released from 0.8 m' in capsys.readouterr().out
