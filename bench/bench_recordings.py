@@ -14,9 +14,9 @@ for a hollow ball, and ``--holdout 0.3``), and one line printed:
   micro-bounce cut) / true (for a WAV with a hand-checked list: its impacts matched within
   3 ms in their span, the extra onsets there, and the largest error of those matched);
 * the law ranked first, its fit status and the model-adequacy verdict, as printed;
-* the hold-out rms of that law against the recording's own scatter, when the command prints
-  them ("too few": ``--holdout 0.3`` was refused for too few clicks, and the command run
-  without it);
+* the hold-out rms of that law on the held-out clicks ("too few": ``--holdout 0.3`` was
+  refused for too few clicks, and the command run without it), and the rms e residual the
+  adequacy verdict was judged on against the recording's own scatter of e;
 * the exit status and the wall time of the command.
 
     python bench/bench_recordings.py [--data DIR] [--only pingpong|tennis|audio] [--limit N]
@@ -73,6 +73,30 @@ def _true(path):
     return f'{len(errors)}/{true.size} +{int((~used).sum())}{worst}'
 
 
+def summary(out):
+    """The figures of one ``contact-sim bounces`` report (its stdout), as the table's texts:
+    found, kept, fitted, law, status, verdict (``adequate (hold-out)``), held (the first law's
+    hold-out rms, ms) and e (its rms e residual / the recording's own scatter of e)."""
+    clicks = sum(int(n) for n in re.findall(r'^# sequence \d+: .*, (\d+) clicks', out, re.M))
+    heard = _first(r'^# audio .*: (\d+) onset\(s\) found, (\d+) kept', out)
+    kept = _first(r'^# audio .*: (\d+) onset\(s\) found, (\d+) kept', out, 2)
+    left = len(re.findall(r': (?:spurious|doubled) click at .*\(left out\)', out))
+    left += sum(int(n) for n in re.findall(r'the last (\d+) click\(s\) left out', out))
+    law = _first(r'^# laws ranked.*\n(\w+): ', out) or '-'
+    verdict, on = (_first(r'^model adequacy \(([^)]+)\): ([^:]+):', out, g) for g in (2, 1))
+    held = _first(r'^hold-out rms \(%s\): ([\d.]+) ms' % re.escape(law), out) \
+        if law != '-' else None
+    misfit = _first(r"rms e residual of (\S+) against the recording's own scatter", out)
+    scatter = _first(r"rms e residual of \S+ against the recording's own scatter (\S+) ", out)
+    return {'found': heard or (str(clicks) if clicks else '-'),
+            'kept': kept or (str(clicks) if clicks else '-'),
+            'fitted': str(clicks - left) if clicks else '-', 'law': law,
+            'status': _first(r'^# laws ranked.*\n\w+: .*\n(?:  drag.*\n)?\s+fit: ([\w-]+)',
+                             out) or '-',
+            'verdict': f'{verdict} ({on})' if verdict and on != 'none' else (verdict or '-'),
+            'held': held or '-', 'e': f'{misfit} / {scatter}' if misfit and scatter else '-'}
+
+
 def _row(kind, path):
     command = [sys.executable, '-c', CLI, 'bounces', str(path), *BALLS[kind], '--holdout', '0.3']
     start = time.perf_counter()
@@ -81,28 +105,14 @@ def _row(kind, path):
     if refused:          # too few clicks to hold some out: the fit alone
         done = subprocess.run(command[:-2], capture_output=True, text=True, cwd=ROOT)
     wall = time.perf_counter() - start
-    out = done.stdout
-    clicks = sum(int(n) for n in re.findall(r'^# sequence \d+: .*, (\d+) clicks', out, re.M))
-    heard = _first(r'^# audio .*: (\d+) onset\(s\) found, (\d+) kept', out)
-    kept = _first(r'^# audio .*: (\d+) onset\(s\) found, (\d+) kept', out, 2)
-    left = len(re.findall(r': (?:spurious|doubled) click at .*\(left out\)', out))
-    left += sum(int(n) for n in re.findall(r'the last (\d+) click\(s\) left out', out))
-    found = heard or (str(clicks) if clicks else '-')
-    kept = kept or (str(clicks) if clicks else '-')
-    fitted = str(clicks - left) if clicks else '-'
-    law = _first(r'^# laws ranked.*\n(\w+): ', out) or '-'
-    status = _first(r'^# laws ranked.*\n\w+: .*\n\s+fit: (\w+)', out) or '-'
-    verdict = _first(r'^model adequacy: ([^:]+):', out) or '-'
-    held = _first(r'^hold-out rms \(%s\): ([\d.]+) ms' % re.escape(law), out) if law != '-' \
-        else None
-    scatter = _first(r"recording's own scatter ([\d.]+) ms", out)
-    holdout = f'{held} / {scatter}' if held and scatter else (held or '-')
-    holdout = 'too few' if refused else holdout
+    got = summary(done.stdout)
+    holdout = 'too few' if refused else got['held']
     true = _true(path) if kind == 'audio' else '-'
     error = '' if done.returncode in (0, 3) else \
         (done.stderr.strip().splitlines() or ['?'])[-1][:60]
-    return (f'{kind + "/" + path.name:<32} {found:>6} {kept:>5} {fitted:>6} {true:>18} '
-            f'{law:<18} {status:<9} {verdict:<10} {holdout:>17} {done.returncode:>4} '
+    return (f'{kind + "/" + path.name:<32} {got["found"]:>6} {got["kept"]:>5} '
+            f'{got["fitted"]:>6} {true:>18} {got["law"]:<18} {got["status"]:<14} '
+            f'{got["verdict"]:<20} {holdout:>8} {got["e"]:>16} {done.returncode:>4} '
             f'{wall:6.1f} {error}')
 
 
@@ -120,10 +130,12 @@ def main():
     print('onsets: found / kept (the audio detector\'s impacts) / fitted (after glitches and the '
           'micro-bounce cut) / true (matched within 3 ms of the hand-checked list, +extra, '
           'largest error)')
-    print('hold-out: rms of the first law on the held-out clicks / the recording\'s own scatter'
-          ' (ms)')
+    print('adequacy: the verdict (on the fit, or on the held-out flights); hold-out: the first '
+          'law\'s rms on the held-out clicks (ms); e: its rms e residual / the recording\'s own '
+          'scatter of e, on what the verdict was judged')
     print(f'{"recording":<32} {"found":>6} {"kept":>5} {"fitted":>6} {"true":>18} '
-          f'{"law ranked first":<18} {"fit":<9} {"adequacy":<10} {"hold-out/scatter":>17} '
+          f'{"law ranked first":<18} {"fit":<14} {"adequacy":<20} {"hold-out":>8} '
+          f'{"e resid/scatter":>16} '
           f'{"exit":>4} {"wall s":>6}')
     for kind in args.only or ('audio', 'pingpong', 'tennis'):
         files = sorted((args.data / kind).glob(PATTERNS[kind]))

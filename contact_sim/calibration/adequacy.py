@@ -14,11 +14,14 @@ clock alone gives, σ_e = e √(1/T_i² + 1/T_{i+1}²) Δ/√6 for a resolution 
   distributed when the law is right; a p value below ``P_INADEQUATE`` says it is not.
 * With a hold-out, the verdict is the hold-out's: the law fitted on the earlier clicks predicts
   the held-out flights' e; their squared residuals over the own variance are χ²(n_held) when it
-  is right.  (The click times' hold-out rms is printed too; it accumulates every bounce's
+  is right.  That variance is, per flight, the larger of the scatter and what the click times'
+  noise gives there (the law-free residuals in units of the clock's σ_e, which grows as the
+  flights shorten), plus the training fit's own prediction spread.  (The click times' hold-out rms is printed too; it accumulates every bounce's
   scatter, so it is no test by itself.)
 
 A constant e with ordinary bounce-to-bounce scatter therefore passes; a trend the law cannot
-follow fails, and the reason names it: the slope of the measured e against v, and of the law's.
+follow fails, and the reason names it: the slope of the measured e against v, and of the law's,
+over every flight kept (held out or not: the trend is the recording's).
 ``own_scatter`` (the click times' law-free scatter, s) is kept for the report.
 Units: SI.
 """
@@ -143,6 +146,14 @@ def law_free_curve(v, e, floor):
     return r, scale
 
 
+def _timing_scale(free, floor):
+    """The law-free residuals' robust scale in units of each point's clock floor: the held-out
+    flights are the shortest, where the click times' noise scatters e the most (σ_e ∝ 1/T), so
+    a scatter read as one number over all flights would understate theirs."""
+    ratio = np.abs(free) / floor
+    return 1.4826 * float(np.median(ratio)) * math.sqrt(ratio.size / max(ratio.size - 3.0, 1.0))
+
+
 def _trend(v, y):
     """Slope of y against v and its t value (nan for fewer than 4 points or one speed)."""
     if v.size < 4 or np.ptp(v) <= 0.0:
@@ -209,7 +220,8 @@ def check_adequacy(fit):
                             'clicks hold no two consecutive single flights)',
                             scatter=scatter, judged_on='none', **base)
         spread = _prediction_spread(judged, fit.mass, v[on])
-        stat = float(np.sum(d[on] ** 2 / (scatter ** 2 + spread ** 2)))
+        own = np.maximum(scatter, _timing_scale(free[keep], floor[keep]) * floor[on])
+        stat = float(np.sum(d[on] ** 2 / (own ** 2 + spread ** 2)))
         p = float(chi2.sf(stat, n))
         where = f'on {n} held-out restitution(s), the law fitted on the earlier clicks'
     else:
@@ -231,10 +243,11 @@ def check_adequacy(fit):
     if not p < P_INADEQUATE:
         return Adequacy(True, reason=against, **verdict)
     reason = f'{best.law.name} does not describe this recording: {against}'
-    slope, t = _trend(v[on], e[on])
-    law_slope, _ = _trend(v[on], e[on] - d[on])
+    # the trend is the recording's: read from every flight kept, held out or not
+    slope, t = _trend(v[keep], e[keep])
+    law_slope, _ = _trend(v[keep], e[keep] - d[keep])
     if math.isfinite(t) and abs(t) > TREND_T:
-        lo, hi = float(v[on].min()), float(v[on].max())
+        lo, hi = float(v[keep].min()), float(v[keep].max())
         rising = [f.law.name for f in fit.fits
                   if float(restitution_curve(f, fit.mass, hi))
                   > float(restitution_curve(f, fit.mass, lo))]

@@ -210,12 +210,21 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
                              'a k for every law fitted' % law.name)
         laws_k.append((law, k))
     trained, held = {}, None
-    if holdout is not None:      # the laws fitted on the earlier clicks, to predict the rest
-        training, held = split_sequences(prepared, holdout)
-        trained = {law: fit_law(law, k, mass, gravity, drag, fit_drag, training, resolution,
-                                height_error, loss, confidence) for law, k in laws_k}
-    fits = [fit_law(law, k, mass, gravity, drag, fit_drag, prepared, resolution, height_error,
-                    loss, confidence) for law, k in laws_k]
+    try:
+        if holdout is not None:  # the laws fitted on the earlier clicks, to predict the rest
+            training, held = split_sequences(prepared, holdout)
+            trained = {law: fit_law(law, k, mass, gravity, drag, fit_drag, training,
+                                    resolution, height_error, loss, confidence)
+                       for law, k in laws_k}
+        fits = [fit_law(law, k, mass, gravity, drag, fit_drag, prepared, resolution,
+                        height_error, loss, confidence) for law, k in laws_k]
+    except ValueError as error:   # too few observations: say what the glitches left out
+        read = sum(s.times.size for s in seqs)
+        kept = sum(p.times.size for p in prepared)
+        if kept == read or isinstance(error, InputError):
+            raise
+        raise ValueError(f'{error}; {read} click(s) read, {read - kept} left out: '
+                         + '; '.join(g.describe() for g in glitches if g.left_out)) from None
     fits.sort(key=lambda f: f.rms)
     # outliers the robust loss down-weighted (after the named glitches)
     best = fits[0]

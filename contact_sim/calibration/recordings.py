@@ -17,8 +17,7 @@ release height (m).  Accepted as they come from the phone or the lab:
 * workbooks (``.xlsx``, ``.xls``): every sheet that holds runs (``workbooks``), each read like
   a CSV; a phyphox export's ``All`` sheet (its ``Simple`` and ``Multiple`` repeat it);
 * a long table of trials (``group_by``): one sequence per combination of trial columns'
-  values; a row filter (``where``) for one ball of a combined table;
-* text after ``#`` on a line is a comment.
+  values; a row filter (``where``) for one ball of a combined table (``#`` begins a comment).
 """
 import csv
 import io
@@ -114,8 +113,7 @@ def heights_from_label(label):
 
 
 def height_from_label(label):
-    """The first release height (m) named in a column header or file name, or ``None``
-    (``heights_from_label``; ``InputError`` for a label that is not text)."""
+    """The first release height (m) in a label, or ``None`` (``heights_from_label``)."""
     heights = heights_from_label(label)
     return heights[0] if heights else None
 
@@ -438,7 +436,7 @@ def require_sizes(sequences):
                          'allowed at most %d in one fit' % MAX_CLICKS)
 
 
-def read_impact_times(path, columns=None, group_by=None, where=None, notes=None):
+def read_impact_times(path, columns=None, group_by=None, where=None, notes=None, named=True):
     """Sequences of impact times from a CSV file or phyphox export (``.csv``, ``.zip`` of CSV,
     ``.xlsx`` or ``.xls``: every sheet that holds runs, ``workbooks.sheets_to_read``).
 
@@ -452,6 +450,8 @@ def read_impact_times(path, columns=None, group_by=None, where=None, notes=None)
         The columns to read, the trial columns and the row filter (``parse_impact_times``).
     notes : list, optional
         Receives a line for every sheet, column or row found and not read, and why.
+    named : bool, optional
+        False: the file name's heights are neither read nor checked (the caller gives them).
 
     Returns
     -------
@@ -469,7 +469,7 @@ def read_impact_times(path, columns=None, group_by=None, where=None, notes=None)
     if name.lower().endswith(('.xlsx', '.xls')):
         from contact_sim.calibration.workbooks import sheets_to_read, workbook_sheets
         read, left = sheets_to_read(workbook_sheets(path))
-        sequences, empty, used = [], [], []
+        sequences, empty, used, first = [], [], [], len(notes)
         for sheet, rows in read:
             source = f'{name} [{sheet}]' if len(read) > 1 else name
             try:
@@ -485,12 +485,12 @@ def read_impact_times(path, columns=None, group_by=None, where=None, notes=None)
             raise ValueError('; '.join(empty) or f'{name} has no sheet of impact times')
         left += empty
         words = ', '.join(repr(s) for s in used)
-        notes.insert(0, f'{name}: {len(sequences)} run(s) read from sheet(s) {words}'
+        notes.insert(first, f'{name}: {len(sequences)} run(s) read from sheet(s) {words}'
                      + (f'; not read: {"; ".join(left)}' if left else ''))
     else:
         sequences = parse_impact_times(_read_text(path), source=name, columns=columns,
                                        group_by=group_by, where=where, notes=notes)
-    heights = heights_from_label(name.replace('\\', '/').rsplit('/', 1)[-1])
+    heights = heights_from_label(name.replace('\\', '/').rsplit('/', 1)[-1] if named else '')
     if len(heights) == 1:
         heights = heights * len(sequences)
     if heights and len(heights) != len(sequences):

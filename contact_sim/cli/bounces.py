@@ -155,7 +155,7 @@ def _sequences(args):
         else:
             sequences.extend(read_impact_times(path, columns=args.column,
                                                group_by=args.group_by, where=where,
-                                               notes=notes))
+                                               notes=notes, named=not args.height))
     for note in notes:
         print(f'# read: {note}')
     if args.height:

@@ -163,3 +163,42 @@ def test_a_start_value_that_is_not_finite_is_an_input_error(monkeypatch):
     with pytest.raises(cs.InputError, match='no start value for the fit of hunt_crossley: with '
                                             'stiffness = 100000000.0'):
         fit_bounces([scattered_constant_e(0)], 0.05, 1e8, laws=['hunt_crossley'])
+
+
+def slowly_rising_restitution_times(count=40, noise=1e-4):
+    """Vacuum clicks of a 1 m drop whose e rises from 0.975 at 0.5 m/s to 0.986 at 4.5 m/s (the
+    issue's steel ball), timed to 0.1 ms."""
+    v, t = math.sqrt(2.0 * G), [math.sqrt(2.0 / G)]
+    for _ in range(count - 1):
+        v *= 0.975 + 0.011 * min(max((v - 0.5) / 4.0, 0.0), 1.0)
+        t.append(t[-1] + 2.0 * v / G)
+    return np.array(t) + np.random.default_rng(3).normal(0.0, noise, count)
+
+
+def test_a_slow_rise_held_out_is_named_from_every_flight():
+    # found (review of issue 32): on the last 30 % of one such drop the rise is no trend in
+    # itself (t < 3 on 12 flights), so the INADEQUATE verdict gave no reason; the trend is a
+    # property of the whole recording, read from every flight
+    fit = fit_bounces([slowly_rising_restitution_times()], 0.064, {'linear': 1.3e8},
+                      holdout=0.3)
+    verdict = fit.adequacy
+    assert verdict.judged_on == 'hold-out' and not verdict.adequate
+    assert 'rises with speed' in verdict.reason
+
+
+def test_a_constant_e_held_out_is_not_called_inadequate_for_its_short_flights():
+    # found (review of issue 32): the held-out flights are the last and shortest, where 0.1 ms
+    # click noise scatters e the most; judged against one scatter for all flights, 2 of these
+    # 12 drops of a constant e (the linear law exact) were INADEQUATE (p < 0.001), none without
+    # the hold-out, and one run of a recording flipped against the other
+    verdicts = []
+    for seed in range(100, 112):
+        rng = np.random.default_rng(seed)
+        v, t = math.sqrt(2.0 * G), [0.2 + math.sqrt(2.0 / G)]
+        for _ in range(39):
+            v *= 0.98
+            t.append(t[-1] + 2.0 * v / G)
+        fit = fit_bounces([np.array(t) + rng.normal(0.0, 1e-4, 40)], 0.064, {'linear': 1.3e8},
+                          holdout=0.3)
+        verdicts.append(fit.adequacy.adequate and fit.adequacy.judged_on == 'hold-out')
+    assert all(verdicts)

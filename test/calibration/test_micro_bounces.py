@@ -75,3 +75,17 @@ def test_a_wav_cut_to_too_few_clicks_still_says_what_was_heard_and_kept(tmp_path
     assert code == 2 and 'click(s)' in captured.err
     line = next(ln for ln in captured.out.splitlines() if ln.startswith('# audio'))
     assert f'{t.size} kept as impacts' in line and 'onset(s) found' in line
+
+
+def test_clicks_cut_to_too_few_the_refusal_says_how_many_were_read_and_why(tmp_path, capsys):
+    # found (review of issue 32): the tennis workbooks (5 clicks each) exit 2 with 'data holds 2
+    # click(s)' and no word that the micro-bounce cut left out the other 3
+    from contact_sim import cli
+    t = 0.3 + flights_of(e=0.8, v=3.0, count=12)
+    path = tmp_path / 'drop.csv'
+    path.write_text('time (s)\n' + '\n'.join(f'{x:.6f}' for x in t) + '\n')
+    code = cli.main(['bounces', str(path), '--mass', '0.058', '--stiffness', '1e3',
+                     '--law', 'hunt_crossley'])
+    err = capsys.readouterr().err
+    assert code == 2 and 'data holds 2 click(s)' in err
+    assert f'{t.size} click(s) read, {t.size - 2} left out' in err and 'micro-bounces' in err

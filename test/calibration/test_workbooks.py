@@ -138,3 +138,18 @@ def test_reader_refusals_are_input_errors_naming_the_field(tmp_path):
         parse_impact_times('a\n0\n1\n1.8\n', columns=5)
     with pytest.raises(InputError, match='group_by'):
         parse_impact_times('a,b\n0,1\n', group_by=' , ')
+
+
+def test_notes_of_several_workbooks_come_in_the_order_they_are_read(golf_book, tmp_path):
+    # found: `bounces a.xlsx b.xlsx c.xlsx` printed the '# read:' lines c, b, a (each
+    # workbook's summary was inserted at the front of the shared list)
+    import shutil
+    second = tmp_path / 'second.xlsx'
+    shutil.copy(golf_book, second)
+    notes = []
+    for path in (golf_book, second):
+        read_impact_times(path, columns=['run 1'], notes=notes)
+    summaries = [n for n in notes if 'run(s) read from sheet(s)' in n]
+    assert [s.split(':')[0] for s in summaries] == [str(golf_book), str(second)]
+    assert notes.index(summaries[0]) == 0
+    assert all(notes.index(n) > notes.index(summaries[0]) for n in notes if str(second) in n)

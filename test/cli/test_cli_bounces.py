@@ -364,3 +364,41 @@ def test_bounce_figure_legend_carries_the_status_and_the_hold_out(golf_csv, tmp_
     assert 'held out, predicted by the training fit: rms' in texts
     assert 'error bars: the recording\'s own scatter of e' in texts
     assert fig._suptitle.get_text().startswith('Bounce calibration of golf.csv and 8 more')
+
+
+def test_bench_recordings_reads_the_report_it_runs(golf_csv, capsys):
+    # found: after the adequacy rewrite the bench's table showed '-' for every verdict and no
+    # scatter (its patterns were the old report's 'model adequacy: ...', '... own scatter X ms')
+    import importlib.util
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[2] / 'bench' / 'bench_recordings.py'
+    spec = importlib.util.spec_from_file_location('bench_recordings', path)
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    cli.main(['bounces', str(golf_csv), '--mass', str(GOLF_MASS), '--stiffness', str(GOLF_K),
+              '--radius', '0.0214', '--drag-coefficient', '0.3', '--holdout', '0.4',
+              '--law', 'azad_featherstone', '--law', 'linear'])
+    out = capsys.readouterr().out
+    got = bench.summary(out)
+    assert got['law'] == 'azad_featherstone' and got['status'] == 'converged'
+    assert got['found'] == got['kept'] == '19'
+    word = ('not judged' if '(none): not judged' in out
+            else out.split('(hold-out): ')[1].split(':')[0])
+    assert got['verdict'].startswith(word)
+    assert float(got['held']) > 0.0
+    if word != 'not judged':
+        misfit, scatter = (float(x) for x in got['e'].split(' / '))
+        assert misfit > 0.0 and scatter > 0.0
+
+
+def test_cli_bounces_height_given_overrides_the_file_names_heights(golf_csv, tmp_path, capsys):
+    # found (review of issue 32): one run of a file named with two heights could not be read
+    # even with --height: 'names 2 heights for 1 runs'
+    named = tmp_path / 'golf_80cm_100cm.csv'
+    named.write_text(golf_csv.read_text())
+    base = ['bounces', str(named), '--mass', str(GOLF_MASS), '--stiffness', str(GOLF_K),
+            '--radius', '0.0214', '--drag-coefficient', '0.3', '--law', 'azad_featherstone',
+            '--column', '1']
+    assert cli.main(base) == 2 and 'names 2 heights for 1 runs' in capsys.readouterr().err
+    assert cli.main(base + ['--height', '0.8']) == 0
+    assert 'released from 0.8 m' in capsys.readouterr().out
