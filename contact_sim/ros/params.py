@@ -236,6 +236,7 @@ class Model:
     plate_radius: float   # m, inf = flat
     drag: cs.AirDrag = None   # None = vacuum
     table: object = None      # the vibrating table (plate.SinusoidalPlate), None = fixed plate
+    hertz: bool = True        # k from the materials (False: stiffness given, moduli unused)
 
     def summary(self):
         plate = 'flat plate' if math.isinf(self.plate_radius) \
@@ -245,9 +246,10 @@ class Model:
             t = self.table
             drag += (f'; table a = {t.amplitude:g} m, f = {t.frequency:g} Hz, '
                      f'phi = {t.phase:g} rad (Gamma = {t.peak_acceleration_ratio(self.gravity or 9.81):.3g})')
-        return (f'{self.contact.law.name}: {_named(self.sphere, self.mass, self.radius)} sphere '
+        sphere = _named(self.sphere, self.hertz, self.mass, self.radius)
+        return (f'{self.contact.law.name}: {sphere} sphere '
                 f'R1 = {self.radius * 1e3:g} mm, '
-                f'm = {self.mass * 1e3:.4g} g on {_named(self.plate)} {plate}; '
+                f'm = {self.mass * 1e3:.4g} g on {_named(self.plate, self.hertz)} {plate}; '
                 f'k = {self.contact.stiffness:.4g} N/m^{self.contact.law.n:g}, '
                 f'lambda = {self.contact.damping:.4g}; drop from {self.height:g} m at '
                 f'{self.velocity:g} m/s, g = {self.gravity:g} m/s^2{drag}')
@@ -287,14 +289,17 @@ def loop_settings(values):
         raise ValueError(refusal(error, values)) from None
 
 
-def _named(material, mass=None, radius=None):
-    """A material as the log names it: a library name, or a custom one with its constants."""
+def _named(material, hertz, mass=None, radius=None):
+    """A material as the log names it: a library name, or a custom one with the constants the
+    model used (its moduli only where the stiffness is Hertz's, ``hertz``)."""
     if material.name in cs.MATERIALS:
         return material.name
     density = f'density {material.density:.4g}' if mass is None else \
         f'mean density {mass / (4.0 / 3.0 * math.pi * radius ** 3):.4g}'
-    return (f'custom (E = {material.youngs_modulus:.3g} Pa, nu = {material.poisson_ratio:g}, '
-            f'{density} kg/m^3)')
+    moduli = (f'E = {material.youngs_modulus:.3g} Pa, nu = {material.poisson_ratio:g}, '
+              if hertz else '')
+    return f'custom ({moduli}{density} kg/m^3)'
+
 
 
 # The core's field keys (cs.InputError.field) as this node's parameters spell them; keys that are
@@ -380,7 +385,8 @@ def _build_model(values):
         velocity=values['initial_velocity'], frame_id=frame_id, publish_clock=bool(values['publish_clock']),
         sphere=sphere, plate=plate, plate_radius=plate_radius, drag=_drag(values, radius),
         table=vibrating_table(values['plate_amplitude'], values['plate_frequency'],
-                              values['plate_phase']))
+                              values['plate_phase']),
+        hertz=not values['stiffness'])
     # the engine's checks (ranges of the drop, the depth check) build the drop: it is kept, to
     # run from the next ~/reset (or at once, at the start)
     return model, make_simulation(model)

@@ -322,6 +322,8 @@ def test_cli_bounces_parameter_file_names_the_ball_calibrated(golf_csv, tmp_path
     assert 'steel' not in summary and 'cast_iron' not in summary, summary
     assert f'mean density {density:.4g} kg/m^3' in summary and 'm = 46 g' in summary
     assert 'R1 = 21.4 mm' in summary
+    # k was given: the moduli the file carries (the node's custom defaults) were not used
+    assert 'E = ' not in summary and 'nu = ' not in summary, summary
     # library materials are named as they were given
     assert cli.main(['bounces', str(golf_csv), '--mass', str(GOLF_MASS), '--stiffness',
                      str(GOLF_K), '--radius', '0.0214', '--sphere', 'steel', '--plate',
