@@ -155,10 +155,10 @@ class ContactSimNode(Node):
         # every callback a client reaches is guarded: what it raises is refused, never the node
         self.create_service(GetParameters, '~/query_restitution', guarded(
             self._on_query, self._refusals['query'], '~/query_restitution',
-            lambda request, response: GetParameters.Response()))
+            lambda *_: GetParameters.Response()))
         self.create_service(Trigger, '~/reset', guarded(
             self._on_reset, self._refusals['reset'], '~/reset',
-            lambda request, response: Trigger.Response(success=False, message='reset failed')))
+            lambda *_: Trigger.Response(success=False, message='reset failed')))
         self._commanded = False   # the plate follows ~/plate_command (until ~/reset or a table)
         self.create_subscription(JointTrajectory, '~/plate_command', guarded(
             self._on_plate_command, self._refusals['command'], '~/plate_command'), 10)

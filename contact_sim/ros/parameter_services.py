@@ -23,7 +23,7 @@ from rclpy.exceptions import ParameterNotDeclaredException, ParameterUninitializ
 from rclpy.parameter import Parameter
 from rclpy.qos import qos_profile_parameters
 
-from .refusals import shorten
+from .refusals import ClientError, guarded, shorten
 
 MAX_ITEMS = 1000    # names or parameters a request (the node has about 30 parameters)
 MAX_TEXT = 1000     # characters of a parameter name, a prefix or a string value
@@ -35,7 +35,7 @@ _ARRAYS = {Parameter.Type.BYTE_ARRAY: 'byte_array_value', Parameter.Type.BOOL_AR
            Parameter.Type.STRING_ARRAY: 'string_array_value'}
 
 
-class RequestError(ValueError):
+class RequestError(ClientError):
     """A request the node cannot read: the message names the field and the limit."""
 
 
@@ -130,22 +130,15 @@ class ParameterServices:
     def _guard(self, name, serve):
         """``serve`` answering every request: what it raises is refused and logged, and the
         answer is the empty response (no values; for a set, one unsuccessful result)."""
-        def guarded(request, response):
-            try:
-                return serve(request, response)
-            except Exception as error:  # noqa: BLE001 - no request may stop the node
-                reason = shorten(f'{type(error).__name__}: {error}' if not isinstance(
-                    error, RequestError) else str(error))
-                self._refusals.refused(f'~/{name} refused: {reason}')
-                response = type(response)()
-                if hasattr(response, 'results'):
-                    response.results = [SetParametersResult(successful=False, reason=reason)
-                                        for _ in range(min(len(request.parameters), MAX_ITEMS))]
-                elif hasattr(response, 'result') and isinstance(response.result,
-                                                                SetParametersResult):
-                    response.result = SetParametersResult(successful=False, reason=reason)
-                return response
-        return guarded
+        def refused(request, response, reason):
+            response = type(response)()
+            if hasattr(response, 'results'):
+                response.results = [SetParametersResult(successful=False, reason=reason)
+                                    for _ in range(min(len(request.parameters), MAX_ITEMS))]
+            elif hasattr(response, 'result') and isinstance(response.result, SetParametersResult):
+                response.result = SetParametersResult(successful=False, reason=reason)
+            return response
+        return guarded(serve, self._refusals, f'~/{name}', refused)
 
     def _names(self, request):
         names = list(request.names)

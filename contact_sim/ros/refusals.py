@@ -21,6 +21,26 @@ def shorten(text, limit=SHORT):
     return text if len(text) <= limit else f'{text[:limit]}... ({len(text)} characters)'
 
 
+class ClientError(ValueError):
+    """A client's input the node cannot take, its message naming the field and the limit: a
+    refusal quotes it as it is (any other error is quoted with its type)."""
+
+
+def reason(error):
+    """The refusal's text for ``error``, shortened (``shorten``).
+
+    Examples
+    --------
+    >>> from contact_sim.ros.refusals import ClientError, reason
+    >>> reason(ClientError('names has 2000 entries: allowed at most 1000 a request'))
+    'names has 2000 entries: allowed at most 1000 a request'
+    >>> reason(ZeroDivisionError('division by zero'))
+    'ZeroDivisionError: division by zero'
+    """
+    return shorten(str(error) if isinstance(error, ClientError)
+                   else f'{type(error).__name__}: {error}')
+
+
 def guarded(callback, refusals, what, fallback=None):
     """``callback`` made safe for input from other processes: an exception it raises is refused
     (``refusals.refused``, naming ``what`` and the error) instead of ending the node's spin.
@@ -34,8 +54,8 @@ def guarded(callback, refusals, what, fallback=None):
     what : str
         What is refused (``'~/plate_command'``).
     fallback : callable, optional
-        Called with the callback's arguments after a refusal; its result is returned (a
-        service's response). Default: None is returned.
+        Called with the callback's arguments and the refusal's text (``reason``) after a
+        refusal; its result is returned (a service's response). Default: None is returned.
 
     Returns
     -------
@@ -54,8 +74,9 @@ def guarded(callback, refusals, what, fallback=None):
         try:
             return callback(*args)
         except Exception as error:  # noqa: BLE001 - nothing a client sends may stop the node
-            refusals.refused(f'{what} refused: {shorten(f"{type(error).__name__}: {error}")}')
-            return None if fallback is None else fallback(*args)
+            text = reason(error)
+            refusals.refused(f'{what} refused: {text}')
+            return None if fallback is None else fallback(*args, text)
     return safe
 
 
