@@ -85,7 +85,6 @@ class TickLoop:
     def __init__(self, node, out, clock):
         self._node, self._out, self._steady = node, out, clock
         self.view = View(node, clock, self)   # ~/markers and /diagnostics, of this loop
-        self._view = self.view
         self._pace = RecorderPace(node, lambda: self._out.sent, self._resume_if_free)
         self._paused = False
         self._stopping = False
@@ -275,8 +274,8 @@ class TickLoop:
                 self._tick += 1
                 return True
             self._out.publish_batch(batch, self.offset, self.model.radius)
-            self._view.publish_batch(batch, self.offset, self.model, self.settings)
-            self._view.ticks += batch.ticks
+            self.view.publish_batch(batch, self.offset, self.model, self.settings)
+            self.view.ticks += batch.ticks
             self._pace.mark(self._out.tick_ns)
             done += batch.ticks
             self._tick += batch.ticks

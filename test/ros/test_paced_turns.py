@@ -55,8 +55,8 @@ class Loop(loop.TickLoop):
         self.settings = SimpleNamespace(fast=True, publish_rate=1 / DT, real_time_factor=0.0)
         self.model = SimpleNamespace(radius=0.01)
         self.sim, self._out, self.offset = Sim(), Outbox(), 0.0
-        self._view = SimpleNamespace(publish_batch=lambda batch, offset, model, settings: None,
-                                     ticks=0)
+        self.view = SimpleNamespace(publish_batch=lambda batch, offset, model, settings: None,
+                                    ticks=0)
         self._pace = Pace(self._out, recorder)
         self._anchor_wall, self._anchor_sim, self._tick, self._dt = 0.0, 0.0, 0, DT
         self._stopping, self._paused = False, False
