@@ -37,44 +37,103 @@ REACH = 0.05
 
 
 class _Base:
-    """A body's base: its id, mass and inverse inertia in its local inertial frame."""
+    """A body's base: its id, mass and inverse inertia in its local inertial frame, read once;
+    ``read`` takes its pose and velocity of the step (plain floats: numpy costs more than the
+    arithmetic on 3-vectors)."""
+
+    __slots__ = ('body', 'mass', 'inverse_mass', 'inverse_inertia', 'local_orientation',
+                 'isotropic', 'turned', 'position', 'orientation', 'linear', 'angular',
+                 '_rotation')
 
     def __init__(self, client, body):
         info = pybullet.getDynamicsInfo(body, -1, physicsClientId=client)
         self.body, self.mass = body, float(info[0])
-        inertia = np.asarray(info[2], dtype=float)
         self.inverse_mass = 1.0 / self.mass if self.mass > 0.0 else 0.0
-        self.inverse_inertia = np.where(inertia > 0.0, 1.0 / np.where(inertia > 0.0, inertia, 1.0),
-                                        0.0) if self.mass > 0.0 else np.zeros(3)
-        self.local_orientation = info[4]
+        self.inverse_inertia = tuple(1.0 / float(i) if i > 0.0 and self.mass > 0.0 else 0.0
+                                     for i in info[2])
+        self.local_orientation = tuple(float(q) for q in info[4])
+        # a sphere's inverse inertia is the same in every frame: no rotation to take
+        self.isotropic = self.inverse_inertia[0] == self.inverse_inertia[1] \
+            == self.inverse_inertia[2]
+        self.turned = self.local_orientation != (0.0, 0.0, 0.0, 1.0)
+        self.position, self.orientation = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)
+        self.linear = self.angular = (0.0, 0.0, 0.0)
+        self._rotation = None
 
-    def response(self, client, point):
-        """(W 3x3 at ``point`` in 1/kg, the point's velocity m/s) of this base."""
-        if self.mass == 0.0:
-            return np.zeros((3, 3)), np.zeros(3)
-        pos, orn = pybullet.getBasePositionAndOrientation(self.body, physicsClientId=client)
-        lin, ang = pybullet.getBaseVelocity(self.body, physicsClientId=client)
-        # the centre of mass and the inertia's axes in the world
-        com_orn = pybullet.multiplyTransforms(pos, orn, (0.0, 0.0, 0.0),
-                                              self.local_orientation)[1]
-        rot = np.array(pybullet.getMatrixFromQuaternion(com_orn)).reshape(3, 3)
-        com = np.asarray(pos)       # the base frame is the inertial frame (PyBullet's bases)
-        r = np.asarray(point) - com
-        inverse_inertia = rot @ np.diag(self.inverse_inertia) @ rot.T
-        self._world = (com, inverse_inertia)
-        skew = _skew(r)
-        w = self.inverse_mass * np.eye(3) - skew @ inverse_inertia @ skew
-        wx, wy, wz = ang            # ω × r by hand: numpy's cross costs tens of µs a call
-        velocity = np.array([lin[0] + wy * r[2] - wz * r[1], lin[1] + wz * r[0] - wx * r[2],
-                             lin[2] + wx * r[1] - wy * r[0]])
-        return w, velocity
+    def read(self, client):
+        """Take this step's pose and velocity (one call each; a static base has none)."""
+        self.position, self.orientation = pybullet.getBasePositionAndOrientation(
+            self.body, physicsClientId=client)
+        self.linear, self.angular = pybullet.getBaseVelocity(self.body, physicsClientId=client)
+        self._rotation = None
+
+    def rotation(self):
+        """The inertia's axes in the world (rows of a 3x3 tuple) at the pose of the last
+        ``read``, or ``None`` for an isotropic inertia."""
+        if self.isotropic:
+            return None
+        if self._rotation is None:
+            orientation = self.orientation
+            if self.turned:
+                orientation = quaternion_product(orientation, self.local_orientation)
+            self._rotation = rotation_matrix(orientation)
+        return self._rotation
+
+    def inverse_inertia_along(self, u):
+        """u · I⁻¹ u (1/(kg m²) · u²), I⁻¹ in the world at the pose of the last ``read``."""
+        d0, d1, d2 = self.inverse_inertia
+        rot = self.rotation()
+        if rot is None:
+            return d0 * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+        (a, b, c), (e, f, g), (h, i, j) = rot      # Rᵀ u, the components on the axes
+        x, y, z = a * u[0] + e * u[1] + h * u[2], b * u[0] + f * u[1] + i * u[2], \
+            c * u[0] + g * u[1] + j * u[2]
+        return d0 * x * x + d1 * y * y + d2 * z * z
+
+    def inverse_inertia_times(self, u):
+        """I⁻¹ u in the world (a 3-tuple) at the pose of the last ``read``."""
+        d0, d1, d2 = self.inverse_inertia
+        rot = self.rotation()
+        if rot is None:
+            return d0 * u[0], d0 * u[1], d0 * u[2]
+        (a, b, c), (e, f, g), (h, i, j) = rot
+        x = d0 * (a * u[0] + e * u[1] + h * u[2])
+        y = d1 * (b * u[0] + f * u[1] + i * u[2])
+        z = d2 * (c * u[0] + g * u[1] + j * u[2])
+        return a * x + b * y + c * z, e * x + f * y + g * z, h * x + i * y + j * z
 
     def cross(self, first, second):
         """The velocity at ``first`` per unit impulse at ``second`` (3x3, 1/kg), at the pose of
-        the last ``response``."""
-        com, inverse_inertia = self._world
+        the last ``read``: W = 1/m E - [r₁]× I⁻¹ [r₂]× (numpy: off the resting path)."""
+        if self.mass == 0.0:
+            return np.zeros((3, 3))
+        rot = self.rotation()
+        rot = np.eye(3) if rot is None else np.array(rot)
+        inverse_inertia = rot @ np.diag(self.inverse_inertia) @ rot.T
+        com = np.asarray(self.position)  # the base frame is the inertial frame (PyBullet's bases)
         return (self.inverse_mass * np.eye(3)
                 - _skew(np.asarray(first) - com) @ inverse_inertia @ _skew(np.asarray(second) - com))
+
+
+def quaternion_product(q, p):
+    """q p of two (x, y, z, w) quaternions (Bullet's order), as ``multiplyTransforms``."""
+    x1, y1, z1, w1 = q
+    x2, y2, z2, w2 = p
+    return (w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2, w1 * y2 + y1 * w2 + z1 * x2 - x1 * z2,
+            w1 * z2 + z1 * w2 + x1 * y2 - y1 * x2, w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2)
+
+
+def rotation_matrix(q):
+    """The rotation (rows of a 3x3 tuple) of an (x, y, z, w) quaternion, as
+    ``getMatrixFromQuaternion`` (Bullet's ``setRotation``: scaled by 2 / |q|²)."""
+    x, y, z, w = q
+    s = 2.0 / (x * x + y * y + z * z + w * w)
+    xs, ys, zs = x * s, y * s, z * s
+    wx, wy, wz = w * xs, w * ys, w * zs
+    xx, xy, xz = x * xs, x * ys, x * zs
+    yy, yz, zz = y * ys, y * zs, z * zs
+    return ((1.0 - (yy + zz), xy - wz, xz + wy), (xy + wz, 1.0 - (xx + zz), yz - wx),
+            (xz - wy, yz + wx, 1.0 - (xx + yy)))
 
 
 def _skew(r):
@@ -190,23 +249,28 @@ class CoupledContacts:
         """One ``stepSimulation`` with the coupled contacts applied over it."""
         client = self.client
         params = pybullet.getPhysicsEngineParameters(physicsClientId=client)
-        dt = params['fixedTimeStep']
         if params['numSubSteps'] > 1:
             raise InputError('numSubSteps', params['numSubSteps'], '{n[numSubSteps]} = {value}: '
                              'allowed 0 or 1 (the coupling gives one impulse a step)')
-        gravity = np.array([params['gravityAccelerationX'], params['gravityAccelerationY'],
-                            params['gravityAccelerationZ']])
-        pushing = [push for push in (self._couple(pair, dt, gravity) for pair in self.pairs)
-                   if push is not None]
-        if len(pushing) > 1:
-            _refuse_coupled(pushing)
-        for base, force, point in (f for push in pushing for f in push[3]):
-            pybullet.applyExternalForce(base.body, -1, force.tolist(), point.tolist(),
-                                        pybullet.WORLD_FRAME, physicsClientId=client)
+        dt = params['fixedTimeStep']
+        pushing = None
+        for pair in self.pairs:
+            push = self._couple(pair, dt, params)
+            if push is not None:
+                pushing = [push] if pushing is None else pushing + [push]
+        if pushing is not None:
+            if len(pushing) > 1:
+                _refuse_coupled(pushing)
+            for push in pushing:
+                for base, force, point in push[3]:
+                    pybullet.applyExternalForce(base.body, -1, force, point, pybullet.WORLD_FRAME,
+                                                physicsClientId=client)
         pybullet.stepSimulation(physicsClientId=client)
         self._time += dt
 
-    def _couple(self, pair, dt, gravity):
+    def _couple(self, pair, dt, params):
+        """The pair's push of the step, (index, normal, w_n, [(base, force, point)]), or
+        ``None``: out of reach, or no impulse."""
         client = self.client
         sphere, other, (radius, offset), coupling, index = pair
         points = pybullet.getClosestPoints(sphere.body, other.body, self.reach, -1, -1,
@@ -214,35 +278,94 @@ class CoupledContacts:
         if not points:     # out of reach (a state carried is dropped at the next call:
             self._far.add(index)    # the clock moved on)
             return None
-        nearest = min(points, key=lambda p: p[8])
-        flipped = nearest[1] != sphere.body     # Bullet's A is the sphere unless it swapped
-        normal = np.asarray(nearest[7], dtype=float) * (-1.0 if flipped else 1.0)
+        nearest = points[0] if len(points) == 1 else min(points, key=lambda p: p[8])
+        nx, ny, nz = nearest[7]
+        if nearest[1] != sphere.body:           # Bullet's A is the sphere unless it swapped
+            nx, ny, nz = -nx, -ny, -nz
         gap = float(nearest[8])
-        if index in self._far and gap < 0.0:
-            refuse_tunnel(index, gap, self.reach)
-        self._far.discard(index)
-        pos, orn = pybullet.getBasePositionAndOrientation(sphere.body, physicsClientId=client)
-        centre = np.asarray(pos) + (np.array(pybullet.getMatrixFromQuaternion(orn)).reshape(
-            3, 3) @ offset if offset is not None else 0.0)   # the sphere's own centre
-        point = centre - radius * normal
-        w_s, v_s = sphere.response(client, point)
-        w_o, v_o = other.response(client, point)
-        inverse = w_s + w_o
-        velocity = v_s - v_o
-        acceleration = gravity * ((sphere.mass > 0.0) - (other.mass > 0.0))
-        w_n = float(normal @ inverse @ normal)
-        step = coupling.step(self._time, gap, float(normal @ velocity), 1.0 / w_n,
-                             float(normal @ acceleration), dt)
-        if step.impulse == 0.0:
+        if index in self._far:
+            if gap < 0.0:
+                refuse_tunnel(index, gap, self.reach)
+            self._far.discard(index)
+        # the contact point: the sphere's own centre (its collision frame's) less r n
+        cx, cy, cz = pybullet.getBasePositionAndOrientation(sphere.body,
+                                                            physicsClientId=client)[0] \
+            if sphere.mass == 0.0 else _read(sphere, client)
+        if offset is not None:
+            (a, b, c), (e, f, g), (h, i, j) = rotation_matrix(
+                pybullet.getBasePositionAndOrientation(sphere.body, physicsClientId=client)[1]
+                if sphere.mass == 0.0 else sphere.orientation)
+            cx, cy, cz = (cx + a * offset[0] + b * offset[1] + c * offset[2],
+                          cy + e * offset[0] + f * offset[1] + g * offset[2],
+                          cz + h * offset[0] + i * offset[1] + j * offset[2])
+        point = (cx - radius * nx, cy - radius * ny, cz - radius * nz)
+        normal = (nx, ny, nz)
+        # n·W·n = Σ 1/m + (r × n)·I⁻¹(r × n), and the contact point's relative velocity
+        w_n, vx, vy, vz = 0.0, 0.0, 0.0, 0.0
+        for base, sign in ((sphere, 1.0), (other, -1.0)):
+            if base.mass == 0.0:
+                continue
+            if base is other:
+                _read(base, client)
+            px, py, pz = base.position
+            rx, ry, rz = point[0] - px, point[1] - py, point[2] - pz
+            w_n += base.inverse_mass + base.inverse_inertia_along(
+                (ry * nz - rz * ny, rz * nx - rx * nz, rx * ny - ry * nx))
+            (lx, ly, lz), (wx, wy, wz) = base.linear, base.angular
+            vx += sign * (lx + wy * rz - wz * ry)
+            vy += sign * (ly + wz * rx - wx * rz)
+            vz += sign * (lz + wx * ry - wy * rx)
+        moving = (sphere.mass > 0.0) - (other.mass > 0.0)
+        ax, ay, az = (moving * params['gravityAccelerationX'],
+                      moving * params['gravityAccelerationY'],
+                      moving * params['gravityAccelerationZ'])
+        step = coupling.step(self._time, gap, nx * vx + ny * vy + nz * vz, 1.0 / w_n,
+                             nx * ax + ny * ay + nz * az, dt)
+        p = step.impulse
+        if p == 0.0:
             return None
-        impulse = step.impulse * normal
+        jx, jy, jz = p * nx, p * ny, p * nz
         if self.friction > 0.0:     # Coulomb's, from the velocity without friction
-            impulse = impulse + tangential_impulse(
-                step.impulse, velocity + dt * acceleration + inverse @ impulse, normal, inverse,
-                self.friction)
-        force = impulse / dt
-        return (index, normal, w_n, [(base, sign * force, point) for base, sign
-                                     in ((sphere, 1.0), (other, -1.0)) if base.mass > 0.0])
+            jx, jy, jz = self._friction(sphere, other, point, normal, p, (
+                vx + dt * ax, vy + dt * ay, vz + dt * az), (jx, jy, jz))
+        fx, fy, fz = jx / dt, jy / dt, jz / dt
+        return (index, normal, w_n, [(base, force, point) for base, force
+                                     in ((sphere, (fx, fy, fz)), (other, (-fx, -fy, -fz)))
+                                     if base.mass > 0.0])
+
+    def _friction(self, sphere, other, point, normal, p, free, impulse):
+        """The step's impulse with Coulomb's tangential part (``tangential_impulse``), from the
+        point's velocity ``free`` the step ends with under the rest of the system alone: the
+        sliding velocity with the normal impulse's (W n p) is tested in floats first, and a
+        point that does not slide (a ball at rest) keeps the normal impulse."""
+        sx, sy, sz = free
+        for base in (sphere, other):
+            if base.mass == 0.0:    # W n = n / m + (I⁻¹ (r × n)) × r on each moving base
+                continue
+            px, py, pz = base.position
+            rx, ry, rz = point[0] - px, point[1] - py, point[2] - pz
+            nx, ny, nz = normal
+            ix, iy, iz = base.inverse_inertia_times(
+                (ry * nz - rz * ny, rz * nx - rx * nz, rx * ny - ry * nx))
+            m = base.inverse_mass
+            sx += p * (m * nx + iy * rz - iz * ry)
+            sy += p * (m * ny + iz * rx - ix * rz)
+            sz += p * (m * nz + ix * ry - iy * rx)
+        along = sx * normal[0] + sy * normal[1] + sz * normal[2]
+        tx, ty, tz = sx - along * normal[0], sy - along * normal[1], sz - along * normal[2]
+        if not tx * tx + ty * ty + tz * tz > 0.0:
+            return impulse
+        inverse = sphere.cross(point, point) + other.cross(point, point)
+        n = np.array(normal)
+        total = np.array(impulse) + tangential_impulse(
+            p, np.array(free) + inverse @ np.array(impulse), n, inverse, self.friction)
+        return tuple(total.tolist())
+
+
+def _read(base, client):
+    """Read a moving base's pose and velocity of the step; returns its position."""
+    base.read(client)
+    return base.position
 
 
 def _sphere_radius(client, body):
@@ -250,8 +373,8 @@ def _sphere_radius(client, body):
     at the origin), or ``None``."""
     shapes = pybullet.getCollisionShapeData(body, -1, physicsClientId=client)
     if len(shapes) == 1 and shapes[0][2] == pybullet.GEOM_SPHERE:
-        offset = np.asarray(shapes[0][5], dtype=float)
-        return float(shapes[0][3][0]), (offset if np.any(offset) else None)
+        offset = tuple(float(x) for x in shapes[0][5])
+        return float(shapes[0][3][0]), (offset if any(offset) else None)
     return None
 
 
@@ -264,7 +387,8 @@ def _refuse_coupled(pushing):
             for base, _, p_first in on_first:
                 for other, _, p_second in on_second:
                     if other is base or other.body == base.body:
-                        cross += float(n_first @ base.cross(p_first, p_second) @ n_second)
+                        cross += float(np.asarray(n_first) @ base.cross(p_first, p_second)
+                                       @ np.asarray(n_second))
             refuse_stack(first, second, cross, w_first, w_second)
 
 
