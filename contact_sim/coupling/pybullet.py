@@ -37,13 +37,13 @@ REACH = 0.05
 
 
 class _Base:
-    """A body's base: its id, mass and inverse inertia in its local inertial frame, read once;
+    """A body's base: its id, mass and inverse inertia in its inertial frame, read once;
     ``read`` takes its pose and velocity of the step (plain floats: numpy costs more than the
-    arithmetic on 3-vectors)."""
+    arithmetic on 3-vectors).  PyBullet's base pose is its inertial frame's (measured: the
+    response to an impulse matches I⁻¹ turned by that orientation alone, to 1e-16)."""
 
-    __slots__ = ('body', 'mass', 'inverse_mass', 'inverse_inertia', 'local_orientation',
-                 'isotropic', 'turned', 'position', 'orientation', 'linear', 'angular',
-                 '_rotation')
+    __slots__ = ('body', 'mass', 'inverse_mass', 'inverse_inertia', 'isotropic', 'position',
+                 'orientation', 'linear', 'angular', '_rotation')
 
     def __init__(self, client, body):
         info = pybullet.getDynamicsInfo(body, -1, physicsClientId=client)
@@ -51,11 +51,9 @@ class _Base:
         self.inverse_mass = 1.0 / self.mass if self.mass > 0.0 else 0.0
         self.inverse_inertia = tuple(1.0 / float(i) if i > 0.0 and self.mass > 0.0 else 0.0
                                      for i in info[2])
-        self.local_orientation = tuple(float(q) for q in info[4])
         # a sphere's inverse inertia is the same in every frame: no rotation to take
         self.isotropic = self.inverse_inertia[0] == self.inverse_inertia[1] \
             == self.inverse_inertia[2]
-        self.turned = self.local_orientation != (0.0, 0.0, 0.0, 1.0)
         self.position, self.orientation = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)
         self.linear = self.angular = (0.0, 0.0, 0.0)
         self._rotation = None
@@ -73,10 +71,7 @@ class _Base:
         if self.isotropic:
             return None
         if self._rotation is None:
-            orientation = self.orientation
-            if self.turned:
-                orientation = quaternion_product(orientation, self.local_orientation)
-            self._rotation = rotation_matrix(orientation)
+            self._rotation = _rotation_matrix(self.orientation)
         return self._rotation
 
     def inverse_inertia_along(self, u):
@@ -115,15 +110,7 @@ class _Base:
                 - _skew(np.asarray(first) - com) @ inverse_inertia @ _skew(np.asarray(second) - com))
 
 
-def quaternion_product(q, p):
-    """q p of two (x, y, z, w) quaternions (Bullet's order), as ``multiplyTransforms``."""
-    x1, y1, z1, w1 = q
-    x2, y2, z2, w2 = p
-    return (w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2, w1 * y2 + y1 * w2 + z1 * x2 - x1 * z2,
-            w1 * z2 + z1 * w2 + x1 * y2 - y1 * x2, w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2)
-
-
-def rotation_matrix(q):
+def _rotation_matrix(q):
     """The rotation (rows of a 3x3 tuple) of an (x, y, z, w) quaternion, as
     ``getMatrixFromQuaternion`` (Bullet's ``setRotation``: scaled by 2 / |q|²)."""
     x, y, z, w = q
@@ -233,7 +220,8 @@ class CoupledContacts:
                                  'bodies without links, or a static base (mass 0)' % index)
         pybullet.setCollisionFilterPair(int(row[0]), int(row[1]), -1, -1, 0,
                                         physicsClientId=client)
-        return bases[0], bases[1], radii[sphere], NormalCoupling(contact), index
+        return (bases[0], bases[1], radii[sphere], NormalCoupling(contact), index,
+                bases[0].body, bases[1].body)
 
     @property
     def impacts(self):
@@ -253,9 +241,14 @@ class CoupledContacts:
             raise InputError('numSubSteps', params['numSubSteps'], '{n[numSubSteps]} = {value}: '
                              'allowed 0 or 1 (the coupling gives one impulse a step)')
         dt = params['fixedTimeStep']
-        pushing = None
+        pushing, reach, far = None, self.reach, self._far
         for pair in self.pairs:
-            push = self._couple(pair, dt, params)
+            points = pybullet.getClosestPoints(pair[5], pair[6], reach, -1, -1,
+                                               physicsClientId=client)
+            if not points:      # out of reach (a state carried is dropped at the next call:
+                far.add(pair[4])    # the clock moved on)
+                continue
+            push = self._couple(pair, points, dt, params)
             if push is not None:
                 pushing = [push] if pushing is None else pushing + [push]
         if pushing is not None:
@@ -268,16 +261,11 @@ class CoupledContacts:
         pybullet.stepSimulation(physicsClientId=client)
         self._time += dt
 
-    def _couple(self, pair, dt, params):
-        """The pair's push of the step, (index, normal, w_n, [(base, force, point)]), or
-        ``None``: out of reach, or no impulse."""
+    def _couple(self, pair, points, dt, params):
+        """The push of the step of a pair in reach (``points``: its ``getClosestPoints``),
+        (index, normal, w_n, [(base, force, point)]), or ``None`` (no impulse)."""
         client = self.client
-        sphere, other, (radius, offset), coupling, index = pair
-        points = pybullet.getClosestPoints(sphere.body, other.body, self.reach, -1, -1,
-                                           physicsClientId=client)
-        if not points:     # out of reach (a state carried is dropped at the next call:
-            self._far.add(index)    # the clock moved on)
-            return None
+        sphere, other, (radius, offset), coupling, index = pair[:5]
         nearest = points[0] if len(points) == 1 else min(points, key=lambda p: p[8])
         nx, ny, nz = nearest[7]
         if nearest[1] != sphere.body:           # Bullet's A is the sphere unless it swapped
@@ -292,7 +280,7 @@ class CoupledContacts:
                                                             physicsClientId=client)[0] \
             if sphere.mass == 0.0 else _read(sphere, client)
         if offset is not None:
-            (a, b, c), (e, f, g), (h, i, j) = rotation_matrix(
+            (a, b, c), (e, f, g), (h, i, j) = _rotation_matrix(
                 pybullet.getBasePositionAndOrientation(sphere.body, physicsClientId=client)[1]
                 if sphere.mass == 0.0 else sphere.orientation)
             cx, cy, cz = (cx + a * offset[0] + b * offset[1] + c * offset[2],
