@@ -13,7 +13,8 @@ Per engine and host step:
   same drop (MuJoCo and PyBullet); the engine's own contact with the export's parameters: its worst abs(e - exact) over
   the export's speeds (the export measures it);
 * cost: µs of a bare step, of a coupled step at rest on the floor (contact active) and far from
-  it (no contact in reach): CPU time, best of several runs (the machine is shared).
+  it (no contact in reach): CPU time, best of several runs (the machine is shared); for PyBullet
+  also the floor of a far step: the bare step with the engine calls it cannot do without.
 
     python bench/bench_coupling.py [--quick] [--engine mujoco]
 """
@@ -256,6 +257,42 @@ def cost(engine, dt, repeat=5, steps=2000):
     return out
 
 
+def bullet_floor(dt, repeat=5, steps=20000):
+    """µs a step of the calls a PyBullet step far from contact cannot do without, the ball of
+    ``cost``'s far case: a bare ``stepSimulation``; it with one ``getClosestPoints`` at the
+    coupling's reach; it with that and ``getPhysicsEngineParameters`` (the step's dt and
+    ``numSubSteps``, read every step)."""
+    from contact_sim.coupling.pybullet import REACH
+    ball = BulletBall(dt, 0.5, gravity=0.0)
+    p, c, floor = ball.p, ball.client, ball.coupled.pairs[0][6]
+    step, closest, params = p.stepSimulation, p.getClosestPoints, p.getPhysicsEngineParameters
+    body = ball.ball
+
+    def bare():
+        step(physicsClientId=c)
+
+    def query():
+        step(physicsClientId=c)
+        closest(body, floor, REACH, -1, -1, physicsClientId=c)
+
+    def both():
+        step(physicsClientId=c)
+        params(physicsClientId=c)
+        closest(body, floor, REACH, -1, -1, physicsClientId=c)
+
+    out = []
+    for run in (bare, query, both):
+        best = float('inf')
+        for _ in range(repeat):
+            start = time.process_time()
+            for _ in range(steps):
+                run()
+            best = min(best, (time.process_time() - start) / steps)
+        out.append(best * 1e6)
+    ball.close()
+    return out
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--quick', action='store_true', help='1 s at rest instead of 10')
@@ -278,6 +315,10 @@ def main():
             print(f'| {name} | {dt:.3g} | {ratio:.3f} | {decreasing} | {rest:.1e} | {af:.1e} | '
                   f'{hc:.1e} | {apex:.3g}, {deepest:.2g} | {export_error(name, dt)} | '
                   f'{bare:.1f} / {at_rest:.1f} / {far:.1f} |', flush=True)
+    if 'pybullet' in only(args.engine):
+        bare, query, both = bullet_floor(1e-3)
+        print(f'\npybullet floor of a far step (1 ms, µs): bare {bare:.2f} / + getClosestPoints '
+              f'{query:.2f} / + getPhysicsEngineParameters + getClosestPoints {both:.2f}')
 
 
 if __name__ == '__main__':
