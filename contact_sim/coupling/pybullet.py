@@ -8,10 +8,11 @@ base, the other a plane, box, mesh or sphere (a static body, mass 0, or a free o
 * the gap along the normal and the nearest points from ``getClosestPoints`` (the normal is
   Bullet's ``contactNormalOnB``, from the other body to the sphere);
 * the contact point's relative velocity from ``getBaseVelocity`` and the bases' mass and inertia
-  (``getDynamicsInfo``): the inverse effective mass along the normal, n·W·n with
-  W = Σ (1/m E - [r]× I⁻¹ [r]×) over the two bases, and the rest of the system's normal
-  acceleration, gravity on each base (forces the user applies are not seen: PyBullet clears
-  them each step; the next step takes their effect in as the host's divergence);
+  (``getDynamicsInfo``, read once at construction; the base's pose is its inertial frame's): the
+  inverse effective mass along the normal, n·W·n with W = Σ (1/m E - [r]× I⁻¹ [r]×) over the
+  two bases, and the rest of the system's normal acceleration, gravity on each base (forces the
+  user applies are not seen: PyBullet clears them each step; the next step takes their effect
+  in as the host's divergence);
 * ``contact_sim.coupling.NormalCoupling`` gives the step's normal impulse, ``friction_impulse``
   its tangential one, and ``applyExternalForce`` applies impulse / dt at the contact point
   (Bullet clears it after the step).
@@ -21,7 +22,13 @@ coupling assumes.  Its default linear and angular damping (0.04) change velociti
 coupling: set them to 0 (``changeDynamics``) for the exact figures.  The pair's own collision is
 switched off (``setCollisionFilterPair``).  Articulated links are not coupled here: bases only
 (a moving body with links is refused; a static one may be the other side, its base only).  The
-sphere's centre is its collision frame's, which may sit off the base's centre of mass.  Units: SI.
+sphere's centre is its collision frame's, which may sit off the base's centre of mass.
+
+Cost: a pair out of reach costs one ``getClosestPoints`` a step, beside the step's one
+``getPhysicsEngineParameters``; a pair in reach one ``getBasePositionAndOrientation`` and one
+``getBaseVelocity`` a moving base and one ``applyExternalForce`` a moving base pushed, its
+arithmetic on plain floats (numpy only when the contact point slides or two pairs push).
+Units: SI.
 """
 
 import numpy as np
