@@ -272,7 +272,8 @@ class CoupledContacts:
         """The push of the step of a pair in reach (``points``: its ``getClosestPoints``),
         (index, normal, w_n, [(base, force, point)]), or ``None`` (no impulse)."""
         client = self.client
-        sphere, other, (radius, offset), coupling, index = pair[:5]
+        sphere, other, (radius, offset), coupling, index = pair[0], pair[1], pair[2], pair[3], \
+            pair[4]
         nearest = points[0] if len(points) == 1 else min(points, key=lambda p: p[8])
         nx, ny, nz = nearest[7]
         if nearest[1] != sphere.body:           # Bullet's A is the sphere unless it swapped
@@ -283,9 +284,12 @@ class CoupledContacts:
                 refuse_tunnel(index, gap, self.reach)
             self._far.discard(index)
         # the contact point: the sphere's own centre (its collision frame's) less r n
-        cx, cy, cz = pybullet.getBasePositionAndOrientation(sphere.body,
-                                                            physicsClientId=client)[0] \
-            if sphere.mass == 0.0 else _read(sphere, client)
+        if sphere.mass == 0.0:
+            cx, cy, cz = pybullet.getBasePositionAndOrientation(sphere.body,
+                                                                physicsClientId=client)[0]
+        else:
+            sphere.read(client)
+            cx, cy, cz = sphere.position
         if offset is not None:
             (a, b, c), (e, f, g), (h, i, j) = _rotation_matrix(
                 pybullet.getBasePositionAndOrientation(sphere.body, physicsClientId=client)[1]
@@ -301,7 +305,7 @@ class CoupledContacts:
             if base.mass == 0.0:
                 continue
             if base is other:
-                _read(base, client)
+                base.read(client)
             px, py, pz = base.position
             rx, ry, rz = point[0] - px, point[1] - py, point[2] - pz
             w_n += base.inverse_mass + base.inverse_inertia_along(
@@ -324,9 +328,10 @@ class CoupledContacts:
             jx, jy, jz = self._friction(sphere, other, point, normal, p, (
                 vx + dt * ax, vy + dt * ay, vz + dt * az), (jx, jy, jz))
         fx, fy, fz = jx / dt, jy / dt, jz / dt
-        return (index, normal, w_n, [(base, force, point) for base, force
-                                     in ((sphere, (fx, fy, fz)), (other, (-fx, -fy, -fz)))
-                                     if base.mass > 0.0])
+        on = [(sphere, (fx, fy, fz), point)] if sphere.mass > 0.0 else []
+        if other.mass > 0.0:
+            on.append((other, (-fx, -fy, -fz), point))
+        return index, normal, w_n, on
 
     def _friction(self, sphere, other, point, normal, p, free, impulse):
         """The step's impulse with Coulomb's tangential part (``tangential_impulse``), from the
@@ -355,12 +360,6 @@ class CoupledContacts:
         total = np.array(impulse) + tangential_impulse(
             p, np.array(free) + inverse @ np.array(impulse), n, inverse, self.friction)
         return tuple(total.tolist())
-
-
-def _read(base, client):
-    """Read a moving base's pose and velocity of the step; returns its position."""
-    base.read(client)
-    return base.position
 
 
 def _sphere_radius(client, body):
