@@ -66,6 +66,9 @@ class _Pair:
         self.trees = [int(model.body_treeid[b]) for b in (self.body_s, self.body_o)
                       if model.body_treeid[b] >= 0]
         self.damped = _damped(model, self.trees)
+        self.damping = np.array([model.dof_damping[i] if int(model.dof_treeid[i]) in self.trees
+                                 else 0.0 for i in range(nv)])
+        self.exact_rate = None      # the exact gap rate at the step's start, m/s, if carried
         self.along_normal = None    # (n J, n J M⁻¹, n J M⁻¹ Jᵀ n) of the step's push
 
 
@@ -281,14 +284,18 @@ class CoupledContacts:
                              'bodies can move apart')
         velocity = jac @ d.qvel
         row = normal @ jac
+        gap_rate = float(normal @ velocity)
+        extra = 0.0             # N·s along the normal beside the contact's (damping, below)
         if base is None:        # free bodies: M⁻¹ and q̈_smooth
             acceleration = jac @ self._smooth
             moved = normal @ response
+            gap_acceleration = float(normal @ acceleration)
         else:                   # measured on MuJoCo's own step (constraints, integrator)
             self._base = base
             acceleration = jac @ ((base - d.qvel) / dt)
-            probe = max(abs(float(normal @ velocity)), abs(float(normal @ acceleration)) * dt,
-                        _PROBE_SPEED) / w_n
+            gap_acceleration = float(normal @ acceleration)
+            probe = max(abs(gap_rate), abs(gap_acceleration) * dt, _PROBE_SPEED) / w_n
+            damping = _normal_damping(pair, normal @ response, w_n)
             moved = self._trial_response(row, probe)
             along = jac @ moved
             w_n = float(normal @ along)
@@ -297,21 +304,33 @@ class CoupledContacts:
                                  'does not move along the normal when pushed in MuJoCo\'s step '
                                  '(held by its constraints): allowed a pair whose bodies can '
                                  'move apart')
-        step = pair.coupling.step(float(d.time), float(dist), float(normal @ velocity),
-                                  1.0 / w_n, float(normal @ acceleration), dt)
-        if step.impulse == 0.0:
+            if damping > 0.0:   # the host damps its own rate at the step's end; the exact
+                end = gap_rate + gap_acceleration * dt      # contact's is damped instead
+                mean = end if pair.exact_rate is None else pair.exact_rate
+                shift = damping * (end - mean)
+                gap_acceleration += shift
+                extra = shift * dt / w_n
+        step = pair.coupling.step(float(d.time), float(dist), gap_rate, 1.0 / w_n,
+                                  gap_acceleration, dt)
+        if base is not None and damping > 0.0:
+            if step.touched:    # a damping ∝ the rate gives the impulse -c Δgap over the step
+                correction = -damping * (-step.penetration - dist - mean * dt)
+                extra += correction / w_n
+            pair.exact_rate = -step.penetration_rate + (
+                correction if step.touched else 0.0) if pair.coupling.carrying else None
+        if step.impulse == 0.0 and extra == 0.0:
             return False
         pair.along_normal = (row, moved, w_n)
-        impulse = step.impulse * normal
-        if self.friction > 0.0:     # Coulomb's, from the velocity without friction
-            if base is not None:
+        impulse = (step.impulse + extra) * normal
+        if self.friction > 0.0 and step.impulse > 0.0:  # Coulomb's, from the velocity
+            if base is not None:                         # without friction
                 inverse = self._measured_inverse(jac, normal, along,
                                                  self.friction * step.impulse)
             impulse = impulse + tangential_impulse(
                 step.impulse, velocity + dt * acceleration + step.impulse * along, normal,
                 inverse, self.friction)
         applied += jac.T @ (impulse / dt)
-        return True
+        return step.impulse > 0.0
 
     def _measured_inverse(self, jac, normal, along, probe):
         """The contact point's 3 x 3 velocity per unit impulse (1/kg) on MuJoCo's own step, from
@@ -341,6 +360,12 @@ def _refuse_coupled(pushing):
         for second in pushing[k + 1:]:
             _, moved, w_second = second.along_normal
             refuse_stack(first.index, second.index, float(row @ moved), w_first, w_second)
+
+
+def _normal_damping(pair, rate, w_n):
+    """The joint damping's rate (1/s) on the gap's rate along the normal: c = rᵀ D r / w with
+    r = M⁻¹ Jᵀ n (``rate``) and w = n J M⁻¹ Jᵀ n."""
+    return float(rate @ (pair.damping * rate)) / w_n if pair.damped else 0.0
 
 
 def _damped(model, trees):
