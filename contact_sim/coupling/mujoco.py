@@ -312,12 +312,13 @@ class CoupledContacts:
                 extra = shift * dt / w_n
         step = pair.coupling.step(float(d.time), float(dist), gap_rate, 1.0 / w_n,
                                   gap_acceleration, dt)
-        if base is not None and damping > 0.0:
-            if step.touched:    # a damping ∝ the rate gives the impulse -c Δgap over the step
+        if base is not None:
+            correction = 0.0
+            if damping > 0.0 and step.touched:  # a damping ∝ the rate: -c Δgap over the step
                 correction = -damping * (-step.penetration - dist - mean * dt)
                 extra += correction / w_n
-            pair.exact_rate = -step.penetration_rate + (
-                correction if step.touched else 0.0) if pair.coupling.carrying else None
+            pair.exact_rate = (-step.penetration_rate + correction
+                               if pair.coupling.carrying else None)
         if step.impulse == 0.0 and extra == 0.0:
             return False
         pair.along_normal = (row, moved, w_n)

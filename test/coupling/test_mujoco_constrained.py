@@ -64,6 +64,22 @@ def test_the_free_crate_gives_the_fixed_crates_bounces():
     assert np.max(np.abs(np.subtract(*runs))) < 0.005
 
 
+def test_an_oblique_impact_on_the_free_crate_sticks_as_rigid_body_theory_says():
+    # the tangential response is measured on MuJoCo's step too (the crate held by its floor)
+    model, data = crate_scene('implicitfast')
+    ball_v = model.jnt_dofadr[1]
+    data.qpos[model.jnt_qposadr[1] + 2] = 2 * HALF + R + 0.002
+    data.qvel[ball_v], data.qvel[ball_v + 2] = 1.0, -1.0
+    coupled = CoupledContacts(model, data, [('ball', 'crate', STEEL)], friction=0.5)
+    for _ in range(20):
+        coupled.step()
+    assert len(coupled.impacts) == 1
+    assert data.qvel[ball_v] == pytest.approx(5.0 / 7.0, rel=0.02)        # stick
+    assert data.qvel[ball_v + 4] == pytest.approx(2.5 * (1.0 - 5.0 / 7.0) / R, rel=0.02)
+    first = coupled.impacts[0]
+    assert abs(first.restitution - float(cs.restitution(STEEL, MASS, first.speed_in))) < 0.005
+
+
 STRIKER = '''<mujoco><option timestep="{dt!r}" gravity="0 0 0" integrator="{integrator}"/>
   <worldbody>
     <geom name="wall" type="plane" size="1 1 0.1" pos="{wall!r} 0 0" zaxis="-1 0 0"/>
