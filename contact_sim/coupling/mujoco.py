@@ -69,6 +69,7 @@ class _Pair:
         self.damping = np.array([model.dof_damping[i] if int(model.dof_treeid[i]) in self.trees
                                  else 0.0 for i in range(nv)])
         self.exact_rate = None      # the exact gap rate at the step's start, m/s, if carried
+        self.pending = 0.0          # the damping's correction of the gap rate due at lift-off
         self.along_normal = None    # (n J, n J M⁻¹, n J M⁻¹ Jᵀ n) of the step's push
 
 
@@ -314,11 +315,15 @@ class CoupledContacts:
                                   gap_acceleration, dt)
         if base is not None:
             correction = 0.0
-            if damping > 0.0 and step.touched:  # a damping ∝ the rate: -c Δgap over the step
-                correction = -damping * (-step.penetration - dist - mean * dt)
-                extra += correction / w_n
-            pair.exact_rate = (-step.penetration_rate + correction
-                               if pair.coupling.carrying else None)
+            if damping > 0.0 and step.touched:  # a damping ∝ the rate: -c Δgap over the step,
+                pair.pending -= damping * (-step.penetration - dist - mean * dt)  # given at
+                if not step.in_contact:                 # the lift-off (a kick of the host's
+                    correction, pair.pending = pair.pending, 0.0    # gap inside a contact
+                    extra += correction / w_n                       # would change its e)
+            if pair.coupling.carrying:
+                pair.exact_rate = -step.penetration_rate + correction
+            else:
+                pair.exact_rate, pair.pending = None, 0.0
         if step.impulse == 0.0 and extra == 0.0:
             return False
         pair.along_normal = (row, moved, w_n)
