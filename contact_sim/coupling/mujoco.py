@@ -43,6 +43,9 @@ _SPHERE, _PLANE = int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_P
 _STATE = int(mujoco.mjtState.mjSTATE_FULLPHYSICS | mujoco.mjtState.mjSTATE_WARMSTART)
 # the smallest speed (m/s) whose impulse probes MuJoCo's response along a normal
 _PROBE_SPEED = 1e-3
+# a contact point sliding slower than this (m/s) on a measured pair gets no friction that step
+# (its tangential response is not measured: two trials of MuJoCo's step saved)
+_STILL = 1e-9
 _SERVED = {int(mujoco.mjtIntegrator.mjINT_EULER), int(mujoco.mjtIntegrator.mjINT_IMPLICIT),
            int(mujoco.mjtIntegrator.mjINT_IMPLICITFAST)}
 
@@ -329,12 +332,16 @@ class CoupledContacts:
         pair.along_normal = (row, moved, w_n)
         impulse = (step.impulse + extra) * normal
         if self.friction > 0.0 and step.impulse > 0.0:  # Coulomb's, from the velocity
-            if base is not None:                         # without friction
+            free = velocity + dt * acceleration + step.impulse * along  # without friction
+            slide = free - float(free @ normal) * normal
+            if base is not None and float(slide @ slide) > _STILL * _STILL:
                 inverse = self._measured_inverse(jac, normal, along,
                                                  self.friction * step.impulse)
-            impulse = impulse + tangential_impulse(
-                step.impulse, velocity + dt * acceleration + step.impulse * along, normal,
-                inverse, self.friction)
+            elif base is not None:      # not sliding: no tangential trials
+                slide = None
+            if slide is not None:
+                impulse = impulse + tangential_impulse(step.impulse, free, normal, inverse,
+                                                       self.friction)
         applied += jac.T @ (impulse / dt)
         return step.impulse > 0.0
 
