@@ -7,12 +7,18 @@ every step, between ``mj_step1`` (positions, velocities, MuJoCo's own collisions
 * the gap along the normal from MuJoCo's geometry (``mj_geomDistance``); the normal is the
   plane's axis, the line of centres of two spheres, or from the other geom's nearest point to
   the sphere's centre;
-* the contact point's relative velocity and its Jacobian (``mj_jac`` on both bodies), the
-  effective mass along the normal 1 / (n J M⁻¹ Jᵀ n) (``mj_solveM``) and the rest of the
-  system's normal acceleration n J q̈_smooth (``mj_fwdActuation``, ``mj_fwdAcceleration``: the
-  unconstrained acceleration with gravity, actuators, passive and applied forces; J̇q̇ is left
-  out: zero for a free sphere on a plane, the centripetal term of an arm, which the next step
-  sees as the host's divergence and takes in);
+* the contact point's relative velocity and its Jacobian (``mj_jac`` on both bodies); for free
+  bodies the effective mass along the normal 1 / (n J M⁻¹ Jᵀ n) (``mj_solveM``) and the rest of
+  the system's normal acceleration n J q̈_smooth (``mj_fwdActuation``, ``mj_fwdAcceleration``:
+  gravity, actuators, passive and applied forces);
+* for bodies whose kinematic trees bear on MuJoCo's own constraints (a constraint island:
+  ``data.tree_island``) or carry damping the integrator takes implicitly, both measured on
+  MuJoCo's own step instead: ``mj_step2`` run as a trial and the state put back
+  (``mj_getState``/``mj_setState``), without the coupled forces (the acceleration, with the
+  constraint forces and the implicit terms) and with a probe impulse along Jᵀ n (the effective
+  mass), along the tangents too when the point slides and friction is on; joint damping is
+  taken at the exact contact's rate, and over a contact as its exact impulse -c Δgap.  J̇q̇ is
+  left out (measured worse with it: the semi-implicit host moves the gap along its curvature);
 * ``contact_sim.coupling.NormalCoupling`` gives the normal impulse of the step, friction its
   tangential impulse (``friction_impulse``), and Jᵀ(impulse / dt) is added to ``qfrc_applied``
   for ``mj_step2`` (and taken off again after it: the user's own ``qfrc_applied`` stays).
@@ -148,6 +154,7 @@ class CoupledContacts:
         self._user_applied = np.zeros(model.nv)
         self._saved = np.empty(mujoco.mj_stateSize(model, _STATE))
         self._smooth = self._base = None
+        self._damped = any(pair.damped for pair in self.pairs)
 
     def _pair(self, row, index):
         model = self.model
@@ -207,7 +214,7 @@ class CoupledContacts:
             return
         applied = self._applied
         applied[:] = 0.0
-        if any(self._measured(pair) for pair, _ in near):
+        if (self._damped or d.nefc) and any(self._measured(pair) for pair, _ in near):
             base = self._host_velocity()
         else:
             base = None
@@ -333,13 +340,13 @@ class CoupledContacts:
         impulse = (step.impulse + extra) * normal
         if self.friction > 0.0 and step.impulse > 0.0:  # Coulomb's, from the velocity
             free = velocity + dt * acceleration + step.impulse * along  # without friction
-            slide = free - float(free @ normal) * normal
-            if base is not None and float(slide @ slide) > _STILL * _STILL:
-                inverse = self._measured_inverse(jac, normal, along,
-                                                 self.friction * step.impulse)
-            elif base is not None:      # not sliding: no tangential trials
-                slide = None
-            if slide is not None:
+            if base is not None:
+                slide = free - float(free @ normal) * normal
+                sliding = float(slide @ slide) > _STILL * _STILL
+                if sliding:     # else no friction, and no tangential trials
+                    inverse = self._measured_inverse(jac, normal, along,
+                                                     self.friction * step.impulse)
+            if base is None or sliding:
                 impulse = impulse + tangential_impulse(step.impulse, free, normal, inverse,
                                                        self.friction)
         applied += jac.T @ (impulse / dt)
