@@ -7,12 +7,18 @@ every step, between ``mj_step1`` (positions, velocities, MuJoCo's own collisions
 * the gap along the normal from MuJoCo's geometry (``mj_geomDistance``); the normal is the
   plane's axis, the line of centres of two spheres, or from the other geom's nearest point to
   the sphere's centre;
-* the contact point's relative velocity and its Jacobian (``mj_jac`` on both bodies), the
-  effective mass along the normal 1 / (n J M⁻¹ Jᵀ n) (``mj_solveM``) and the rest of the
-  system's normal acceleration n J q̈_smooth (``mj_fwdActuation``, ``mj_fwdAcceleration``: the
-  unconstrained acceleration with gravity, actuators, passive and applied forces; J̇q̇ is left
-  out: zero for a free sphere on a plane, the centripetal term of an arm, which the next step
-  sees as the host's divergence and takes in);
+* the contact point's relative velocity and its Jacobian (``mj_jac`` on both bodies); for free
+  bodies the effective mass along the normal 1 / (n J M⁻¹ Jᵀ n) (``mj_solveM``) and the rest of
+  the system's normal acceleration n J q̈_smooth (``mj_fwdActuation``, ``mj_fwdAcceleration``:
+  gravity, actuators, passive and applied forces);
+* for bodies whose kinematic trees bear on MuJoCo's own constraints (a constraint island:
+  ``data.tree_island``) or carry damping the integrator takes implicitly, both measured on
+  MuJoCo's own step instead: ``mj_step2`` run as a trial and the state put back
+  (``mj_getState``/``mj_setState``), without the coupled forces (the acceleration, with the
+  constraint forces and the implicit terms) and with a probe impulse along Jᵀ n (the effective
+  mass), along the tangents too when the point slides and friction is on; joint damping is
+  taken at the exact contact's rate, and over a contact as its exact impulse -c Δgap.  J̇q̇ is
+  left out (measured worse with it: the semi-implicit host moves the gap along its curvature);
 * ``contact_sim.coupling.NormalCoupling`` gives the normal impulse of the step, friction its
   tangential impulse (``friction_impulse``), and Jᵀ(impulse / dt) is added to ``qfrc_applied``
   for ``mj_step2`` (and taken off again after it: the user's own ``qfrc_applied`` stays).
@@ -30,7 +36,7 @@ import numpy as np
 
 from contact_sim.coupling.core import NormalCoupling
 from contact_sim.coupling.rows import (pair_rows, refuse_repeated, refuse_stack,
-                                       refuse_tunnel, tangential_impulse)
+                                       refuse_tunnel, tangential_impulse, tangents)
 from contact_sim.model import require_contact
 from contact_sim.validation import InputError, require_nonnegative, require_positive
 
@@ -39,6 +45,13 @@ REACH = 0.05
 # an explicit contact pair's margin (m) that no distance falls below: the pair is switched off
 _NEVER = -1e10
 _SPHERE, _PLANE = int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_PLANE)
+# what a trial of MuJoCo's step changes and is restored after it
+_STATE = int(mujoco.mjtState.mjSTATE_FULLPHYSICS | mujoco.mjtState.mjSTATE_WARMSTART)
+# the smallest speed (m/s) whose impulse probes MuJoCo's response along a normal
+_PROBE_SPEED = 1e-3
+# a contact point sliding slower than this (m/s) on a measured pair gets no friction that step
+# (its tangential response is not measured: two trials of MuJoCo's step saved)
+_STILL = 1e-9
 _SERVED = {int(mujoco.mjtIntegrator.mjINT_EULER), int(mujoco.mjtIntegrator.mjINT_IMPLICIT),
            int(mujoco.mjtIntegrator.mjINT_IMPLICITFAST)}
 
@@ -59,6 +72,13 @@ class _Pair:
         self.response = np.zeros((3, nv))
         self.fromto = np.zeros(6)
         self.far = False            # out of reach at the last step
+        self.trees = [int(model.body_treeid[b]) for b in (self.body_s, self.body_o)
+                      if model.body_treeid[b] >= 0]
+        self.damped = _damped(model, self.trees)
+        self.damping = np.array([model.dof_damping[i] if int(model.dof_treeid[i]) in self.trees
+                                 else 0.0 for i in range(nv)])
+        self.exact_rate = None      # the exact gap rate at the step's start, m/s, if carried
+        self.pending = 0.0          # the damping's correction of the gap rate due at lift-off
         self.along_normal = None    # (n J, n J M⁻¹, n J M⁻¹ Jᵀ n) of the step's push
 
 
@@ -131,6 +151,10 @@ class CoupledContacts:
             if {int(model.pair_geom1[i]), int(model.pair_geom2[i])} & spheres:   # this margin
                 model.pair_margin[i] = _NEVER
         self._applied = np.zeros(model.nv)
+        self._user_applied = np.zeros(model.nv)
+        self._saved = np.empty(mujoco.mj_stateSize(model, _STATE))
+        self._smooth = self._base = None
+        self._damped = any(pair.damped for pair in self.pairs)
 
     def _pair(self, row, index):
         model = self.model
@@ -174,10 +198,7 @@ class CoupledContacts:
         """One MuJoCo step with the coupled contacts (in place of ``mujoco.mj_step``)."""
         m, d = self.model, self.data
         mujoco.mj_step1(m, d)
-        applied = self._applied
-        applied[:] = 0.0
-        smooth = None
-        pushing = []
+        near = []
         for pair in self.pairs:
             dist = mujoco.mj_geomDistance(m, d, pair.sphere, pair.other, self.reach,
                                           pair.fromto)
@@ -187,20 +208,38 @@ class CoupledContacts:
             if pair.far and dist < 0.0:
                 refuse_tunnel(pair.index, dist, self.reach)
             pair.far = False
-            if smooth is None:
-                smooth = self._smooth_acceleration()
-            if self._couple(pair, dist, smooth, applied):
-                pushing.append(pair)
-        if len(pushing) > 1:
-            _refuse_coupled(pushing)
-        if smooth is None:
+            near.append((pair, dist))
+        if not near:
             mujoco.mj_step2(m, d)
             return
+        applied = self._applied
+        applied[:] = 0.0
+        if (self._damped or d.nefc) and any(self._measured(pair) for pair, _ in near):
+            base = self._host_velocity()
+        else:
+            base = None
+            self._smooth = self._smooth_acceleration()
+        pushing = [pair for pair, dist in near if self._couple(pair, dist, base, applied)]
+        if len(pushing) > 1:
+            _refuse_coupled(pushing)
         d.qfrc_applied += applied
         try:
             mujoco.mj_step2(m, d)
         finally:
             d.qfrc_applied -= applied
+
+    def _measured(self, pair):
+        """Whether the pair's response is measured on MuJoCo's own step: its bodies bear on other
+        constraints (their kinematic trees are in a constraint island) or velocity-dependent
+        forces the integrator takes implicitly (damping, implicit actuators)."""
+        if pair.damped:
+            return True
+        d = self.data
+        if d.nefc == 0:
+            return False
+        if d.nisland == 0:          # islands off: any constraint may bear on the pair
+            return True
+        return any(d.tree_island[tree] >= 0 for tree in pair.trees)
 
     def _smooth_acceleration(self):
         """The unconstrained acceleration q̈_smooth (without the coupled forces)."""
@@ -209,7 +248,31 @@ class CoupledContacts:
         mujoco.mj_fwdAcceleration(m, d)
         return d.qacc_smooth.copy()
 
-    def _couple(self, pair, dist, smooth, applied):
+    def _host_velocity(self, force=None):
+        """The velocities MuJoCo's own step (``mj_step2``: constraints, integrator) ends with,
+        without the coupled forces and with the generalized ``force`` (N, N·m) added; the state
+        is restored after it."""
+        m, d = self.model, self.data
+        if force is None:       # the first trial of the step: keep the state and the user's load
+            mujoco.mj_getState(m, d, self._saved, _STATE)
+            self._user_applied[:] = d.qfrc_applied
+        else:
+            d.qfrc_applied += force
+        try:
+            mujoco.mj_step2(m, d)
+            return d.qvel.copy()
+        finally:
+            mujoco.mj_setState(m, d, self._saved, _STATE)
+            d.qfrc_applied[:] = self._user_applied
+
+    def _trial_response(self, row, impulse):
+        """The change of MuJoCo's step-end velocities per unit impulse along ``row`` (J^T n, a
+        generalized direction), measured with ``impulse`` (N·s) applied over the step."""
+        dt = self.model.opt.timestep
+        moved = self._host_velocity(row * (impulse / dt))
+        return (moved - self._base) / impulse
+
+    def _couple(self, pair, dist, base, applied):
         m, d = self.model, self.data
         dt = m.opt.timestep
         centre = d.geom_xpos[pair.sphere]
@@ -230,19 +293,71 @@ class CoupledContacts:
             raise InputError('pairs', pair.index, '{n[pairs]}[{value}]: the contact point cannot '
                              'move along the normal (no degree of freedom): allowed a pair whose '
                              'bodies can move apart')
-        velocity, acceleration = jac @ d.qvel, jac @ smooth
-        step = pair.coupling.step(float(d.time), float(dist), float(normal @ velocity),
-                                  1.0 / w_n, float(normal @ acceleration), dt)
-        if step.impulse == 0.0:
+        velocity = jac @ d.qvel
+        row = normal @ jac
+        gap_rate = float(normal @ velocity)
+        extra = 0.0             # N·s along the normal beside the contact's (damping, below)
+        if base is None:        # free bodies: M⁻¹ and q̈_smooth
+            acceleration = jac @ self._smooth
+            moved = normal @ response
+            gap_acceleration = float(normal @ acceleration)
+        else:                   # measured on MuJoCo's own step (constraints, integrator)
+            self._base = base
+            acceleration = jac @ ((base - d.qvel) / dt)
+            gap_acceleration = float(normal @ acceleration)
+            probe = max(abs(gap_rate), abs(gap_acceleration) * dt, _PROBE_SPEED) / w_n
+            damping = _normal_damping(pair, normal @ response, w_n)
+            moved = self._trial_response(row, probe)
+            along = jac @ moved
+            w_n = float(normal @ along)
+            if not w_n > 0.0:
+                raise InputError('pairs', pair.index, '{n[pairs]}[{value}]: the contact point '
+                                 'does not move along the normal when pushed in MuJoCo\'s step '
+                                 '(held by its constraints): allowed a pair whose bodies can '
+                                 'move apart')
+            if damping > 0.0:   # the host damps its own rate at the step's end; the exact
+                end = gap_rate + gap_acceleration * dt      # contact's is damped instead
+                mean = end if pair.exact_rate is None else pair.exact_rate
+                shift = damping * (end - mean)
+                gap_acceleration += shift
+                extra = shift * dt / w_n
+        step = pair.coupling.step(float(d.time), float(dist), gap_rate, 1.0 / w_n,
+                                  gap_acceleration, dt)
+        if base is not None:
+            correction = 0.0
+            if damping > 0.0 and step.touched:  # a damping ∝ the rate: -c Δgap over the step,
+                pair.pending -= damping * (-step.penetration - dist - mean * dt)  # given at
+                if not step.in_contact:                 # the lift-off (a kick of the host's
+                    correction, pair.pending = pair.pending, 0.0    # gap inside a contact
+                    extra += correction / w_n                       # would change its e)
+            if pair.coupling.carrying:
+                pair.exact_rate = -step.penetration_rate + correction
+            else:
+                pair.exact_rate, pair.pending = None, 0.0
+        if step.impulse == 0.0 and extra == 0.0:
             return False
-        pair.along_normal = (normal @ jac, normal @ response, w_n)
-        impulse = step.impulse * normal
-        if self.friction > 0.0:     # Coulomb's, from the velocity without friction
-            impulse = impulse + tangential_impulse(
-                step.impulse, velocity + dt * acceleration + step.impulse * along, normal,
-                inverse, self.friction)
+        pair.along_normal = (row, moved, w_n)
+        impulse = (step.impulse + extra) * normal
+        if self.friction > 0.0 and step.impulse > 0.0:  # Coulomb's, from the velocity
+            free = velocity + dt * acceleration + step.impulse * along  # without friction
+            if base is not None:
+                slide = free - float(free @ normal) * normal
+                sliding = float(slide @ slide) > _STILL * _STILL
+                if sliding:     # else no friction, and no tangential trials
+                    inverse = self._measured_inverse(jac, normal, along,
+                                                     self.friction * step.impulse)
+            if base is None or sliding:
+                impulse = impulse + tangential_impulse(step.impulse, free, normal, inverse,
+                                                       self.friction)
         applied += jac.T @ (impulse / dt)
-        return True
+        return step.impulse > 0.0
+
+    def _measured_inverse(self, jac, normal, along, probe):
+        """The contact point's 3 x 3 velocity per unit impulse (1/kg) on MuJoCo's own step, from
+        ``along`` (the normal's, measured) and two trials along the tangents (``probe`` N·s)."""
+        basis = np.vstack((normal, tangents(normal)))
+        columns = [along] + [jac @ self._trial_response(t @ jac, probe) for t in basis[1:]]
+        return np.column_stack(columns) @ basis
 
     def _normal(self, pair, centre):
         """The unit normal from the other geom to the sphere."""
@@ -265,6 +380,33 @@ def _refuse_coupled(pushing):
         for second in pushing[k + 1:]:
             _, moved, w_second = second.along_normal
             refuse_stack(first.index, second.index, float(row @ moved), w_first, w_second)
+
+
+def _normal_damping(pair, rate, w_n):
+    """The joint damping's rate (1/s) on the gap's rate along the normal: c = rᵀ D r / w with
+    r = M⁻¹ Jᵀ n (``rate``) and w = n J M⁻¹ Jᵀ n."""
+    return float(rate @ (pair.damping * rate)) / w_n if pair.damped else 0.0
+
+
+def _damped(model, trees):
+    """Whether MuJoCo's integrator takes velocity-dependent forces on these kinematic trees
+    implicitly (its velocity update is then not M⁻¹ of the forces): joint damping (Euler,
+    implicit, implicitfast), and under implicit and implicitfast tendon damping, fluid forces
+    and actuators whose force depends on velocity; implicit's Coriolis derivatives too."""
+    dofs = [i for i in range(model.nv) if int(model.dof_treeid[i]) in trees]
+    if any(model.dof_damping[i] > 0.0 for i in dofs):
+        return True
+    integrator = int(model.opt.integrator)
+    if integrator == int(mujoco.mjtIntegrator.mjINT_EULER):
+        return False
+    if integrator == int(mujoco.mjtIntegrator.mjINT_IMPLICIT):
+        return True
+    velocity_gain = (model.actuator_gaintype == int(mujoco.mjtGain.mjGAIN_AFFINE)) & (
+        model.actuator_gainprm[:, 2] != 0.0)
+    velocity_bias = (model.actuator_biastype == int(mujoco.mjtBias.mjBIAS_AFFINE)) & (
+        model.actuator_biasprm[:, 2] != 0.0)
+    return bool(np.any(velocity_gain | velocity_bias) or np.any(model.tendon_damping > 0.0)
+                or model.opt.density > 0.0 or model.opt.viscosity > 0.0)
 
 
 def _moves(model, body):
