@@ -212,3 +212,20 @@ def test_the_scalar_force_equals_the_array_force(law):
         for value in (array, whole):   # the same operations: equal to round-off (bit for bit
             # here; numpy's AVX-512 pow, where a CPU has it, may differ in the last bit)
             assert scalar == pytest.approx(value, rel=1e-14, abs=0.0, nan_ok=True), (z, zdot)
+
+
+def test_a_law_answers_its_kernel_curve_and_bounce_table_and_a_twin_gets_none():
+    kernels = {law.name: law.kernel for law in cs.LAWS.values()}
+    assert kernels == {'azad_featherstone': 1, 'hunt_crossley': 2, 'lee_wang': 3, 'linear': 4}
+    for law in cs.LAWS.values():
+        table = law.bounce_table
+        assert law.master_curve is not None and law.master_curve.law_key == (law.n, law.p, law.q)
+        assert table.log_zeta.size == table.x_lift.size == table.a.size == table.b.size > 10
+        assert np.all(np.diff(table.log_zeta) > 0.0)
+    for law in cs.LAWS.values():       # a custom law with a named law's exponents: none of them
+        twin = cs.ContactLaw(f'{law.name}_twin', law.n, law.p, law.q)
+        assert (twin.kernel, twin.master_curve, twin.bounce_table, twin.closed_form) == \
+            (0, None, None, None)
+    # and a named law's name on other exponents finds nothing either
+    impostor = cs.ContactLaw('azad_featherstone', 1.5, 0.25, 1.0)
+    assert (impostor.kernel, impostor.master_curve, impostor.bounce_table) == (0, None, None)
