@@ -25,8 +25,8 @@ def main():
     parser.add_argument('--repeat', type=int, default=3)
     args = parser.parse_args()
     mass, k, drag = 0.046, 2e8, AirDrag(1.204, 0.3, 0.0214)
-    lam = cs.damping_for_restitution('azad_featherstone', k, mass, 0.8, 3.0)
-    contact = cs.Contact('azad_featherstone', k, lam)
+    lam = cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, k, mass, 0.8, 3.0)
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, k, lam)
     heights = (0.4, 0.6, 0.8, 1.0, 1.2)
     truth = {}
     for h in heights:

@@ -30,7 +30,7 @@ from contact_sim.calibration.timing_fit import fit_law
 from contact_sim.drop import VELOCITY_MAX
 from contact_sim.flight import AirDrag
 from contact_sim.impact import elastic_limits, impact_scales, require_fit_options
-from contact_sim.model import LAWS, get_law
+from contact_sim.model import LAWS, require_law
 from contact_sim.validation import InputError, require_positive
 
 SUPPORT_DELTA_AIC = 10.0     # evidence needed to call the restitution speed dependent
@@ -85,12 +85,12 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     mass : float
         The sphere's mass in kg.
     stiffness : float or dict
-        One k for the Hertz laws (N/m^1.5), or a mapping law (name or ``ContactLaw``) -> k in
-        that law's N/m^n; for the constant-restitution (linear) law a missing k is derived
+        One k for the Hertz laws (N/m^1.5), or a mapping ``ContactLaw`` -> k in that law's
+        N/m^n; for the constant-restitution (linear) law a missing k is derived
         (module doc).
-    laws : list of str or ContactLaw, optional
+    laws : list of ContactLaw, optional
         The laws fitted (default: all, or with a mapping ``stiffness`` the laws it has and the
-        linear law); names are resolved here, once.
+        linear law).
     gravity : float
         Gravity g, m/s^2.
     drag : AirDrag, optional
@@ -121,7 +121,7 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     Raises
     ------
     InputError, ValueError
-        For an unknown law, a value out of range, a missing stiffness, no sequences, a
+        For a law that is not a ``ContactLaw`` (a name among them), a value out of range, a missing stiffness, no sequences, a
         sequence ``check_recording`` refuses, or ``fit_drag`` without a drag to fit.
 
     See Also
@@ -138,7 +138,7 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
     >>> recorded = cs.predict_bounces(contact, mass, height=0.1, count=6).times
     >>> fit = cs.fit_bounces([recorded], mass, contact.stiffness,
-    ...                      laws=['azad_featherstone', 'hunt_crossley'])
+    ...                      laws=[cs.AZAD_FEATHERSTONE, cs.HUNT_CROSSLEY])
     >>> best = fit.best
     >>> print(f"{best.law.name}: lambda = {best.damping:.5e}")
     azad_featherstone: lambda = 9.99598e+04
@@ -174,10 +174,9 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     require_sizes(seqs)
     for s in seqs:
         check_recording(s, gravity, resolution)
-    # the names given are resolved here, once: from now on the laws are ContactLaw objects
-    chosen = [get_law(law) for law in (laws if laws is not None else LAWS.values())]
+    chosen = [require_law(law, 'laws') for law in (laws if laws is not None else LAWS.values())]
     if isinstance(stiffness, dict):
-        ks = {get_law(law): k for law, k in stiffness.items()}
+        ks = {require_law(law, 'stiffness'): k for law, k in stiffness.items()}
         if laws is None:      # every law with a k, and the constant law (k derivable)
             chosen = [law for law in chosen if law in ks or law.constant_restitution]
     else:

@@ -363,7 +363,10 @@ def register_closed_form(law, vector, scalar=None, table_duration=None):
 
 
 def get_law(name):
-    """The named law (a ``ContactLaw`` is returned as is).
+    """The named law (a ``ContactLaw`` is returned as is): how a front end resolves a name.
+
+    The core takes ``ContactLaw`` objects and refuses names (``require_law``); the command line,
+    the node's parameters and ``build_contact`` resolve them here.
 
     Parameters
     ----------
@@ -397,3 +400,45 @@ def get_law(name):
     except (KeyError, TypeError):
         raise InputError('law', name, '{n[law]} = {value} is unknown: allowed one of %s'
                          % ', '.join(sorted(LAWS)), value=repr(name)) from None
+
+
+def require_law(law, name='law'):
+    """Check that ``law`` is a ``ContactLaw``: the core takes law objects, never names.
+
+    Parameters
+    ----------
+    law : object
+        The value to check.
+    name : str, optional
+        The field the error names (default ``'law'``).
+
+    Returns
+    -------
+    ContactLaw
+        ``law`` itself.
+
+    Raises
+    ------
+    InputError
+        Keyed ``name``: ``law`` is a name (resolve it with ``get_law`` or ``LAWS[...]``), or
+        something else that is not a ``ContactLaw``.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> from contact_sim.model import require_law
+    >>> require_law(cs.LINEAR) is cs.LINEAR
+    True
+    >>> require_law('linear')
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: law = 'linear' is a name: allowed a ContactLaw (resolve a name with cs.get_law('linear') or cs.LAWS['linear'])
+    """
+    if isinstance(law, ContactLaw):
+        return law
+    if isinstance(law, str):
+        raise InputError(name, law, '{n[%s]} = {value} is a name: allowed a ContactLaw (resolve '
+                         'a name with cs.get_law({value}) or cs.LAWS[{value}])' % name,
+                         value=repr(law))
+    raise InputError(name, law, '{n[%s]} = {value} is not a ContactLaw: allowed a ContactLaw '
+                     '(the named ones are cs.LAWS: %s)' % (name, ', '.join(sorted(LAWS))))

@@ -18,8 +18,8 @@ MASS, K, NOISE = 0.046, 2e8, 50e-6
 def golf_drops():
     """Twelve clicks of three drops of an Azad–Featherstone golf ball (e = 0.8 at 3 m/s), the
     engine's touch times with 50 µs of timing noise, on a 48 kHz clock."""
-    lam = cs.damping_for_restitution('azad_featherstone', K, MASS, 0.8, 3.0)
-    contact = cs.Contact('azad_featherstone', K, lam)
+    lam = cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, K, MASS, 0.8, 3.0)
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, K, lam)
     rng = np.random.default_rng(5)
     drops = []
     for h in (0.6, 0.8, 1.0):
@@ -45,8 +45,8 @@ def test_the_true_law_predicts_the_held_out_clicks_within_the_noise(golf_drops):
 
 def test_holdout_keeps_the_fit_on_all_clicks_and_reports_the_training_fit(golf_drops):
     # found: --holdout silently replaced the reported fit by the training-half fit
-    whole = fit_bounces(golf_drops, MASS, K, drag=GOLF, laws=['azad_featherstone'])
-    fit = fit_bounces(golf_drops, MASS, K, drag=GOLF, laws=['azad_featherstone'], holdout=0.5)
+    whole = fit_bounces(golf_drops, MASS, K, drag=GOLF, laws=[cs.AZAD_FEATHERSTONE])
+    fit = fit_bounces(golf_drops, MASS, K, drag=GOLF, laws=[cs.AZAD_FEATHERSTONE], holdout=0.5)
     assert [s.times.size for s in fit.sequences] == [12, 12, 12]
     assert fit.best.damping == whole.best.damping
     training = fit.holdout[0].fit

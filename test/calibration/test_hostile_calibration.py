@@ -45,8 +45,8 @@ def test_parse_impact_times_refuses_what_is_not_text(text):
 
 def test_fit_bounces_reads_a_2d_array_as_one_sequence_a_row():
     # reproduced: "The truth value of an array with more than one element is ambiguous"
-    stacked = cs.fit_bounces(np.vstack([T, T + 1.0]), 0.066, 1e10, laws=['azad_featherstone'])
-    listed = cs.fit_bounces([T, T + 1.0], 0.066, 1e10, laws=['azad_featherstone'])
+    stacked = cs.fit_bounces(np.vstack([T, T + 1.0]), 0.066, 1e10, laws=[cs.AZAD_FEATHERSTONE])
+    listed = cs.fit_bounces([T, T + 1.0], 0.066, 1e10, laws=[cs.AZAD_FEATHERSTONE])
     assert stacked.fits[0].damping == pytest.approx(listed.fits[0].damping, rel=1e-9)
     with pytest.raises(cs.InputError, match='^sequences is an array of shape'):
         cs.fit_bounces(T, 0.066, 1e10)

@@ -41,4 +41,4 @@ def test_a_csv_of_too_many_lines_or_bytes_is_refused(tmp_path):
 def test_fit_damping_with_a_million_points_is_refused_at_once():
     v = np.linspace(0.5, 3.0, 1_000_000)
     with pytest.raises(InputError, match='speeds has 1000000 values: allowed at most 2000'):
-        cs.fit_damping('hunt_crossley', 2e8, 0.046, v, np.full(v.size, 0.8))
+        cs.fit_damping(cs.HUNT_CROSSLEY, 2e8, 0.046, v, np.full(v.size, 0.8))

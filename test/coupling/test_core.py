@@ -63,7 +63,7 @@ def test_throws_at_every_phase_of_the_step(dt, law):
 
 
 def test_a_soft_contact_spans_many_host_steps_as_one_contact():
-    contact = cs.Contact('hunt_crossley', 2e5, 2e3)
+    contact = cs.Contact(cs.HUNT_CROSSLEY, 2e5, 2e3)
     mass, dt = 0.05, 1e-4
     exact = cs.restitution(contact, mass, SPEEDS)
     for speed, e in zip(SPEEDS, exact):
