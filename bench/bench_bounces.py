@@ -39,11 +39,11 @@ def main():
         h = heights[i % len(heights)]
         t = truth[h] + rng.normal(0.0, 50e-6, truth[h].size) + rng.uniform(0.5, 3.0)
         recordings.append(ImpactTimes(np.round(t * 48000.0) / 48000.0, h + rng.normal(0, 0.01)))
-    fit_bounces(recordings[:1], mass, k, drag=drag)          # load the tables once
+    fit_bounces(k, mass, recordings[:1], drag=drag)          # load the tables once
     best = float('inf')
     for _ in range(args.repeat):
         start = time.perf_counter()
-        fit = fit_bounces(recordings, mass, k, drag=drag)
+        fit = fit_bounces(k, mass, recordings, drag=drag)
         best = min(best, time.perf_counter() - start)
     clicks = sum(r.times.size for r in recordings)
     print(f'{args.sequences} sequences x {args.bounces} bounces ({clicks} clicks), '

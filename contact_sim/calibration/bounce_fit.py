@@ -72,7 +72,7 @@ def check_recording(sequence, gravity, resolution):
                          f'{flight_max:g} s (impacts up to {VELOCITY_MAX:g} m/s)')
 
 
-def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, fit_drag=False,
+def fit_bounces(stiffness, mass, sequences, laws=None, gravity=9.81, drag=None, fit_drag=False,
                 timing_resolution=1.0 / 48000.0, height_error=0.01, loss='soft_l1',
                 confidence=0.95, holdout=None, micro_bounce_ratio=MICRO_BOUNCE_RATIO,
                 min_flight=0.0):
@@ -80,14 +80,14 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
 
     Parameters
     ----------
-    sequences : list of ImpactTimes or of arrays of times (s)
-        The recorded sequences.
-    mass : float
-        The sphere's mass in kg.
     stiffness : float or dict
         One k for the Hertz laws (N/m^1.5), or a mapping ``ContactLaw`` -> k in that law's
         N/m^n; for the constant-restitution (linear) law a missing k is derived
         (module doc).
+    mass : float
+        The sphere's mass in kg.
+    sequences : list of ImpactTimes or of arrays of times (s)
+        The recorded sequences.
     laws : list of ContactLaw, optional
         The laws fitted (default: all, or with a mapping ``stiffness`` the laws it has and the
         linear law).
@@ -137,7 +137,7 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     ...                                     radius=0.0127, damping_factor=8.87e5)
     >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
     >>> recorded = cs.predict_bounces(contact, mass, height=0.1, count=6).times
-    >>> fit = cs.fit_bounces([recorded], mass, contact.stiffness,
+    >>> fit = cs.fit_bounces(contact.stiffness, mass, [recorded],
     ...                      laws=[cs.AZAD_FEATHERSTONE, cs.HUNT_CROSSLEY])
     >>> best = fit.best
     >>> print(f"{best.law.name}: lambda = {best.damping:.5e}")

@@ -154,7 +154,7 @@ def test_fit_bounces_coverage_law_choice_and_glitches(golf_truth):
     seeds = 200
     for seed in range(seeds):
         recording, planted = synthetic_recording(truth, seed)
-        fit = fit_bounces([recording], GOLF_MASS, GOLF_K, drag=GOLF)
+        fit = fit_bounces(GOLF_K, GOLF_MASS, [recording], drag=GOLF)
         af = next(f for f in fit.fits if f.law.name == 'azad_featherstone')
         low, high = af.damping_interval
         inside += low <= lam <= high
@@ -173,7 +173,7 @@ def test_fit_bounces_coverage_law_choice_and_glitches(golf_truth):
 def test_fit_bounces_several_sequences_and_drag_coefficient(golf_truth):
     lam, truth = golf_truth
     recordings = [synthetic_recording(truth, seed)[0] for seed in (1, 2, 4, 5)]
-    fit = fit_bounces(recordings, GOLF_MASS, GOLF_K, laws=[cs.AZAD_FEATHERSTONE],
+    fit = fit_bounces(GOLF_K, GOLF_MASS, recordings, laws=[cs.AZAD_FEATHERSTONE],
                       drag=AirDrag(1.2, 0.5, 0.0214), fit_drag=True)
     best = fit.best
     assert best.damping_interval[0] <= lam <= best.damping_interval[1]
@@ -192,14 +192,14 @@ def test_constant_restitution_is_not_called_speed_dependent():
     touches = engine_touches(contact, mass, TABLE_TENNIS, 0.6, duration=4.0)[:12]
     rng = np.random.default_rng(7)
     t = np.round((touches + rng.normal(0.0, 50e-6, touches.size)) * 48000.0) / 48000.0
-    fit = fit_bounces([ImpactTimes(t, 0.6)], mass, {cs.AZAD_FEATHERSTONE: 5e6,
-                                                   cs.HUNT_CROSSLEY: 5e6, cs.LINEAR: k_lin},
+    fit = fit_bounces({cs.AZAD_FEATHERSTONE: 5e6, cs.HUNT_CROSSLEY: 5e6, cs.LINEAR: k_lin}, mass,
+                      [ImpactTimes(t, 0.6)],
                       drag=TABLE_TENNIS)
     assert fit.best.law.name == 'linear'
     assert not fit.speed_dependent
     # ignoring the drag makes the same data look speed dependent (the issue's trap)
-    naive = fit_bounces([ImpactTimes(t, 0.6)], mass, {cs.AZAD_FEATHERSTONE: 5e6,
-                                                     cs.HUNT_CROSSLEY: 5e6, cs.LINEAR: k_lin})
+    naive = fit_bounces({cs.AZAD_FEATHERSTONE: 5e6, cs.HUNT_CROSSLEY: 5e6, cs.LINEAR: k_lin}, mass,
+                        [ImpactTimes(t, 0.6)])
     assert naive.speed_dependent and naive.best.law.name != 'linear'
     assert naive.best.rms > 30 * fit.best.rms
 
@@ -229,11 +229,11 @@ def test_glitch_detection_names_each_kind():
 def test_fit_bounces_errors_name_the_field():
     t = np.cumsum([0.0] + [0.6 * 0.85 ** i for i in range(6)])
     with pytest.raises(ValueError, match='loss = .nope. is unknown'):
-        fit_bounces([t], 0.046, 2e8, loss='nope')
+        fit_bounces(2e8, 0.046, [t], loss='nope')
     with pytest.raises(ValueError, match='timing_resolution = 0.0 is out of range'):
-        fit_bounces([t], 0.046, 2e8, timing_resolution=0.0)
+        fit_bounces(2e8, 0.046, [t], timing_resolution=0.0)
     with pytest.raises(ValueError, match='drag is missing'):
-        fit_bounces([t], 0.046, 2e8, fit_drag=True)
+        fit_bounces(2e8, 0.046, [t], fit_drag=True)
     with pytest.raises(ValueError, match=r'times\[2\] = .* allowed times\[2\] > times\[1\]'):
         ImpactTimes([0.0, 1.0, 0.5])
     with pytest.raises(ValueError, match='at least 3'):
@@ -251,7 +251,7 @@ def test_example_recording_round_trip(tmp_path):
     csv_path, wav_path, lam = module.main(tmp_path)
     sequences = read_impact_times(csv_path)
     assert [s.height for s in sequences] == [pytest.approx(0.8), pytest.approx(0.5)]
-    fit = fit_bounces(sequences, module.MASS, module.STIFFNESS, laws=[cs.AZAD_FEATHERSTONE],
+    fit = fit_bounces(module.STIFFNESS, module.MASS, sequences, laws=[cs.AZAD_FEATHERSTONE],
                       drag=AirDrag(1.204, 0.47, module.RADIUS), fit_drag=True)
     assert fit.best.damping_interval[0] <= lam <= fit.best.damping_interval[1]
     assert sorted(g.kind for g in fit.glitches) == ['doubled click', 'missed bounce']
@@ -264,7 +264,7 @@ def test_final_micro_bounces_are_left_out_and_named():
     touches = engine_touches(contact, 0.066, None, height=0.5)
     rng = np.random.default_rng(5)
     t = np.round((touches + rng.normal(0.0, 50e-6, touches.size)) * 48000.0) / 48000.0
-    fit = fit_bounces([ImpactTimes(t, 0.5)], 0.066, 1e10)
+    fit = fit_bounces(1e10, 0.066, [ImpactTimes(t, 0.5)])
     kinds = [g.kind for g in fit.glitches]
     assert kinds == ['micro-bounces']
     kept = fit.sequences[0].times.size

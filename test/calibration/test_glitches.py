@@ -27,7 +27,7 @@ def test_any_number_of_missing_clicks_is_named_once_and_numbered_right(missing):
     assert np.array_equal(prepared.index, kept)
     (glitch,) = glitches
     assert glitch.kind == 'missed bounce' and f'{missing} click(s) missing' in glitch.detail
-    fit = fit_bounces([t[kept]], 0.05, {LINEAR: 1e6}, laws=[LINEAR])
+    fit = fit_bounces({LINEAR: 1e6}, 0.05, [t[kept]], laws=[LINEAR])
     assert fit.best.rms < 1e-3
 
 

@@ -133,8 +133,8 @@ def test_cli_bounces_parameter_file_of_every_law_is_read_by_the_node(golf_csv, t
                                       'steel', '--radius', '0.0214', '--mass', str(GOLF_MASS)])
     k = cs.build_contact('hunt_crossley', sphere='steel', plate='steel', radius=0.0214,
                          damping=0.0).stiffness
-    fit = cs.fit_bounces(cs.calibration.read_impact_times(golf_csv), GOLF_MASS,
-                         {cs.AZAD_FEATHERSTONE: k, cs.HUNT_CROSSLEY: k, cs.LEE_WANG: k},
+    fit = cs.fit_bounces({cs.AZAD_FEATHERSTONE: k, cs.HUNT_CROSSLEY: k, cs.LEE_WANG: k}, GOLF_MASS,
+                         cs.calibration.read_impact_times(golf_csv),
                          laws=list(cs.LAWS.values()), drag=GOLF)
     assert {f.law.name for f in fit.fits} == set(cs.LAWS)
     for law_fit in fit.fits:
@@ -357,7 +357,7 @@ def test_bounce_figure_legend_carries_the_status_and_the_hold_out(golf_csv, tmp_
                                          read_impact_times)
     from contact_sim.cli import bounces
     seqs = read_impact_times(golf_csv)
-    fit = fit_bounces(seqs, GOLF_MASS, GOLF_K, laws=[cs.AZAD_FEATHERSTONE, cs.LINEAR],
+    fit = fit_bounces(GOLF_K, GOLF_MASS, seqs, laws=[cs.AZAD_FEATHERSTONE, cs.LINEAR],
                       drag=GOLF, holdout=0.3)
     args = type('Args', (), {'plot': str(tmp_path / 'f.png'), 'data': [str(golf_csv)] * 9})
     fig = bounces._plot(args, fit, corrected_restitution_table(fit))
