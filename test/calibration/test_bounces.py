@@ -271,3 +271,18 @@ def test_final_micro_bounces_are_left_out_and_named():
     assert 10 < kept < touches.size
     assert fit.best.law.name == 'azad_featherstone'
     assert fit.best.damping_interval[0] <= 1e5 <= fit.best.damping_interval[1]
+
+
+def test_a_twin_of_a_named_law_tabulates_its_own_bounce_table_and_finds_the_shipped_one():
+    # the bounce table is the law's (ContactLaw.bounce_table), not its exponents': a custom law
+    # with Azad-Featherstone's exponents has none and is tabulated, by the general kernel, to
+    # the shipped numbers (its 9-point grid is every 12th node of the shipped 97)
+    from contact_sim.calibration.contact_tables import build_contact_table
+    twin = cs.ContactLaw('af_twin', 1.5, 0.5, 1.0)
+    assert twin.bounce_table is None and twin.kernel == 0
+    with pytest.warns(RuntimeWarning, match="'af_twin' has no master curve"):
+        grid, x_lift, a, b = build_contact_table(twin, points=9)
+    shipped = cs.AZAD_FEATHERSTONE.bounce_table
+    assert np.allclose(grid, shipped.log_zeta[::12], rtol=0.0, atol=1e-8)
+    for mine, theirs in ((x_lift, shipped.x_lift), (a, shipped.a), (b, shipped.b)):
+        assert np.allclose(mine, theirs[::12], rtol=1e-5, atol=1e-7)
