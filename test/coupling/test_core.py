@@ -53,7 +53,7 @@ def _throw_restitution(contact, mass, speed, phase, dt, steps=8, lead=3.0):
 def test_throws_at_every_phase_of_the_step(dt, law):
     # Hunt-Crossley with λ = 0.08 s/m k: e from 0.997 to 0.6 over the speeds
     contact = STEEL if law == 'azad_featherstone' else cs.Contact(
-        law, STEEL.stiffness, 0.08 * STEEL.stiffness)
+        cs.LAWS[law], STEEL.stiffness, 0.08 * STEEL.stiffness)
     exact = cs.restitution(contact, MASS, SPEEDS)
     assert np.ptp(exact) > 0.05          # e(v) varies over the speeds thrown
     for speed, e in zip(SPEEDS, exact):
