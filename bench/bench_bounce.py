@@ -101,8 +101,8 @@ def best_of(func, repeat):
 
 
 def the_contact():
-    lam = cs.damping_for_restitution('azad_featherstone', STIFFNESS, MASS, E_1MS, 1.0)
-    return cs.Contact('azad_featherstone', STIFFNESS, lam)
+    lam = cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, STIFFNESS, MASS, E_1MS, 1.0)
+    return cs.Contact(cs.AZAD_FEATHERSTONE, STIFFNESS, lam)
 
 
 def kernel_time(contact, mass, speed, gravity, repeat):

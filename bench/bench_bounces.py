@@ -25,8 +25,8 @@ def main():
     parser.add_argument('--repeat', type=int, default=3)
     args = parser.parse_args()
     mass, k, drag = 0.046, 2e8, AirDrag(1.204, 0.3, 0.0214)
-    lam = cs.damping_for_restitution('azad_featherstone', k, mass, 0.8, 3.0)
-    contact = cs.Contact('azad_featherstone', k, lam)
+    lam = cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, k, mass, 0.8, 3.0)
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, k, lam)
     heights = (0.4, 0.6, 0.8, 1.0, 1.2)
     truth = {}
     for h in heights:
@@ -39,11 +39,11 @@ def main():
         h = heights[i % len(heights)]
         t = truth[h] + rng.normal(0.0, 50e-6, truth[h].size) + rng.uniform(0.5, 3.0)
         recordings.append(ImpactTimes(np.round(t * 48000.0) / 48000.0, h + rng.normal(0, 0.01)))
-    fit_bounces(recordings[:1], mass, k, drag=drag)          # load the tables once
+    fit_bounces(k, mass, recordings[:1], drag=drag)          # load the tables once
     best = float('inf')
     for _ in range(args.repeat):
         start = time.perf_counter()
-        fit = fit_bounces(recordings, mass, k, drag=drag)
+        fit = fit_bounces(k, mass, recordings, drag=drag)
         best = min(best, time.perf_counter() - start)
     clicks = sum(r.times.size for r in recordings)
     print(f'{args.sequences} sequences x {args.bounces} bounces ({clicks} clicks), '

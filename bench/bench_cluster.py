@@ -32,6 +32,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'examples'))
 from bifurcation import tables  # noqa: E402
 
 from contact_sim.drop.sweep import bifurcation_diagram, sweep  # noqa: E402
+from contact_sim.model import LINEAR  # noqa: E402
 
 ROUND_TRIPS = 200
 WORKERS = 2
@@ -46,7 +47,7 @@ def _warm(_=None):
     """Import the engine and load its compiled kernels in this worker; its pid."""
     from contact_sim.drop.table import VibratingTable
     from contact_sim.model.contact import Contact
-    VibratingTable(Contact('linear', 1e7, 10.0), 0.066, 10.0, bounces=1, transient=1)(1.2)
+    VibratingTable(Contact(LINEAR, 1e7, 10.0), 0.066, 10.0, bounces=1, transient=1)(1.2)
     return os.getpid()
 
 

@@ -16,6 +16,7 @@ import time
 
 import numpy as np
 
+from contact_sim.model import LINEAR, AZAD_FEATHERSTONE
 from contact_sim.model.contact import Contact
 from contact_sim.impact.damping_fit import damping_for_restitution
 from contact_sim.drop.sweep import bifurcation_diagram
@@ -27,10 +28,10 @@ MASS, STIFFNESS, LINEAR_STIFFNESS, E_1MS, FREQUENCY = 0.066, 1e10, 1e7, 0.7, 10.
 def tables(bounces=300, transient=100):
     """The two ``VibratingTable`` s: {'azad_featherstone': ..., 'linear': ...}."""
     out = {}
-    for law, k in (('azad_featherstone', STIFFNESS), ('linear', LINEAR_STIFFNESS)):
+    for law, k in ((AZAD_FEATHERSTONE, STIFFNESS), (LINEAR, LINEAR_STIFFNESS)):
         lam = damping_for_restitution(law, k, MASS, E_1MS, 1.0)
-        out[law] = VibratingTable(Contact(law, k, lam), MASS, FREQUENCY, bounces=bounces,
-                                  transient=transient, restitution_guess=E_1MS)
+        out[law.name] = VibratingTable(Contact(law, k, lam), MASS, FREQUENCY, bounces=bounces,
+                                       transient=transient, restitution_guess=E_1MS)
     return out
 
 

@@ -21,8 +21,8 @@ MASS, RADIUS, STIFFNESS, DRAG_COEFFICIENT = 0.0459, 0.0214, 2e8, 0.25
 
 
 def touches(height, count=12):
-    lam = cs.damping_for_restitution('azad_featherstone', STIFFNESS, MASS, 0.8, 3.0)
-    contact = cs.Contact('azad_featherstone', STIFFNESS, lam)
+    lam = cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, STIFFNESS, MASS, 0.8, 3.0)
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, STIFFNESS, lam)
     result = cs.simulate_drop(contact, MASS, height, duration=12.0 * (2 * height / 9.81) ** 0.5,
                               drag=AirDrag(1.204, DRAG_COEFFICIENT, RADIUS))
     impacts = result.impacts[:count]

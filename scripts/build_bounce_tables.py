@@ -9,8 +9,9 @@ import time
 
 import numpy as np
 
-from contact_sim.calibration.contact_tables import TABLE_FILE, build_contact_table
+from contact_sim.calibration.contact_tables import build_contact_table
 from contact_sim.model import LAWS
+from contact_sim.model.laws import BOUNCE_TABLE_FILE
 
 
 def main():
@@ -21,7 +22,7 @@ def main():
         out[f'{name}/key'] = np.array([law.n, law.p, law.q])
         out[f'{name}/log_zeta'], out[f'{name}/x_lift'] = grid, x_l
         out[f'{name}/a'], out[f'{name}/b'] = a, b
-    path = pathlib.Path(__file__).resolve().parent.parent / 'contact_sim' / 'data' / TABLE_FILE
+    path = pathlib.Path(__file__).resolve().parent.parent / 'contact_sim' / 'data' / BOUNCE_TABLE_FILE
     np.savez_compressed(path, **out)
     print(f'wrote {path} in {time.perf_counter() - start:.1f} s')
 

@@ -48,7 +48,7 @@ def main():
     for law in ['azad_featherstone', 'hunt_crossley', 'lee_wang', 'linear']:
         cells = []
         for zeta in ZETAS:
-            c = cs.Contact(law, 1.0, zeta)
+            c = cs.Contact(cs.LAWS[law], 1.0, zeta)
             r = cs.simulate_impact(c, 1.0, 1.0, max_steps=10**8)
             if law == 'linear':
                 e, tau = (float(x) for x in linear_restitution_and_duration(zeta))

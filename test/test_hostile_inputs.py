@@ -23,7 +23,7 @@ _spec = importlib.util.spec_from_file_location('hostile_inputs', SCRIPT)
 hostile = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(hostile)
 
-C = cs.Contact('azad_featherstone', 1e10, 1e5)
+C = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5)
 T = np.cumsum([0.0, 0.45, 0.40, 0.36, 0.32, 0.29])
 
 

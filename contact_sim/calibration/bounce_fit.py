@@ -30,7 +30,7 @@ from contact_sim.calibration.timing_fit import fit_law
 from contact_sim.drop import VELOCITY_MAX
 from contact_sim.flight import AirDrag
 from contact_sim.impact import elastic_limits, impact_scales, require_fit_options
-from contact_sim.model import LAWS, get_law
+from contact_sim.model import LAWS, require_law
 from contact_sim.validation import InputError, require_positive
 
 SUPPORT_DELTA_AIC = 10.0     # evidence needed to call the restitution speed dependent
@@ -72,7 +72,7 @@ def check_recording(sequence, gravity, resolution):
                          f'{flight_max:g} s (impacts up to {VELOCITY_MAX:g} m/s)')
 
 
-def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, fit_drag=False,
+def fit_bounces(stiffness, mass, sequences, laws=None, gravity=9.81, drag=None, fit_drag=False,
                 timing_resolution=1.0 / 48000.0, height_error=0.01, loss='soft_l1',
                 confidence=0.95, holdout=None, micro_bounce_ratio=MICRO_BOUNCE_RATIO,
                 min_flight=0.0):
@@ -80,17 +80,17 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
 
     Parameters
     ----------
-    sequences : list of ImpactTimes or of arrays of times (s)
-        The recorded sequences.
+    stiffness : float or dict
+        One k for the Hertz laws (N/m^1.5), or a mapping ``ContactLaw`` -> k in that law's
+        N/m^n; for the constant-restitution (linear) law a missing k is derived
+        (module doc).
     mass : float
         The sphere's mass in kg.
-    stiffness : float or dict
-        One k for the Hertz laws (N/m^1.5), or a mapping law (name or ``ContactLaw``) -> k in
-        that law's N/m^n; for the constant-restitution (linear) law a missing k is derived
-        (module doc).
-    laws : list of str or ContactLaw, optional
+    sequences : list of ImpactTimes or of arrays of times (s)
+        The recorded sequences.
+    laws : list of ContactLaw, optional
         The laws fitted (default: all, or with a mapping ``stiffness`` the laws it has and the
-        linear law); names are resolved here, once.
+        linear law).
     gravity : float
         Gravity g, m/s^2.
     drag : AirDrag, optional
@@ -121,7 +121,7 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     Raises
     ------
     InputError, ValueError
-        For an unknown law, a value out of range, a missing stiffness, no sequences, a
+        For a law that is not a ``ContactLaw`` (a name among them), a value out of range, a missing stiffness, no sequences, a
         sequence ``check_recording`` refuses, or ``fit_drag`` without a drag to fit.
 
     See Also
@@ -137,8 +137,8 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     ...                                     radius=0.0127, damping_factor=8.87e5)
     >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
     >>> recorded = cs.predict_bounces(contact, mass, height=0.1, count=6).times
-    >>> fit = cs.fit_bounces([recorded], mass, contact.stiffness,
-    ...                      laws=['azad_featherstone', 'hunt_crossley'])
+    >>> fit = cs.fit_bounces(contact.stiffness, mass, [recorded],
+    ...                      laws=[cs.AZAD_FEATHERSTONE, cs.HUNT_CROSSLEY])
     >>> best = fit.best
     >>> print(f"{best.law.name}: lambda = {best.damping:.5e}")
     azad_featherstone: lambda = 9.99598e+04
@@ -174,10 +174,9 @@ def fit_bounces(sequences, mass, stiffness, laws=None, gravity=9.81, drag=None, 
     require_sizes(seqs)
     for s in seqs:
         check_recording(s, gravity, resolution)
-    # the names given are resolved here, once: from now on the laws are ContactLaw objects
-    chosen = [get_law(law) for law in (laws if laws is not None else LAWS.values())]
+    chosen = [require_law(law, 'laws') for law in (laws if laws is not None else LAWS.values())]
     if isinstance(stiffness, dict):
-        ks = {get_law(law): k for law, k in stiffness.items()}
+        ks = {require_law(law, 'stiffness'): k for law, k in stiffness.items()}
         if laws is None:      # every law with a k, and the constant law (k derivable)
             chosen = [law for law in chosen if law in ks or law.constant_restitution]
     else:

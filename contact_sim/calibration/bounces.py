@@ -50,7 +50,7 @@ def contact_map(law, stiffness, damping, mass, gravity, speed, kappa=0.0, beta=0
     order: u is lowered by (κ u + β) z_l."""
     v = np.atleast_1d(np.asarray(speed, dtype=float))
     length, time = impact_scales(law, stiffness, mass, v)
-    zeta = np.broadcast_to(damping_group_of(law, length, v, damping, mass), v.shape)
+    zeta = np.broadcast_to(damping_group_of(law, damping, mass, length, v), v.shape)
     e0, tau0, xl, aa, bb = contact_values(law, np.ascontiguousarray(zeta))
     g_group = gravity * time / v
     u = v * (e0 - g_group * aa)

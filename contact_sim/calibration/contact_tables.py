@@ -6,16 +6,16 @@ and linear laws: the last part of the way up to the surface is flight), and a(ζ
 first-order gravity coefficients of the crossing speed and time (``bounces`` module doc).  They are
 tabulated per law on 97 points uniform in ln ζ (from 1e-5 to the ζ of e = 0.02) by exact contact
 integration (``phase.PhaseIntegrator``; ``scripts/build_bounce_tables.py`` writes
-``data/bounce_tables.npz``, about 20 s; a law without a shipped table is tabulated once per
-process) and interpolated by cubic splines.  ``law_tables`` holds them with the master curve's
+``data/bounce_tables.npz``, about 20 s; the law answers its shipped table,
+``ContactLaw.bounce_table``, and a law without one is tabulated once per process) and
+interpolated by cubic splines.  ``law_tables`` holds them with the master curve's
 e and τc (``impact.master_curve``) as piecewise cubics on uniform grids (the bounce loop's hot
 path).
 Laws are ``ContactLaw`` objects.
 """
 import math
 from dataclasses import dataclass
-from functools import cache, lru_cache
-from importlib import resources
+from functools import cache
 
 import numpy as np
 from scipy.interpolate import CubicSpline
@@ -24,7 +24,6 @@ from contact_sim.impact import dimensionless, group_for_restitution, master_curv
 from contact_sim.model import Contact
 from contact_sim.phase import PhaseIntegrator
 
-TABLE_FILE = 'bounce_tables.npz'
 TABLE_POINTS = 97           # table grid, uniform in ln ζ from 1e-5 to the ζ of e = 0.02
 LOWEST_RESTITUTION = 0.02    # below it (ζ beyond the table) the end values are held
 _G_STEP = 1e-4                                            # dimensionless gravity for a, b
@@ -66,27 +65,13 @@ def build_contact_table(law, points=TABLE_POINTS):
     return grid, x_l, a, b
 
 
-@lru_cache(maxsize=1)
-def _shipped_tables():
-    path = resources.files('contact_sim') / 'data' / TABLE_FILE
-    out = {}
-    try:
-        with resources.as_file(path) as real_path, np.load(real_path) as data:
-            for name in data['laws']:
-                name = str(name)
-                out[tuple(float(v) for v in data[f'{name}/key'])] = tuple(
-                    data[f'{name}/{q}'] for q in ('log_zeta', 'x_lift', 'a', 'b'))
-    except FileNotFoundError:
-        pass
-    return out
-
-
 @cache
 def contact_table(law):
-    """Per law: cubic splines in ln ζ of x_l, a and b (module doc), from the shipped table
-    (``scripts/build_bounce_tables.py``) or, for another law, computed once per process."""
-    key = (float(law.n), float(law.p), float(law.q))
-    grid, *values = _shipped_tables().get(key) or build_contact_table(law)
+    """Per law: cubic splines in ln ζ of x_l, a and b (module doc), from the law's shipped
+    table (``ContactLaw.bounce_table``) or, for a law without one, computed once per process."""
+    shipped = law.bounce_table
+    grid, *values = (build_contact_table(law) if shipped is None else
+                     (shipped.log_zeta, shipped.x_lift, shipped.a, shipped.b))
     return (float(grid[0]), float(grid[-1])), tuple(CubicSpline(grid, v) for v in values)
 
 

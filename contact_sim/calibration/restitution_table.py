@@ -55,8 +55,8 @@ def corrected_restitution_table(fit, law_fit=None):
     ...                                     radius=0.0127, damping_factor=8.87e5)
     >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
     >>> recorded = cs.predict_bounces(contact, mass, height=0.1, count=6).times
-    >>> fit = cs.fit_bounces([recorded], mass, contact.stiffness,
-    ...                      laws=['azad_featherstone', 'hunt_crossley'])
+    >>> fit = cs.fit_bounces(contact.stiffness, mass, [recorded],
+    ...                      laws=[cs.AZAD_FEATHERSTONE, cs.HUNT_CROSSLEY])
     >>> from contact_sim.calibration import corrected_restitution_table
     >>> for _, speed, e, sigma in corrected_restitution_table(fit)[:2]:
     ...     print(f"v = {speed:.4f} m/s, e = {e:.4f}")

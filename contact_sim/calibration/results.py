@@ -83,8 +83,8 @@ class BounceFit:
     ...                                     radius=0.0127, damping_factor=8.87e5)
     >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
     >>> recorded = cs.predict_bounces(contact, mass, height=0.1, count=6).times
-    >>> fit = cs.fit_bounces([recorded], mass, contact.stiffness,
-    ...                      laws=['azad_featherstone', 'hunt_crossley'])
+    >>> fit = cs.fit_bounces(contact.stiffness, mass, [recorded],
+    ...                      laws=[cs.AZAD_FEATHERSTONE, cs.HUNT_CROSSLEY])
     >>> print(f"{fit.best.law.name}, trustworthy: {fit.trustworthy}")
     azad_featherstone, trustworthy: True
     """

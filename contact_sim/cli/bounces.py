@@ -225,7 +225,7 @@ def run(args):
     drag = _drag(args)
     ks, k_source = _stiffness(args, laws)
     sequences = _sequences(args)
-    fit = fit_bounces(sequences, mass, ks, laws=laws, gravity=args.gravity, drag=drag,
+    fit = fit_bounces(ks, mass, sequences, laws=laws, gravity=args.gravity, drag=drag,
                       fit_drag=args.fit_drag, timing_resolution=args.timing_resolution,
                       height_error=args.height_error, loss=args.loss, confidence=args.confidence,
                       holdout=args.holdout, micro_bounce_ratio=args.micro_bounce_ratio,

@@ -122,7 +122,7 @@ def run(args):
         fits = [fit_damping(laws[0], setup.contacts[laws[0].name].stiffness, setup.mass,
                             speeds, measured, args.confidence, args.loss, sigmas)]
     else:
-        stiffness = {name: c.stiffness for name, c in setup.contacts.items()}
+        stiffness = {c.law: c.stiffness for c in setup.contacts.values()}
         fits = compare_laws(stiffness, setup.mass, speeds, measured,
                             laws=[c.law for c in setup.contacts.values()],
                             confidence=args.confidence, loss=args.loss, uncertainties=sigmas)

@@ -79,7 +79,7 @@ def touch_time(contact, z, zdot, acceleration, horizon, leaving=False):
     --------
     >>> import contact_sim as cs
     >>> from contact_sim.coupling import touch_time
-    >>> contact = cs.Contact('azad_featherstone', 1.0952e10, 9.996e4)
+    >>> contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1.0952e10, 9.996e4)
     >>> print(f"{touch_time(contact, -0.01, 1.0, 9.81, 1.0):.6f}")
     0.009552
     >>> touch_time(contact, -0.01, 1.0, 9.81, 0.005)

@@ -116,10 +116,10 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
     --------
     >>> import contact_sim as cs
     >>> mass = cs.build_mass(sphere='steel', radius=0.0127)
-    >>> contact = cs.Contact('azad_featherstone', 1.0952e10, 9.996e4)
+    >>> contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1.0952e10, 9.996e4)
     >>> cs.check_drop(contact, mass, 9.81, 0.1, 0.0, radius=0.0127) is None    # accepted
     True
-    >>> soft = cs.Contact('azad_featherstone', 1e3, 0.0)
+    >>> soft = cs.Contact(cs.AZAD_FEATHERSTONE, 1e3, 0.0)
     >>> cs.check_drop(soft, mass, 9.81, 1.0, 0.0, radius=0.0127)
     Traceback (most recent call last):
         ...

@@ -14,7 +14,7 @@ from contact_sim.impact.dimensionless import dimensionless
 from contact_sim.impact.fit_options import MAX_POINTS, require_fit_options
 from contact_sim.impact.restitution import damping_from_group, restitution
 from contact_sim.impact.scales import ZETA_MAX, checked_scales
-from contact_sim.model import LAWS, Contact, ContactLaw, get_law
+from contact_sim.model import LAWS, Contact, ContactLaw, require_law
 from contact_sim.validation import (InputError, require_mass, require_positive, require_range,
                                     require_real_array)
 
@@ -39,8 +39,8 @@ def damping_for_restitution(law, stiffness, mass, restitution, speed):
 
     Parameters
     ----------
-    law : ContactLaw or str
-        The law, or its name in ``LAWS``.
+    law : ContactLaw
+        The law.
     stiffness : float
         Stiffness k, N/m^n, > 0.
     mass : float
@@ -58,8 +58,9 @@ def damping_for_restitution(law, stiffness, mass, restitution, speed):
     Raises
     ------
     InputError
-        Keyed ``law``, ``stiffness``, ``mass``, ``restitution`` or ``speed``: an unknown law, a
-        value out of range, or an e below what the largest damping group gives.
+        Keyed ``law``, ``stiffness``, ``mass``, ``restitution`` or ``speed``: a law that is not a
+        ``ContactLaw`` (a name among them), a value out of range, or an e below what the largest
+        damping group gives.
 
     See Also
     --------
@@ -69,14 +70,14 @@ def damping_for_restitution(law, stiffness, mass, restitution, speed):
     Examples
     --------
     >>> import contact_sim as cs
-    >>> lam = cs.damping_for_restitution('azad_featherstone', 1.0952e10, 0.06735, 0.7, 1.0)
+    >>> lam = cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, 1.0952e10, 0.06735, 0.7, 1.0)
     >>> print(f"{lam:.4e}")
     1.1878e+05
     >>> contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1.0952e10, lam)
     >>> print(f"{cs.restitution(contact, 0.06735, 1.0):.6f}")
     0.700000
     """
-    return _damping_for_restitution(get_law(law), require_positive('stiffness', stiffness),
+    return _damping_for_restitution(require_law(law), require_positive('stiffness', stiffness),
                                     require_positive('mass', mass), restitution, speed)
 
 
@@ -145,7 +146,7 @@ class DampingFit:
     >>> import contact_sim as cs
     >>> v = [0.5, 1.0, 1.5, 2.0]             # impact speeds, m/s
     >>> e = [0.77, 0.735, 0.72, 0.705]       # measured restitutions
-    >>> fit = cs.fit_damping('azad_featherstone', 1.0952e10, 0.06735, v, e)
+    >>> fit = cs.fit_damping(cs.AZAD_FEATHERSTONE, 1.0952e10, 0.06735, v, e)
     >>> print(f"spread {fit.pointwise_spread:.3f}, rms {fit.rms_residual:.4f}")
     spread 1.036, rms 0.0028
     """
@@ -183,7 +184,7 @@ class DampingFit:
         Examples
         --------
         >>> import contact_sim as cs
-        >>> fit = cs.fit_damping('linear', 1e5, 0.05, [1.0, 2.0], [0.8, 0.8])
+        >>> fit = cs.fit_damping(cs.LINEAR, 1e5, 0.05, [1.0, 2.0], [0.8, 0.8])
         >>> fit.contact().law.name
         'linear'
         """
@@ -245,8 +246,8 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
 
     Parameters
     ----------
-    law : ContactLaw or str
-        The law, or its name in ``LAWS``.
+    law : ContactLaw
+        The law.
     stiffness : float
         Stiffness k, N/m^n, > 0 (from Hertz theory, ``hertz_stiffness``).
     mass : float
@@ -271,7 +272,8 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     ------
     InputError
         Keyed ``law``, ``stiffness``, ``mass``, ``confidence``, ``loss``, ``speeds`` or
-        ``restitutions`` (with the point's index): a value out of range or an unknown name.
+        ``restitutions`` (with the point's index): a value out of range, a law that is not a
+        ``ContactLaw`` (a name among them) or an unknown loss.
     ValueError
         ``speeds``, ``restitutions`` or ``uncertainties`` of different lengths, empty, or with
         a value out of range.
@@ -285,12 +287,12 @@ def fit_damping(law, stiffness, mass, speeds, restitutions, confidence=0.95, los
     >>> import contact_sim as cs
     >>> v = [0.5, 1.0, 1.5, 2.0]             # impact speeds, m/s
     >>> e = [0.77, 0.735, 0.72, 0.705]       # measured restitutions
-    >>> fit = cs.fit_damping('azad_featherstone', 1.0952e10, 0.06735, v, e)
+    >>> fit = cs.fit_damping(cs.AZAD_FEATHERSTONE, 1.0952e10, 0.06735, v, e)
     >>> low, high = fit.confidence_interval
     >>> print(f"lambda = {fit.damping:.4e} ({low:.3e} to {high:.3e}) N s/m^1.5")
     lambda = 1.0031e+05 (9.794e+04 to 1.027e+05) N s/m^1.5
     """
-    law = get_law(law)
+    law = require_law(law)
     stiffness = require_positive('stiffness', stiffness)
     mass = require_mass(mass)
     confidence, loss = require_fit_options(confidence, loss)
@@ -386,15 +388,15 @@ def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.
     Parameters
     ----------
     stiffness : float or dict
-        One k for every law (N/m^n), or a mapping law name -> k (the linear law's k has other
-        units than the Hertz k; its fitted restitution does not depend on k).
+        One k for every law (N/m^n), or a mapping ``ContactLaw`` -> k (the linear law's k has
+        other units than the Hertz k; its fitted restitution does not depend on k).
     mass : float
         The (reduced) mass, kg, > 0.
     speeds : array_like of float
         Impact speeds, m/s, > 0.
     restitutions : array_like of float
         Measured e, > 0, one per speed.
-    laws : list of str or ContactLaw, optional
+    laws : list of ContactLaw, optional
         The laws fitted (default: every law of ``LAWS``).
     confidence, loss, uncertainties : optional
         As in ``fit_damping``.
@@ -407,7 +409,8 @@ def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.
     Raises
     ------
     InputError
-        As ``fit_damping``, or keyed ``stiffness``: a mapping without a law fitted.
+        As ``fit_damping``, or keyed ``laws`` (not a list of ``ContactLaw``) or ``stiffness``
+        (a mapping without a law fitted).
     ValueError
         As ``fit_damping``.
 
@@ -417,7 +420,7 @@ def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.
     >>> v = [0.5, 1.0, 1.5, 2.0]             # impact speeds, m/s
     >>> e = [0.77, 0.735, 0.72, 0.705]       # measured restitutions
     >>> fits = cs.compare_laws(1.0952e10, 0.06735, v, e,
-    ...                        laws=['azad_featherstone', 'hunt_crossley'])
+    ...                        laws=[cs.AZAD_FEATHERSTONE, cs.HUNT_CROSSLEY])
     >>> for fit in fits:
     ...     print(f"{fit.law.name}: rms {fit.rms_residual:.4f}")
     azad_featherstone: rms 0.0028
@@ -425,10 +428,10 @@ def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.
     """
     if laws is not None and (isinstance(laws, (str, ContactLaw)) or not hasattr(laws, '__iter__')):
         raise InputError('laws', laws, '{n[laws]} = {value} is not a list of laws: allowed a list '
-                         'of ContactLaw objects or names of %s' % ', '.join(LAWS))
-    chosen = [get_law(name) for name in (laws if laws is not None else LAWS)]
+                         'of ContactLaw objects (cs.LAWS: %s)' % ', '.join(LAWS))
+    chosen = [require_law(law, 'laws') for law in (laws if laws is not None else LAWS.values())]
     if isinstance(stiffness, dict):
-        missing = [law.name for law in chosen if law.name not in stiffness]
+        missing = [law.name for law in chosen if law not in stiffness]
         if missing:
             raise InputError('stiffness', stiffness, '{n[stiffness]} has no value for %s: '
                              'allowed one stiffness for every law, or a mapping with an entry '
@@ -436,7 +439,7 @@ def compare_laws(stiffness, mass, speeds, restitutions, laws=None, confidence=0.
                                                           ', '.join(law.name for law in chosen)))
     fits = []
     for law in chosen:
-        k = stiffness[law.name] if isinstance(stiffness, dict) else stiffness
+        k = stiffness[law] if isinstance(stiffness, dict) else stiffness
         fits.append(fit_damping(law, k, mass, speeds, restitutions, confidence, loss,
                                 uncertainties))
     return sorted(fits, key=lambda fit: fit.rms_residual)

@@ -34,56 +34,50 @@ from contact_sim.impact.dimensionless import dimensionless
 from contact_sim.impact.scales import (checked_scales, checked_scales_at, damping_group_of,
                                       impact_scales, require_speeds)
 from contact_sim.impact.tails import restitution_tails
-from contact_sim.model import get_law, require_contact
+from contact_sim.model import require_contact
 from contact_sim.validation import (MASS_RANGE, InputError, range_text, require_mass,
                                     require_real_array)
 
 
-def damping_group(law, stiffness, mass, speed, damping):
+def damping_group(contact, mass, speed):
     """The damping group ζ = λ Z^(p+1) v^(q-2) / m, the one group the restitution depends on.
 
     Z = (m v² / k)^(1/(n+1)) is the impact's length scale (see the module doc).
 
     Parameters
     ----------
-    law : ContactLaw or str
-        The law (its exponents n, p, q), or its name.
-    stiffness : float
-        Stiffness k, N/m^n, > 0.
-    mass : float
+    contact : Contact
+        The contact: its law (exponents n, p, q), stiffness k and damping λ.
+    mass : float or array_like of float
         The (reduced) mass, kg, > 0.
     speed : float or array_like of float
         Impact speeds, m/s, > 0.
-    damping : float
-        Damping λ, N·s^q/m^(p+q), >= 0.
 
     Returns
     -------
     float or numpy.ndarray
-        Damping group ζ, dimensionless, of the shape of ``speed``.
+        Damping group ζ, dimensionless, of the broadcast shape of ``mass`` and ``speed``.
 
     Raises
     ------
     InputError
-        Keyed ``law``: an unknown law; ``stiffness`` (> 0), ``damping`` (>= 0) or ``mass``
-        (``MASS_RANGE``) not finite real numbers in range; ``speed``: a speed that is not a
-        finite real > 0, or a ζ that overflows.
+        Keyed ``contact`` (not a ``Contact``), ``mass`` (``MASS_RANGE``) or ``speed``: a speed
+        that is not a finite real > 0, or a ζ that overflows.
 
     Examples
     --------
     >>> import contact_sim as cs
-    >>> zeta = cs.damping_group(cs.AZAD_FEATHERSTONE, 1.0952e10, 0.06735, 1.0, 9.996e4)
-    >>> print(f"{float(zeta):.4f}")
+    >>> contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1.0952e10, 9.996e4)
+    >>> print(f"{float(cs.damping_group(contact, 0.06735, 1.0)):.4f}")
     0.2785
     """
-    law = get_law(law)
-    k = _array_in('stiffness', stiffness, 0.0, math.inf, low_open=True)   # numbers or arrays
-    m = _array_in('mass', mass, *MASS_RANGE)
-    lam = _array_in('damping', damping, 0.0, math.inf)
+    contact = require_contact(contact)
+    m = _array_in('mass', mass, *MASS_RANGE)     # numbers or arrays
     v = require_speeds(speed, 'speed')
+    law = contact.law
     with np.errstate(all='ignore'):
-        length, _ = impact_scales(law, k, m, v)
-        zeta = damping_group_of(law, length, v, lam, m)
+        length, _ = impact_scales(law, contact.stiffness, m, v)
+        zeta = damping_group_of(law, contact.damping, m, length, v)
     if not np.all(np.isfinite(zeta)):
         raise InputError('speed', None, 'the damping group of these {n[speed]}, {n[stiffness]}, '
                          '{n[mass]} and {n[damping]} overflows: allowed values whose zeta is a '

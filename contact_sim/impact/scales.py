@@ -38,9 +38,9 @@ def require_speeds(speed, name='speeds'):
     return v
 
 
-def damping_group_of(law, length, speed, damping, mass):
-    """ζ = λ Z^(p+1) v^(q-2) / m at the impact length scale Z (m) and speed v (m/s): arrays or
-    floats."""
+def damping_group_of(law, damping, mass, length, speed):
+    """ζ = λ Z^(p+1) v^(q-2) / m of damping λ and mass m (kg) at the impact length scale Z (m)
+    and speed v (m/s): arrays or floats."""
     return damping * length ** (law.p + 1.0) * speed ** (law.q - 2.0) / mass
 
 
@@ -70,7 +70,7 @@ def checked_scales_at(contact, mass, speed, name='speed', zeta_max=ZETA_MAX, zet
         try:
             length = (mass * (speed * speed) / contact.stiffness) ** (1.0 / (law.n + 1.0))  # as v**2
             time = length / speed
-            zeta = damping_group_of(law, length, speed, contact.damping, mass)
+            zeta = damping_group_of(law, contact.damping, mass, length, speed)
         except (OverflowError, ZeroDivisionError):
             pass
         else:
@@ -118,7 +118,7 @@ def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX, zeta_
     v = require_speeds(speed, name)
     with np.errstate(all='ignore'):
         length, time = impact_scales(law, contact.stiffness, mass, v)
-        zeta = damping_group_of(law, length, v, contact.damping, mass)
+        zeta = damping_group_of(law, contact.damping, mass, length, v)
     finite, ok = _scales_accepted(length, time, zeta, zeta_max, zeta_min, contact.damping == 0.0)
     if not np.all(ok):
         i = np.flatnonzero(~np.broadcast_to(ok, np.shape(v)).ravel())[0]
@@ -153,7 +153,7 @@ def checked_scales(contact, mass, speed, name='speeds', zeta_max=ZETA_MAX, zeta_
                              '%.3g, elastic to every digit; allowed {n[damping]} = 0 (elastic) or '
                              '{n[damping]} >= %.4g (zeta >= %g)'
                              % (float(mass), bad, z,
-                                zeta_min / damping_group_of(law, depth, bad, 1.0, float(mass)),
+                                zeta_min / damping_group_of(law, 1.0, float(mass), depth, bad),
                                 zeta_min),
                              value='%g' % contact.damping)
         lam_max = contact.damping * (zeta_max / z)

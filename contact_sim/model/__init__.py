@@ -12,7 +12,7 @@ from contact_sim.model.hertz import (effective_modulus, equivalent_radius, hertz
                                      reduced_mass, sphere_mass)
 from contact_sim.model.closed_forms import ClosedForm
 from contact_sim.model.laws import (AZAD_FEATHERSTONE, CLOSED_FORMS, HUNT_CROSSLEY, LAWS, LEE_WANG,
-                                    LINEAR, ContactLaw, get_law, register_closed_form)
+                                    LINEAR, ContactLaw, get_law, register_closed_form, require_law)
 from contact_sim.model.master_curves import QUANTITIES, MasterCurve
 from contact_sim.model.materials import (DENSITY_MIN, MATERIALS, MODULUS_MIN, Material,
                                           get_material)
@@ -22,4 +22,4 @@ __all__ = ['AZAD_FEATHERSTONE', 'CLOSED_FORMS', 'DEFAULT_CONTACT', 'DENSITY_MIN'
            'HUNT_CROSSLEY', 'LAWS', 'LEE_WANG', 'LINEAR', 'MATERIALS', 'MODULUS_MIN', 'QUANTITIES', 'ClosedForm', 'Contact', 'ContactLaw', 'MasterCurve',
            'Material', 'build_contact', 'build_mass', 'effective_modulus', 'equivalent_radius',
            'get_law', 'get_material', 'hertz_stiffness', 'reduced_mass', 'register_closed_form',
-           'require_contact', 'sphere_mass']
+           'require_contact', 'require_law', 'sphere_mass']

@@ -2,10 +2,9 @@
 import math
 from dataclasses import dataclass
 
-import numpy as np
 
 from contact_sim.model.hertz import effective_modulus, equivalent_radius, hertz_stiffness, sphere_mass
-from contact_sim.model.laws import ContactLaw, get_law
+from contact_sim.model.laws import ContactLaw, get_law, require_law
 from contact_sim.model.materials import get_material
 from contact_sim.validation import InputError, require_instance, require_nonnegative, require_positive
 
@@ -17,7 +16,7 @@ class Contact:
     Attributes
     ----------
     law : ContactLaw
-        The force law (a name of ``LAWS`` is resolved when built).
+        The force law (a name is refused: resolve it with ``get_law``, or use ``build_contact``).
     stiffness : float
         Stiffness k, N/m^n (N/m^1.5 for the Hertz laws), > 0.
     damping : float
@@ -26,7 +25,8 @@ class Contact:
     Raises
     ------
     InputError
-        Keyed ``law``, ``stiffness`` or ``damping``: an unknown law or a value out of range.
+        Keyed ``law``, ``stiffness`` or ``damping``: a law that is not a ``ContactLaw`` (a name
+        among them) or a value out of range.
 
     See Also
     --------
@@ -35,10 +35,10 @@ class Contact:
     Examples
     --------
     >>> import contact_sim as cs
-    >>> contact = cs.Contact('azad_featherstone', 1.095e10, 1e5)
+    >>> contact = cs.Contact(cs.AZAD_FEATHERSTONE, 1.095e10, 1e5)
     >>> contact.law is cs.AZAD_FEATHERSTONE
     True
-    >>> cs.Contact('linear', -1.0, 0.0)
+    >>> cs.Contact(cs.LINEAR, -1.0, 0.0)
     Traceback (most recent call last):
         ...
     contact_sim.validation.InputError: stiffness = -1.0 is out of range: allowed 0 < stiffness
@@ -49,7 +49,7 @@ class Contact:
     damping: float
 
     def __post_init__(self):
-        object.__setattr__(self, 'law', get_law(self.law))
+        require_law(self.law)
         object.__setattr__(self, 'stiffness', require_positive('stiffness', self.stiffness))
         object.__setattr__(self, 'damping', require_nonnegative('damping', self.damping))
 
@@ -167,8 +167,8 @@ class Contact:
 
         Parameters
         ----------
-        law : ContactLaw or str
-            A law with n = 1.5 (Hertz), or its name in ``LAWS``.
+        law : ContactLaw
+            A law with n = 1.5 (Hertz).
         sphere, plate : Material or str
             The materials, as ``Material`` values or names in ``MATERIALS``.
         radius : float
@@ -187,10 +187,13 @@ class Contact:
         Raises
         ------
         InputError
-            Keyed ``law``, ``material``, ``radius``, ``plate_radius`` or ``damping_factor``: an
-            unknown name or a value out of range.
-        ValueError
-            A law without the Hertz exponent n = 1.5.
+            Keyed ``law`` (not a ``ContactLaw``), ``sphere``, ``plate`` (an unknown material),
+            ``radius``, ``plate_radius`` or ``damping_factor`` (a value out of range), or
+            ``stiffness``: a law without the Hertz exponent n = 1.5 (``build_contact``'s rule).
+
+        See Also
+        --------
+        build_contact : The same rule, with overrides (this is ``build_contact`` without them).
 
         Examples
         --------
@@ -200,15 +203,8 @@ class Contact:
         >>> print(f"k = {contact.stiffness:.4e} N/m^1.5, lambda = {contact.damping:.4e}")
         k = 1.0952e+10 N/m^1.5, lambda = 9.9960e+04
         """
-        law = get_law(law)
-        if not law.hertz:
-            raise ValueError(f'law = {law.name!r} has n = {law.n:g}: Hertz stiffness needs n = 1.5 '
-                             '(allowed: azad_featherstone, hunt_crossley, lee_wang or a custom '
-                             'law with n = 1.5)')
-        r = equivalent_radius(radius, plate_radius)
-        e_star = effective_modulus(get_material(sphere), get_material(plate))
-        lam_star = require_nonnegative('damping_factor', damping_factor)
-        return cls(law, hertz_stiffness(e_star, r), lam_star * np.sqrt(r))
+        return build_contact(require_law(law), sphere=sphere, plate=plate, radius=radius,
+                             plate_radius=plate_radius, damping_factor=damping_factor)
 
 
 def require_contact(contact, name='contact'):
@@ -234,7 +230,7 @@ def require_contact(contact, name='contact'):
     Examples
     --------
     >>> import contact_sim as cs
-    >>> contact = cs.Contact('linear', 1e5, 2.0)
+    >>> contact = cs.Contact(cs.LINEAR, 1e5, 2.0)
     >>> cs.require_contact(contact) is contact
     True
     >>> cs.require_contact(3)
@@ -249,6 +245,9 @@ def build_contact(law, *, stiffness=None, damping=None, damping_factor=None, sph
                   plate=None, radius=None, plate_radius=math.inf):
     """The contact from materials or overrides: the one rule every front end uses.
 
+    The one core function that takes a law's name (for the front ends and parameter files,
+    resolved by ``get_law``); everything else in the core takes ``ContactLaw`` objects.
+
     * k = ``stiffness`` (N/m^n) if given, else the Hertz k = (4/3) E* √R (eqs. 5, 6, 10) from the
       ``sphere`` and ``plate`` materials (``Material`` or library name) and the radii (m); the
       Hertz k exists for laws with n = 1.5 only.
@@ -257,7 +256,7 @@ def build_contact(law, *, stiffness=None, damping=None, damping_factor=None, sph
     Parameters
     ----------
     law : ContactLaw or str
-        The law, or its name in ``LAWS``.
+        The law, or its name in ``LAWS`` (resolved here, once).
     stiffness : float, optional
         Stiffness k, N/m^n, > 0; default: the Hertz k of the materials.
     damping : float, optional
@@ -306,12 +305,7 @@ def build_contact(law, *, stiffness=None, damping=None, damping_factor=None, sph
             raise InputError('stiffness', None, '{n[stiffness]} is missing: give {n[stiffness]} '
                              '(N/m^n), or {n[sphere]}, {n[plate]} and {n[radius]} for the Hertz '
                              'stiffness')
-        if not law.hertz:
-            raise InputError('stiffness', None, '{n[stiffness]} is missing: {n[law]} = %r has '
-                             'n = %g and the Hertz stiffness needs n = 1.5; give {n[stiffness]} '
-                             '(N/m^n)' % (law.name, law.n))
-        k = hertz_stiffness(effective_modulus(_material('sphere', sphere),
-                                              _material('plate', plate)), r)
+        k = _hertz_stiffness(law, sphere, plate, r)
     else:
         k = require_positive('stiffness', stiffness)
     if damping is not None and damping_factor is not None:
@@ -330,6 +324,17 @@ def build_contact(law, *, stiffness=None, damping=None, damping_factor=None, sph
                              'lambda = lambda* sqrt(R) (eq. 9)')
         lam = factor * math.sqrt(r)
     return Contact(law, k, lam)
+
+
+def _hertz_stiffness(law, sphere, plate, r):
+    """The one Hertz rule: k = (4/3) E* √R (eqs. 5, 6, 10) for a law with n = 1.5, else one
+    ``InputError`` keyed ``stiffness`` (``Contact.from_materials`` and the front ends share it)."""
+    if not law.hertz:
+        raise InputError('stiffness', None, '{n[stiffness]} is missing: {n[law]} = %r has '
+                         'n = %g and the Hertz stiffness needs n = 1.5; give {n[stiffness]} '
+                         '(N/m^n)' % (law.name, law.n))
+    return hertz_stiffness(effective_modulus(_material('sphere', sphere),
+                                             _material('plate', plate)), r)
 
 
 def _material(name, value):

@@ -6,7 +6,6 @@ when no contact is given, so both simulate the same sphere unless told otherwise
 from dataclasses import dataclass
 
 from contact_sim.model.contact import build_contact, build_mass
-from contact_sim.model.laws import get_law
 
 
 @dataclass(frozen=True)
@@ -45,7 +44,8 @@ class DefaultContact:
         Parameters
         ----------
         law : str or ContactLaw, optional
-            Another n = 1.5 law with the same materials and damping factor.
+            Another n = 1.5 law with the same materials and damping factor (a name is resolved
+            by ``build_contact``, as the front ends' names are).
 
         Returns
         -------
@@ -58,7 +58,7 @@ class DefaultContact:
         >>> print(f"{DEFAULT_CONTACT.contact().stiffness:.4e}")
         1.0952e+10
         """
-        return build_contact(get_law(self.law if law is None else law), sphere=self.sphere,
+        return build_contact(self.law if law is None else law, sphere=self.sphere,
                              plate=self.plate, radius=self.radius,
                              damping_factor=self.damping_factor)
 

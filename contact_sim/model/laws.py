@@ -6,24 +6,31 @@ Units are SI throughout: penetration z in m, penetration rate ż in m/s (z > 0 i
 
 A ``ContactLaw`` carries its abilities, and this module is the one place that compares its
 exponents or its name to decide them: ``hertz``, ``linear_in_rate``, ``damps_at_touch``,
-``constant_restitution``, ``kernel`` (the compiled kernel's short form), ``closed_form`` (its
-exact dimensionless results, ``closed_forms``) and ``master_curve`` (its shipped table,
-``master_curves``).  Every other layer asks the law.
+``constant_restitution`` (read from the exponents), and what is registered for the law
+itself: ``kernel`` (the compiled kernel's short form), ``closed_form`` (its exact dimensionless
+results, ``closed_forms``), ``master_curve`` (its shipped table, ``master_curves``) and
+``bounce_table`` (its shipped bounce-model table, ``data/bounce_tables.npz``).  Every other
+layer asks the law; the core takes ``ContactLaw`` objects, never names (``get_law`` and
+``LAWS`` are for the front ends, and ``build_contact`` takes a name for them).
 
-Why the closed forms and the master curves are model-level facts: both are pure functions of
+Why the closed forms and the tables are model-level facts: they are pure functions of
 the law and the damping group ζ (the closed forms need numpy and scipy's special functions
-and quadrature, the curves numpy and the shipped ``data/master_curves.npz``), with no time stepping and nothing of the
-impact layer in them.  Kept here, the law can answer for them without an upward import (model
-never imports impact) and without a cycle (``closed_forms`` and ``master_curves`` import
-nothing of the package); the impact layer derives ζ, the tails and the dimensional results
-from what the law answers.
+and quadrature, the tables numpy and the shipped ``.npz`` files), with no time stepping and
+nothing of the impact layer in them.  Kept here, the law can answer for them without an upward
+import (model never imports impact) and without a cycle (``closed_forms`` and
+``master_curves`` import nothing of the package); the impact layer derives ζ, the tails and the
+dimensional results from what the law answers, and the calibration layer its bounce model.
 
-How a law is recognised: the closed forms and the curves belong to a registered law, its name
-and exponents together (the dataclass's equality), so a custom law whose exponents equal a
-named law's is integrated (``impact`` warns once); the compiled kernel is a statement about the
-exponents alone (which pow() calls it avoids), so any law with a named law's exponents gets it.
+How a law is recognised: by the law object itself, its name and exponents together (the
+dataclass's equality).  The closed forms, the compiled kernels and the shipped tables are all
+registered per law: a shipped table is found by the law's name and checked against its
+exponents, a kernel is listed for the named law.  So a custom law whose exponents equal a named
+law's gets none of them: it is integrated by the general power-law kernel (``impact`` warns once
+that it integrates), and its bounce table is tabulated once per process.
 """
 from dataclasses import dataclass
+from functools import lru_cache
+from importlib import resources
 
 import math
 
@@ -130,11 +137,13 @@ class ContactLaw:
 
     @property
     def kernel(self):
-        """The compiled contact phase's short form for these exponents (``phase.compiled``).
+        """The compiled contact phase's short form of this law (``phase.compiled``), an int.
 
-        1 Azad-Featherstone, 2 Hunt-Crossley, 3 Lee-Wang, 4 linear, 0 for the general power law.
+        1 Azad-Featherstone, 2 Hunt-Crossley, 3 Lee-Wang, 4 linear (right-hand sides without
+        pow()), 0 the general power law: registered per named law, so a custom law gets 0 even
+        where its exponents equal a named law's.
         """
-        return _KERNELS.get((self.n, self.p, self.q), 0)
+        return _KERNELS.get(self, 0)
 
     @property
     def closed_form(self):
@@ -151,6 +160,16 @@ class ContactLaw:
         A table belongs to a named law, its name and exponents (loaded on first use).
         """
         return curve_for(self.name, (self.n, self.p, self.q))
+
+    @property
+    def bounce_table(self):
+        """The law's shipped ``BounceTable`` (lift-off depth and gravity coefficients against
+        ln ζ, for ``calibration.bounces``), or ``None``.
+
+        Found by the law's name in ``data/bounce_tables.npz`` and checked against its exponents
+        (loaded on first use), so a custom law has none and ``calibration`` tabulates it.
+        """
+        return _shipped_bounce_tables().get((self.name, (self.n, self.p, self.q)))
 
     def reduced_force(self, z, zdot, k, damping):
         """The reduced force φ = k z^(n-p) + λ ż|ż|^(q-1): the unclamped force is z^p φ (z > 0).
@@ -267,9 +286,6 @@ class ContactLaw:
         return np.where(inside, np.where(unclamped < 0.0, 0.0, unclamped), 0.0)
 
 
-# the compiled kernels' short forms, by exponents (n, p, q): ``ContactLaw.kernel``
-_KERNELS = {(1.5, 0.5, 1.0): 1, (1.5, 1.5, 1.0): 2, (1.5, 1.0, 1.0): 3, (1.0, 0.0, 1.0): 4}
-
 #: The Azad-Featherstone law F = k z^1.5 + λ z^0.5 ż (eq. 8): n = 1.5, p = 0.5, q = 1.
 AZAD_FEATHERSTONE = ContactLaw('azad_featherstone', 1.5, 0.5, 1.0)  # eq. 8
 #: The Hunt-Crossley law F = k z^1.5 + λ z^1.5 ż (eq. 2): n = p = 1.5, q = 1.
@@ -283,6 +299,48 @@ LINEAR = ContactLaw('linear', 1.0, 0.0, 1.0)  # spring-damper: n = q = 1, p = 0
 LAWS = {law.name: law for law in (AZAD_FEATHERSTONE, HUNT_CROSSLEY, LEE_WANG, LINEAR)}
 
 CLOSED_FORMS = {HUNT_CROSSLEY: HUNT_CROSSLEY_FORM, LINEAR: LINEAR_FORM}   # ContactLaw -> ClosedForm
+
+# ContactLaw -> the compiled kernel's short form (``ContactLaw.kernel``; ``phase.compiled``)
+_KERNELS = {AZAD_FEATHERSTONE: 1, HUNT_CROSSLEY: 2, LEE_WANG: 3, LINEAR: 4}
+
+BOUNCE_TABLE_FILE = 'bounce_tables.npz'   # in contact_sim/data: scripts/build_bounce_tables.py
+
+
+@dataclass(frozen=True, eq=False)
+class BounceTable:
+    """A law's bounce-model table (``calibration.contact_tables``) on a grid uniform in ln ζ.
+
+    Attributes
+    ----------
+    log_zeta : numpy.ndarray
+        The grid, ln ζ (dimensionless).
+    x_lift : numpy.ndarray
+        The lift-off depth z_lift / Z of the unit impact (dimensionless).
+    a, b : numpy.ndarray
+        The first-order gravity coefficients of its crossing speed and time (dimensionless).
+    """
+
+    log_zeta: np.ndarray
+    x_lift: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+
+
+@lru_cache(maxsize=1)
+def _shipped_bounce_tables():
+    """(name, (n, p, q)) -> ``BounceTable`` from the shipped file ({} if it is not there)."""
+    path = resources.files('contact_sim') / 'data' / BOUNCE_TABLE_FILE
+    tables = {}
+    try:
+        with resources.as_file(path) as real_path, np.load(real_path) as data:
+            for name in data['laws']:
+                name = str(name)
+                key = tuple(float(v) for v in data[f'{name}/key'])
+                tables[name, key] = BounceTable(*(data[f'{name}/{field}'] for field in
+                                                  ('log_zeta', 'x_lift', 'a', 'b')))
+    except FileNotFoundError:
+        pass
+    return tables
 
 
 def register_closed_form(law, vector, scalar=None, table_duration=None):
@@ -305,7 +363,10 @@ def register_closed_form(law, vector, scalar=None, table_duration=None):
 
 
 def get_law(name):
-    """The named law (a ``ContactLaw`` is returned as is).
+    """The named law (a ``ContactLaw`` is returned as is): how a front end resolves a name.
+
+    The core takes ``ContactLaw`` objects and refuses names (``require_law``); the command line,
+    the node's parameters and ``build_contact`` resolve them here.
 
     Parameters
     ----------
@@ -339,3 +400,45 @@ def get_law(name):
     except (KeyError, TypeError):
         raise InputError('law', name, '{n[law]} = {value} is unknown: allowed one of %s'
                          % ', '.join(sorted(LAWS)), value=repr(name)) from None
+
+
+def require_law(law, name='law'):
+    """Check that ``law`` is a ``ContactLaw``: the core takes law objects, never names.
+
+    Parameters
+    ----------
+    law : object
+        The value to check.
+    name : str, optional
+        The field the error names (default ``'law'``).
+
+    Returns
+    -------
+    ContactLaw
+        ``law`` itself.
+
+    Raises
+    ------
+    InputError
+        Keyed ``name``: ``law`` is a name (resolve it with ``get_law`` or ``LAWS[...]``), or
+        something else that is not a ``ContactLaw``.
+
+    Examples
+    --------
+    >>> import contact_sim as cs
+    >>> from contact_sim.model import require_law
+    >>> require_law(cs.LINEAR) is cs.LINEAR
+    True
+    >>> require_law('linear')
+    Traceback (most recent call last):
+        ...
+    contact_sim.validation.InputError: law = 'linear' is a name: allowed a ContactLaw (resolve a name with cs.get_law('linear') or cs.LAWS['linear'])
+    """
+    if isinstance(law, ContactLaw):
+        return law
+    if isinstance(law, str):
+        raise InputError(name, law, '{n[%s]} = {value} is a name: allowed a ContactLaw (resolve '
+                         'a name with cs.get_law({value}) or cs.LAWS[{value}])' % name,
+                         value=repr(law))
+    raise InputError(name, law, '{n[%s]} = {value} is not a ContactLaw: allowed a ContactLaw '
+                     '(the named ones are cs.LAWS: %s)' % (name, ', '.join(sorted(LAWS))))

@@ -11,7 +11,7 @@ from contact_sim.calibration import bounces
 def recording_times():
     """Touch times of a golf-like ball dropped from 0.8 m (the bounce model), and click
     amplitudes proportional to the impact speed, the tenth bounce almost silent."""
-    contact = cs.Contact('azad_featherstone', 2e8, 4500.0)
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, 2e8, 4500.0)
     seq = bounces.predict_bounces(contact, 0.046, height=0.8, count=16)
     times = seq.times + 0.3
     amplitudes = 0.6 * seq.impact_speeds / seq.impact_speeds[0]

@@ -19,8 +19,8 @@ PP_MASS, PP_K, PP_RADIUS = 0.0027, 5e6, 0.02
 @pytest.fixture(scope='module')
 def heavy_drag_times():
     """A light ball with C_d = 5: fitted with a third of its radius, it needs C_d = 45 > 10."""
-    lam = cs.damping_for_restitution('azad_featherstone', PP_K, PP_MASS, 0.9, 2.0)
-    result = cs.simulate_drop(cs.Contact('azad_featherstone', PP_K, lam), PP_MASS, 0.5,
+    lam = cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, PP_K, PP_MASS, 0.9, 2.0)
+    result = cs.simulate_drop(cs.Contact(cs.AZAD_FEATHERSTONE, PP_K, lam), PP_MASS, 0.5,
                               duration=2.0, drag=AirDrag(1.2, 5.0, PP_RADIUS))
     return np.array([imp.time for imp in result.impacts if not imp.permanent])[:10]
 
@@ -36,7 +36,7 @@ def test_fit_drag_at_its_upper_bound_is_a_failed_fit_not_a_crash(heavy_drag_time
     # found: fit_bounces(..., fit_drag=True) raised "drag_coefficient = 10.000000000000002 is
     # out of range"
     seq = cs.calibration.ImpactTimes(heavy_drag_times, 0.5, 'table tennis')
-    fit = fit_bounces([seq], PP_MASS, PP_K, laws=['azad_featherstone'],
+    fit = fit_bounces(PP_K, PP_MASS, [seq], laws=[cs.AZAD_FEATHERSTONE],
                       drag=AirDrag(1.2, 0.47, PP_RADIUS / 3.0), fit_drag=True)
     best = fit.best
     assert best.drag_coefficient <= CD_BOUNDS[1]
@@ -48,7 +48,7 @@ def test_fit_drag_at_its_upper_bound_is_a_failed_fit_not_a_crash(heavy_drag_time
 def test_fewer_observations_than_parameters_are_refused():
     # found: N <= P printed an interval of zero width with exit 0
     with pytest.raises(ValueError, match='allowed more observations than parameters'):
-        fit_bounces([np.array([0.0, 0.5, 0.9])], 0.05, 1e8, laws=['hunt_crossley'])
+        fit_bounces(1e8, 0.05, [np.array([0.0, 0.5, 0.9])], laws=[cs.HUNT_CROSSLEY])
 
 
 def test_degenerate_or_undetermined_intervals_are_no_intervals():
@@ -74,7 +74,7 @@ def rising_restitution_times(noise=30e-6):
 def test_no_law_describes_a_restitution_rising_with_speed():
     # found: the fit's timing noise (tens of ms, a thousand resolutions) was never checked,
     # and the speed dependence was declared from it
-    fit = fit_bounces([rising_restitution_times()], 0.05, 1e8)
+    fit = fit_bounces(1e8, 0.05, [rising_restitution_times()])
     assert not fit.adequacy.adequate and not fit.trustworthy
     assert 'does not describe this recording' in fit.adequacy.reason
     assert 'rises with speed' in fit.adequacy.reason and 'no law fitted can follow' in \
@@ -83,7 +83,7 @@ def test_no_law_describes_a_restitution_rising_with_speed():
 
 
 def test_a_rising_restitution_is_judged_on_the_held_out_clicks():
-    fit = fit_bounces([rising_restitution_times()], 0.05, 1e8, holdout=0.4)
+    fit = fit_bounces(1e8, 0.05, [rising_restitution_times()], holdout=0.4)
     verdict = fit.adequacy
     assert verdict.judged_on == 'hold-out' and not verdict.adequate
     assert 'held-out' in verdict.reason and 'rises with speed' in verdict.reason
@@ -103,7 +103,7 @@ def scattered_constant_e(seed, spread=0.01, e=0.8, count=14):
 
 def test_a_constant_restitution_with_ordinary_scatter_is_not_no_law():
     # found: bounce-to-bounce scatter of a constant e was reported as "no law describes this"
-    verdicts = [fit_bounces([scattered_constant_e(seed)], 0.05, 1e8).adequacy
+    verdicts = [fit_bounces(1e8, 0.05, [scattered_constant_e(seed)]).adequacy
                 for seed in range(4)]
     assert all(v.adequate and v.judged_on == 'fit' for v in verdicts), \
         [v.reason for v in verdicts]
@@ -111,7 +111,7 @@ def test_a_constant_restitution_with_ordinary_scatter_is_not_no_law():
     assert all(0.004 < v.scatter < 0.03 for v in verdicts), [v.scatter for v in verdicts]
     # two halves of one recording (two drops each) get the verdict of the whole
     drops = [scattered_constant_e(seed) for seed in range(4, 8)]
-    halves = [fit_bounces(d, 0.05, 1e8).adequacy for d in (drops[:2], drops[2:], drops)]
+    halves = [fit_bounces(1e8, 0.05, d).adequacy for d in (drops[:2], drops[2:], drops)]
     assert [h.adequate for h in halves] == [True, True, True], [h.reason for h in halves]
 
 
@@ -119,7 +119,7 @@ def test_a_fit_with_no_more_clicks_than_parameters_is_ill_determined_not_converg
     # found: a law ranked first at 0.02 ms on 6 clicks for 6 parameters, "converged"
     seqs = [cs.calibration.ImpactTimes(scattered_constant_e(s, count=3), 0.46, f'drop {s}')
             for s in (1, 2)]
-    fit = fit_bounces(seqs, 0.05, 1e8, laws=['hunt_crossley'],
+    fit = fit_bounces(1e8, 0.05, seqs, laws=[cs.HUNT_CROSSLEY],
                       drag=AirDrag(1.2, 0.47, 0.02), fit_drag=True)
     best = fit.best
     assert best.status in ('ill-determined', 'at-bound') and not best.success
@@ -134,11 +134,11 @@ def test_an_interval_spanning_orders_of_magnitude_is_ill_determined():
 
 
 def test_a_recording_of_the_model_itself_is_adequate():
-    lam = cs.damping_for_restitution('hunt_crossley', 1e8, 0.05, 0.8, 3.0)
-    result = cs.simulate_drop(cs.Contact('hunt_crossley', 1e8, lam), 0.05, 0.8, duration=3.0)
+    lam = cs.damping_for_restitution(cs.HUNT_CROSSLEY, 1e8, 0.05, 0.8, 3.0)
+    result = cs.simulate_drop(cs.Contact(cs.HUNT_CROSSLEY, 1e8, lam), 0.05, 0.8, duration=3.0)
     t = np.array([imp.time for imp in result.impacts if not imp.permanent])[:12]
     t = t + np.random.default_rng(3).normal(0.0, 50e-6, t.size)
-    fit = fit_bounces([t], 0.05, 1e8)
+    fit = fit_bounces(1e8, 0.05, [t])
     verdict = check_adequacy(fit)
     assert verdict.adequate and fit.trustworthy, verdict.reason
     assert 25e-6 < verdict.own_noise < 1e-3      # law-free: at least the 50 us put in
@@ -149,10 +149,10 @@ def test_recordings_no_bounce_can_make_are_refused_by_name():
     t = np.array([0.0, 0.8, 1.44, 1.952, 2.36])
     with pytest.raises(ValueError, match=r'times\[1\] - times\[0\] = 8e\+11 s is out of range: '
                                          r'allowed flights up to 20387.4 s'):
-        fit_bounces([t * 1e12], 0.05, 1e8)
+        fit_bounces(1e8, 0.05, [t * 1e12])
     with pytest.raises(ValueError, match=r'= 1e-09 s is out of range: allowed intervals of at '
                                          r'least the timing resolution 2.08333e-05 s'):
-        fit_bounces([np.arange(12) * 1e-9], 0.05, 1e8)
+        fit_bounces(1e8, 0.05, [np.arange(12) * 1e-9])
 
 
 def test_a_start_value_that_is_not_finite_is_an_input_error(monkeypatch):
@@ -162,7 +162,7 @@ def test_a_start_value_that_is_not_finite_is_an_input_error(monkeypatch):
     monkeypatch.setattr(timing_fit, '_damping_guess', lambda *args: math.nan)
     with pytest.raises(cs.InputError, match='no start value for the fit of hunt_crossley: with '
                                             'stiffness = 100000000.0'):
-        fit_bounces([scattered_constant_e(0)], 0.05, 1e8, laws=['hunt_crossley'])
+        fit_bounces(1e8, 0.05, [scattered_constant_e(0)], laws=[cs.HUNT_CROSSLEY])
 
 
 def slowly_rising_restitution_times(count=40, noise=1e-4):
@@ -179,7 +179,7 @@ def test_a_slow_rise_held_out_is_named_from_every_flight():
     # found (review of issue 32): on the last 30 % of one such drop the rise is no trend in
     # itself (t < 3 on 12 flights), so the INADEQUATE verdict gave no reason; the trend is a
     # property of the whole recording, read from every flight
-    fit = fit_bounces([slowly_rising_restitution_times()], 0.064, {'linear': 1.3e8},
+    fit = fit_bounces({cs.LINEAR: 1.3e8}, 0.064, [slowly_rising_restitution_times()],
                       holdout=0.3)
     verdict = fit.adequacy
     assert verdict.judged_on == 'hold-out' and not verdict.adequate
@@ -198,7 +198,7 @@ def test_a_constant_e_held_out_is_not_called_inadequate_for_its_short_flights():
         for _ in range(39):
             v *= 0.98
             t.append(t[-1] + 2.0 * v / G)
-        fit = fit_bounces([np.array(t) + rng.normal(0.0, 1e-4, 40)], 0.064, {'linear': 1.3e8},
+        fit = fit_bounces({cs.LINEAR: 1.3e8}, 0.064, [np.array(t) + rng.normal(0.0, 1e-4, 40)],
                           holdout=0.3)
         verdicts.append(fit.adequacy.adequate and fit.adequacy.judged_on == 'hold-out')
     assert all(verdicts)

@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 
 from contact_sim.calibration import ImpactTimes, fit_bounces, prepare_sequence
+from contact_sim.model import LINEAR
 
 G = 9.81
 
@@ -26,7 +27,7 @@ def test_any_number_of_missing_clicks_is_named_once_and_numbered_right(missing):
     assert np.array_equal(prepared.index, kept)
     (glitch,) = glitches
     assert glitch.kind == 'missed bounce' and f'{missing} click(s) missing' in glitch.detail
-    fit = fit_bounces([t[kept]], 0.05, {'linear': 1e6}, laws=['linear'])
+    fit = fit_bounces({LINEAR: 1e6}, 0.05, [t[kept]], laws=[LINEAR])
     assert fit.best.rms < 1e-3
 
 

@@ -18,8 +18,8 @@ MASS, K, NOISE = 0.046, 2e8, 50e-6
 def golf_drops():
     """Twelve clicks of three drops of an Azad–Featherstone golf ball (e = 0.8 at 3 m/s), the
     engine's touch times with 50 µs of timing noise, on a 48 kHz clock."""
-    lam = cs.damping_for_restitution('azad_featherstone', K, MASS, 0.8, 3.0)
-    contact = cs.Contact('azad_featherstone', K, lam)
+    lam = cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, K, MASS, 0.8, 3.0)
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, K, lam)
     rng = np.random.default_rng(5)
     drops = []
     for h in (0.6, 0.8, 1.0):
@@ -32,7 +32,7 @@ def golf_drops():
 
 
 def test_the_true_law_predicts_the_held_out_clicks_within_the_noise(golf_drops):
-    fit = fit_bounces(golf_drops, MASS, K, drag=GOLF, holdout=0.5)
+    fit = fit_bounces(K, MASS, golf_drops, drag=GOLF, holdout=0.5)
     assert [s.times.size for s in fit.sequences] == [12, 12, 12]
     truth = next(h for h in fit.holdout if h.law.name == 'azad_featherstone')
     assert [s.times.size for s in truth.held] == [6, 6, 6]
@@ -45,8 +45,8 @@ def test_the_true_law_predicts_the_held_out_clicks_within_the_noise(golf_drops):
 
 def test_holdout_keeps_the_fit_on_all_clicks_and_reports_the_training_fit(golf_drops):
     # found: --holdout silently replaced the reported fit by the training-half fit
-    whole = fit_bounces(golf_drops, MASS, K, drag=GOLF, laws=['azad_featherstone'])
-    fit = fit_bounces(golf_drops, MASS, K, drag=GOLF, laws=['azad_featherstone'], holdout=0.5)
+    whole = fit_bounces(K, MASS, golf_drops, drag=GOLF, laws=[cs.AZAD_FEATHERSTONE])
+    fit = fit_bounces(K, MASS, golf_drops, drag=GOLF, laws=[cs.AZAD_FEATHERSTONE], holdout=0.5)
     assert [s.times.size for s in fit.sequences] == [12, 12, 12]
     assert fit.best.damping == whole.best.damping
     training = fit.holdout[0].fit
@@ -56,7 +56,7 @@ def test_holdout_keeps_the_fit_on_all_clicks_and_reports_the_training_fit(golf_d
 
 def test_holdout_refuses_a_share_that_leaves_too_few_clicks(golf_drops):
     with pytest.raises(ValueError, match=r'holdout = 0.8 leaves 2 click\(s\) of 0.6 m'):
-        fit_bounces(golf_drops, MASS, K, drag=GOLF, holdout=0.8)
+        fit_bounces(K, MASS, golf_drops, drag=GOLF, holdout=0.8)
     with pytest.raises(ValueError, match='holdout = 1.0 is out of range'):
         split_sequences([], 1.0)
 

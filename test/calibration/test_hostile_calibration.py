@@ -45,31 +45,31 @@ def test_parse_impact_times_refuses_what_is_not_text(text):
 
 def test_fit_bounces_reads_a_2d_array_as_one_sequence_a_row():
     # reproduced: "The truth value of an array with more than one element is ambiguous"
-    stacked = cs.fit_bounces(np.vstack([T, T + 1.0]), 0.066, 1e10, laws=['azad_featherstone'])
-    listed = cs.fit_bounces([T, T + 1.0], 0.066, 1e10, laws=['azad_featherstone'])
+    stacked = cs.fit_bounces(1e10, 0.066, np.vstack([T, T + 1.0]), laws=[cs.AZAD_FEATHERSTONE])
+    listed = cs.fit_bounces(1e10, 0.066, [T, T + 1.0], laws=[cs.AZAD_FEATHERSTONE])
     assert stacked.fits[0].damping == pytest.approx(listed.fits[0].damping, rel=1e-9)
     with pytest.raises(cs.InputError, match='^sequences is an array of shape'):
-        cs.fit_bounces(T, 0.066, 1e10)
+        cs.fit_bounces(1e10, 0.066, T)
 
 
 @pytest.mark.parametrize('sequences, field', [(5, 'sequences'), ([[0.0, 0.4, 'x']], 'times'),
                                               ([[0.0, 0.4, 0.7 + 1j]], 'times')])
 def test_fit_bounces_refuses_sequences_that_are_not_times(sequences, field):
     with pytest.raises(cs.InputError) as info:
-        cs.fit_bounces(sequences, 0.066, 1e10)
+        cs.fit_bounces(1e10, 0.066, sequences)
     assert info.value.field == field
 
 
 def test_fit_bounces_refuses_a_drag_that_is_not_an_air_drag():
     # reproduced: AttributeError 'float' object has no attribute 'rates'
     with pytest.raises(cs.InputError, match='^drag = 0.5 is not None or an AirDrag'):
-        cs.fit_bounces([T], 0.066, 1e10, drag=0.5)
+        cs.fit_bounces(1e10, 0.066, [T], drag=0.5)
 
 
 def test_a_sequence_longer_than_the_limit_is_refused_before_the_work():
     times = np.arange(20_001, dtype=float)
     with pytest.raises(cs.InputError, match='allowed at most'):
-        cs.fit_bounces([times], 0.066, 1e10)
+        cs.fit_bounces(1e10, 0.066, [times])
     assert math.isfinite(times[-1])
 
 

@@ -14,7 +14,7 @@ def test_ten_million_times_are_refused_with_the_limit():
     times = np.cumsum(np.full(10_000_000, 1e-3))
     with pytest.raises(InputError, match='times has 10000000 values: allowed at most '
                                          '5000') as info:
-        fit_bounces([times], 0.046, 2e8)
+        fit_bounces(2e8, 0.046, [times])
     assert info.value.field == 'times'
 
 
@@ -22,9 +22,9 @@ def test_sequences_too_many_in_all_are_refused():
     one = ImpactTimes(0.3 + np.cumsum(0.4 * 0.9 ** np.arange(30)), 0.8)
     with pytest.raises(InputError, match=r'sequences hold 6000 impact times in all: allowed at '
                                          r'most 5000 in one fit'):
-        fit_bounces([one] * 200, 0.046, 2e8)
+        fit_bounces(2e8, 0.046, [one] * 200)
     with pytest.raises(InputError, match='sequences holds 201 sequences: allowed at most 200'):
-        fit_bounces([one] * 201, 0.046, 2e8)
+        fit_bounces(2e8, 0.046, [one] * 201)
 
 
 def test_a_csv_of_too_many_lines_or_bytes_is_refused(tmp_path):
@@ -41,4 +41,4 @@ def test_a_csv_of_too_many_lines_or_bytes_is_refused(tmp_path):
 def test_fit_damping_with_a_million_points_is_refused_at_once():
     v = np.linspace(0.5, 3.0, 1_000_000)
     with pytest.raises(InputError, match='speeds has 1000000 values: allowed at most 2000'):
-        cs.fit_damping('hunt_crossley', 2e8, 0.046, v, np.full(v.size, 0.8))
+        cs.fit_damping(cs.HUNT_CROSSLEY, 2e8, 0.046, v, np.full(v.size, 0.8))

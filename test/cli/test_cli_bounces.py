@@ -17,8 +17,8 @@ GOLF_MASS, GOLF_K = 0.046, 2e8
 @pytest.fixture(scope='module')
 def golf_csv(tmp_path_factory):
     """Ten clicks of releases from 0.8 m and 1.0 m, as the package's engine has them."""
-    lam = cs.damping_for_restitution('azad_featherstone', GOLF_K, GOLF_MASS, 0.8, 3.0)
-    contact = cs.Contact('azad_featherstone', GOLF_K, lam)
+    lam = cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, GOLF_K, GOLF_MASS, 0.8, 3.0)
+    contact = cs.Contact(cs.AZAD_FEATHERSTONE, GOLF_K, lam)
     truth = {}
     for h in (0.8, 1.0):
         result = cs.simulate_drop(contact, GOLF_MASS, h, duration=11.0 * math.sqrt(2.0 * h / G),
@@ -58,7 +58,7 @@ def test_cli_bounces_report_and_parameter_file(golf_csv, tmp_path, capsys):
     assert values['contact_law'] == 'azad_featherstone'
     assert values['stiffness'] == GOLF_K and values['sphere_mass'] == GOLF_MASS
     assert values['drag_coefficient'] == 0.3 and values['initial_height'] == 0.8
-    assert cs.Contact(values['contact_law'], values['stiffness'], values['damping'])
+    assert cs.Contact(cs.get_law(values['contact_law']), values['stiffness'], values['damping'])
 
 
 def test_cli_bounces_bad_input_exits_2_naming_the_field(golf_csv, tmp_path, capsys):
@@ -87,8 +87,8 @@ def test_cli_bounces_says_when_the_fit_fails(tmp_path, capsys):
     # found: --fit-drag exited 2 when C_d reached its bound (10.000000000000002 refused); a
     # failed fit, and a fit no law describes, printed as a success with exit 0
     # a table-tennis ball with C_d = 5, given a third of its radius: it needs C_d = 45 > 10
-    lam = cs.damping_for_restitution('azad_featherstone', 5e6, 0.0027, 0.9, 2.0)
-    drop = cs.simulate_drop(cs.Contact('azad_featherstone', 5e6, lam), 0.0027, 0.5,
+    lam = cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, 5e6, 0.0027, 0.9, 2.0)
+    drop = cs.simulate_drop(cs.Contact(cs.AZAD_FEATHERSTONE, 5e6, lam), 0.0027, 0.5,
                             duration=2.0, drag=AirDrag(1.2, 5.0, 0.02))
     times = [imp.time for imp in drop.impacts if not imp.permanent][:10]
     path = tmp_path / 'pingpong.csv'
@@ -133,9 +133,9 @@ def test_cli_bounces_parameter_file_of_every_law_is_read_by_the_node(golf_csv, t
                                       'steel', '--radius', '0.0214', '--mass', str(GOLF_MASS)])
     k = cs.build_contact('hunt_crossley', sphere='steel', plate='steel', radius=0.0214,
                          damping=0.0).stiffness
-    fit = cs.fit_bounces(cs.calibration.read_impact_times(golf_csv), GOLF_MASS,
-                         {'azad_featherstone': k, 'hunt_crossley': k, 'lee_wang': k},
-                         laws=list(cs.LAWS), drag=GOLF)
+    fit = cs.fit_bounces({cs.AZAD_FEATHERSTONE: k, cs.HUNT_CROSSLEY: k, cs.LEE_WANG: k}, GOLF_MASS,
+                         cs.calibration.read_impact_times(golf_csv),
+                         laws=list(cs.LAWS.values()), drag=GOLF)
     assert {f.law.name for f in fit.fits} == set(cs.LAWS)
     for law_fit in fit.fits:
         path = tmp_path / f'{law_fit.law.name}.yaml'
@@ -357,7 +357,7 @@ def test_bounce_figure_legend_carries_the_status_and_the_hold_out(golf_csv, tmp_
                                          read_impact_times)
     from contact_sim.cli import bounces
     seqs = read_impact_times(golf_csv)
-    fit = fit_bounces(seqs, GOLF_MASS, GOLF_K, laws=['azad_featherstone', 'linear'],
+    fit = fit_bounces(GOLF_K, GOLF_MASS, seqs, laws=[cs.AZAD_FEATHERSTONE, cs.LINEAR],
                       drag=GOLF, holdout=0.3)
     args = type('Args', (), {'plot': str(tmp_path / 'f.png'), 'data': [str(golf_csv)] * 9})
     fig = bounces._plot(args, fit, corrected_restitution_table(fit))

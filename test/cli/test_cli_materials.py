@@ -20,7 +20,7 @@ def test_custom_sphere_material_gives_the_hertz_stiffness_and_mass(capsys):
                                 'azad_featherstone', '--speeds', '1'])
     assert code == 0
     nylon_like = cs.Material('custom', 2e9, 0.4, 1100.0)
-    k = cs.Contact.from_materials('azad_featherstone', nylon_like, 'steel', 0.02).stiffness
+    k = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, nylon_like, 'steel', 0.02).stiffness
     assert f'k = {k:.6e}' in out
     assert f'm = {cs.sphere_mass(1100.0, 0.02):.4g} kg (from the custom density)' in out
 
@@ -33,7 +33,7 @@ def test_library_material_with_one_value_changed(capsys):
     assert code == 0
     sphere = cs.Material('s', 190e9, 0.30, 7850.0)
     plate = cs.Material('p', 100e9, 0.3, 7300.0)
-    k = cs.Contact.from_materials('azad_featherstone', sphere, plate, 0.0127).stiffness
+    k = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, sphere, plate, 0.0127).stiffness
     assert f'k = {k:.6e}' in out and 'steel (modified) sphere' in out
 
 

@@ -53,7 +53,7 @@ def _throw_restitution(contact, mass, speed, phase, dt, steps=8, lead=3.0):
 def test_throws_at_every_phase_of_the_step(dt, law):
     # Hunt-Crossley with λ = 0.08 s/m k: e from 0.997 to 0.6 over the speeds
     contact = STEEL if law == 'azad_featherstone' else cs.Contact(
-        law, STEEL.stiffness, 0.08 * STEEL.stiffness)
+        cs.LAWS[law], STEEL.stiffness, 0.08 * STEEL.stiffness)
     exact = cs.restitution(contact, MASS, SPEEDS)
     assert np.ptp(exact) > 0.05          # e(v) varies over the speeds thrown
     for speed, e in zip(SPEEDS, exact):
@@ -63,7 +63,7 @@ def test_throws_at_every_phase_of_the_step(dt, law):
 
 
 def test_a_soft_contact_spans_many_host_steps_as_one_contact():
-    contact = cs.Contact('hunt_crossley', 2e5, 2e3)
+    contact = cs.Contact(cs.HUNT_CROSSLEY, 2e5, 2e3)
     mass, dt = 0.05, 1e-4
     exact = cs.restitution(contact, mass, SPEEDS)
     for speed, e in zip(SPEEDS, exact):

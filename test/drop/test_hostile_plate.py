@@ -8,7 +8,7 @@ import pytest
 import contact_sim as cs
 from contact_sim.drop import CommandedPlate, SinusoidalPlate, command_motion, sphere_motion
 
-C = cs.Contact('azad_featherstone', 1e10, 1e5)
+C = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5)
 
 
 @pytest.fixture(autouse=True)
@@ -80,11 +80,11 @@ def test_a_table_frequency_is_zero_or_at_least_a_millihertz(frequency):
 def test_a_damping_whose_group_underflows_is_refused_by_the_drop(damping):
     # reproduced: 5e-324 accepted with an overflow warning though ZETA_MIN refuses it
     with pytest.raises(cs.InputError, match=r'^damping = .* allowed damping = 0') as info:
-        cs.simulate_drop(cs.Contact('azad_featherstone', 1e10, damping), 0.066, 1.0,
+        cs.simulate_drop(cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, damping), 0.066, 1.0,
                          duration=1.0)
     assert info.value.field == 'damping'
     # a single impact still answers (e = 1 to every digit)
-    assert cs.restitution(cs.Contact('azad_featherstone', 1e10, damping), 0.066, 1.0) == 1.0
+    assert cs.restitution(cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, damping), 0.066, 1.0) == 1.0
 
 
 @pytest.mark.parametrize('gravity', [1e300, 1e7, -1.0, '9.81'])

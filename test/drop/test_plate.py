@@ -6,6 +6,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from contact_sim.model import AZAD_FEATHERSTONE, HUNT_CROSSLEY, LINEAR
 from contact_sim.model.contact import Contact
 from contact_sim.drop.engine import DropSimulation
 from contact_sim.drop.simulate import simulate_drop
@@ -14,7 +15,7 @@ from contact_sim.drop.plate import CommandedPlate, SinusoidalPlate, SwitchedPlat
 
 G = 9.81
 MASS = 0.066
-STEEL = Contact('azad_featherstone', 1e10, 1e5)
+STEEL = Contact(AZAD_FEATHERSTONE, 1e10, 1e5)
 
 
 def test_a_plate_that_does_not_move_is_the_fixed_plate():
@@ -56,7 +57,7 @@ def _relative_reference(contact, plate, t0, z0, zdot0, t_max):
 
 def test_contact_on_a_vibrating_plate_matches_the_slow_path():
     # a soft contact (duration ~ 10 ms) on a plate whose acceleration changes a lot meanwhile
-    soft = Contact('azad_featherstone', 2e6, 2e3)
+    soft = Contact(AZAD_FEATHERSTONE, 2e6, 2e3)
     plate = SinusoidalPlate(0.002, 25.0, 0.3)
     sim = DropSimulation(soft, MASS, 0.02, plate=plate)
     sim.advance(0.2)
@@ -165,7 +166,7 @@ def test_sphere_carried_then_released_by_a_commanded_plate():
     # rest for 0.5 s, accelerate up at 5 m/s² for 0.2 s (carried), then decelerate at 20 m/s²
     # (more than g: the sphere is released at t = 0.7 with the plate's 1 m/s, at 0.1 m)
     plate = CommandedPlate([0.0, 0.5, 0.7, 0.9], [0.0, 0.0, 0.1, -0.1], [0.0, 0.0, 1.0, -3.0])
-    lossy = Contact('azad_featherstone', 1e10, 2e6)
+    lossy = Contact(AZAD_FEATHERSTONE, 1e10, 2e6)
     sim = DropSimulation(lossy, MASS, 0.005, plate=plate)
     sim.advance(0.45)
     assert sim.carried
@@ -189,7 +190,7 @@ def test_sphere_carried_then_released_by_a_commanded_plate():
 
 
 def test_vibrating_table_below_one_g_carries_a_lossy_sphere():
-    lossy = Contact('linear', 1e6, 400.0)   # e about 0.1
+    lossy = Contact(LINEAR, 1e6, 400.0)   # e about 0.1
     plate = SinusoidalPlate(0.0005, 15.0)   # Γ ≈ 0.45
     sim = DropSimulation(lossy, MASS, 0.002, plate=plate)
     sim.advance(1.0)
@@ -224,12 +225,12 @@ def test_a_contact_change_inside_the_surface_after_lift_off_is_no_impact(moving)
     new contact that pushes at once is a resumed contact, not an impact, on a moving plate too
     (found in review: the vibrating plate logged impact_speed = 0, restitution = 0)."""
     plate = SinusoidalPlate(1e-4, 5.0) if moving else None
-    sim = DropSimulation(Contact('linear', 1e5, 50.0), 0.05, 0.05, plate=plate)
+    sim = DropSimulation(Contact(LINEAR, 1e5, 50.0), 0.05, 0.05, plate=plate)
     while not sim.impacts:
         sim.advance(sim.time + 1e-3)
     assert sim.state.penetration > 0.0 and sim.state.force == 0.0   # inside, force off
     count = len(sim.impacts)
-    sim.set_contact(Contact('linear', 1e5, 0.0))      # undamped: pushes at once
+    sim.set_contact(Contact(LINEAR, 1e5, 0.0))      # undamped: pushes at once
     sim.advance(sim.time + 0.01)
     assert len(sim.impacts) == count, sim.impacts[count:]
 
@@ -289,7 +290,7 @@ def test_set_plate_in_a_contact_phase_carries_the_impact_across(to_fixed):
 
 
 def test_set_plate_on_a_resting_and_on_a_carried_sphere_records_no_impact():
-    lossy = Contact('linear', 1e6, 400.0)
+    lossy = Contact(LINEAR, 1e6, 400.0)
     sim = DropSimulation(lossy, MASS, 0.002)
     sim.advance(2.0)
     assert sim.settle_time is not None
@@ -334,7 +335,7 @@ def test_a_table_switched_on_changed_and_off_matches_the_switched_plate_from_the
 
 
 def test_the_depth_check_counts_the_plate_speed():
-    soft = Contact('linear', 200.0, 0.0)
+    soft = Contact(LINEAR, 200.0, 0.0)
     sim = DropSimulation(soft, MASS, 0.0001, radius=0.0127)
     with pytest.raises(ValueError, match=r'stiffness .*with the plate moving at up to 6\.283 m/s'):
         sim.set_plate(SinusoidalPlate(0.05, 20.0))
@@ -348,7 +349,7 @@ def test_a_stiff_phase_after_a_knot_goes_to_the_reference_integrator():
     # forced phase is compiled, the unforced one after the knot too damped for DOP853 (Radau)
     from contact_sim.drop.mode_contact import InContact
     from contact_sim.phase import CompiledPhase, PhaseIntegrator
-    contact = Contact('hunt_crossley', 1e9, 1e15)
+    contact = Contact(HUNT_CROSSLEY, 1e9, 1e15)
     sim = DropSimulation(contact, MASS, 0.005, plate=CommandedPlate((0.0, 0.2), (0.0, -0.1),
                                                                     (0.0, -1.0)))
     sim.run_to(0.19)

@@ -12,11 +12,11 @@ from contact_sim.drop.plate import (COMMAND_ACCELERATION_MAX, COMMAND_POSITION_M
                                COMMAND_VELOCITY_MAX, TABLE_ACCELERATION_MAX, CommandedPlate,
                                SinusoidalPlate, command_motion, vibrating_table)
 from contact_sim.drop import plate
-from contact_sim.model import Contact
+from contact_sim.model import AZAD_FEATHERSTONE, LINEAR, Contact
 from contact_sim.validation import InputError
 
 MASS = 0.066
-STEEL = Contact('azad_featherstone', 1e10, 1e5)
+STEEL = Contact(AZAD_FEATHERSTONE, 1e10, 1e5)
 
 
 def test_past_points_are_dropped_and_the_motion_starts_from_the_current_state():
@@ -83,7 +83,7 @@ def test_bad_commands_are_refused_naming_the_field_and_range(args, field, allowe
 
 def test_a_command_drives_a_sphere_on_the_drop_engine():
     # the plate lifted 1 cm under a resting sphere: carried up, no impact, lands with the plate
-    sim = DropSimulation(Contact('linear', 1e6, 400.0), MASS, 0.001)
+    sim = DropSimulation(Contact(LINEAR, 1e6, 400.0), MASS, 0.001)
     sim.advance(1.0)
     count = len(sim.impacts)
     state = sim.state

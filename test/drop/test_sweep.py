@@ -11,7 +11,7 @@ from contact_sim.model.contact import Contact
 from contact_sim.drop.sweep import bifurcation_diagram, sweep
 from contact_sim.drop.table import VibratingTable, period_one_threshold, period_doubling_threshold
 
-TABLE = VibratingTable(Contact('linear', 1e9, 715.0), 0.01, 20.0, bounces=30, transient=150,
+TABLE = VibratingTable(Contact(cs.LINEAR, 1e9, 715.0), 0.01, 20.0, bounces=30, transient=150,
                        restitution_guess=0.7177)
 
 

@@ -6,6 +6,7 @@ import pytest
 
 from contact_sim import InputError
 from contact_sim.drop import bifurcation_diagram
+from contact_sim.model import LINEAR
 from contact_sim.model.contact import Contact
 from contact_sim.drop.simulate import simulate_drop
 from contact_sim.drop.table import (VibratingTable, period_doubling_threshold, period_one_phase,
@@ -75,7 +76,7 @@ def _classify(contact, e, gamma, bounces=300):
 @pytest.mark.parametrize('damping', [1360.0, 715.0, 327.0])
 def test_engine_thresholds_within_one_percent(damping):
     # the linear law (constant e) with 10 µs contacts on a 20 Hz table
-    contact = Contact('linear', 1e9, damping)
+    contact = Contact(LINEAR, 1e9, damping)
     speed = math.pi * G / (2 * math.pi * FREQ)
     e = simulate_drop(contact, MASS, 0.0, velocity=1.3 * speed, duration=1e-3).impacts[0] \
         .restitution
@@ -95,7 +96,7 @@ def test_engine_thresholds_within_one_percent(damping):
 ])
 def test_a_vibrating_table_checks_its_fields(kwargs, pattern):
     # issue 17, reproduced: frequency = 0 was a ZeroDivisionError, bounces = 2.5 a TypeError
-    args = dict(contact=Contact('linear', 1e9, 715.0), mass=0.01, frequency=20.0)
+    args = dict(contact=Contact(LINEAR, 1e9, 715.0), mass=0.01, frequency=20.0)
     with pytest.raises(InputError, match=pattern):
         VibratingTable(**{**args, **kwargs})
 
@@ -103,7 +104,7 @@ def test_a_vibrating_table_checks_its_fields(kwargs, pattern):
 @pytest.mark.parametrize('gamma', [-1.0, 1e6, float('nan')])
 def test_a_vibrating_table_refuses_a_gamma_no_table_reaches(gamma):
     # issue 17, reproduced: Gamma = 1e6 gave empty arrays, Gamma = -1 an error about `amplitude`
-    table = VibratingTable(Contact('linear', 1e9, 715.0), 0.01, 20.0, bounces=3, transient=0)
+    table = VibratingTable(Contact(LINEAR, 1e9, 715.0), 0.01, 20.0, bounces=3, transient=0)
     top = table.gamma_max()     # 1000 m/s^2 of the table's peak acceleration over g
     assert top == pytest.approx(1000.0 / 9.81)
     with pytest.raises(InputError, match=r'gamma = .* (is out of range: allowed 0 <= gamma '
@@ -113,6 +114,6 @@ def test_a_vibrating_table_refuses_a_gamma_no_table_reaches(gamma):
 
 def test_an_empty_bifurcation_diagram_is_empty():
     # issue 17, reproduced: bifurcation_diagram(T, []) said "need at least one array to concatenate"
-    table = VibratingTable(Contact('linear', 1e9, 715.0), 0.01, 20.0, bounces=3, transient=0)
+    table = VibratingTable(Contact(LINEAR, 1e9, 715.0), 0.01, 20.0, bounces=3, transient=0)
     x, phases = bifurcation_diagram(table, [])
     assert x.shape == phases.shape == (0,)

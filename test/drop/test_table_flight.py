@@ -10,6 +10,7 @@ from contact_sim.drop.engine import DropSimulation
 from contact_sim.drop.mode_flight import Flight
 from contact_sim.drop.plate import PlateMotion, SinusoidalPlate
 from contact_sim.impact.damping_fit import damping_for_restitution
+from contact_sim.model import get_law
 from contact_sim.model.contact import Contact
 
 G, MASS = 9.81, 0.066
@@ -17,7 +18,7 @@ LAWS = {'azad_featherstone': 1e10, 'hunt_crossley': 1e10, 'lee_wang': 1e10, 'lin
 
 
 def contact_of(law, restitution=0.7):
-    k = LAWS[law]
+    k, law = LAWS[law], get_law(law)
     return Contact(law, k, damping_for_restitution(law, k, MASS, restitution, 1.0))
 
 

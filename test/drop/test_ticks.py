@@ -5,12 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from contact_sim import AirDrag, Contact, DropSimulation, TickBatch
+from contact_sim import AZAD_FEATHERSTONE, LINEAR, AirDrag, Contact, DropSimulation, TickBatch
 from contact_sim.drop.plate import CommandedPlate, SinusoidalPlate
 
 MASS = 0.066
-STEEL = Contact('azad_featherstone', 1e10, 1e5)
-LOSSY = Contact('azad_featherstone', 1e10, 2e6)
+STEEL = Contact(AZAD_FEATHERSTONE, 1e10, 1e5)
+LOSSY = Contact(AZAD_FEATHERSTONE, 1e10, 2e6)
 FIELDS = ('time', 'penetration', 'penetration_rate', 'force', 'plate_position', 'plate_velocity')
 
 
@@ -88,7 +88,7 @@ def test_with_air_drag():
     CommandedPlate([0.0, 0.5, 0.7, 0.9], [0.0, 0.0, 0.1, -0.1], [0.0, 0.0, 1.0, -3.0]),
 ], ids=['vibrating', 'carried', 'commanded'])
 def test_with_a_moving_plate(plate):
-    contact = Contact('linear', 1e6, 400.0) if isinstance(plate, SinusoidalPlate) and \
+    contact = Contact(LINEAR, 1e6, 400.0) if isinstance(plate, SinusoidalPlate) and \
         plate.amplitude < 0.001 else LOSSY
     make = lambda: DropSimulation(contact, MASS, 0.005, plate=plate)   # noqa: E731
     times = 0.002 * np.arange(1, 601)

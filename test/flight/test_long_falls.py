@@ -66,7 +66,7 @@ def test_a_drop_from_150_m_with_drag_touches_at_the_closed_form_time():
     kappa, _ = drag.rates(2.7e-3, G)
     vt = math.sqrt(G / kappa)
     t_exact = vt / G * math.acosh(math.exp(kappa * 150.0))      # 18.4876 s
-    result = cs.simulate_drop(cs.Contact('hunt_crossley', 1e7, 1e6), 2.7e-3, height=150.0,
+    result = cs.simulate_drop(cs.Contact(cs.HUNT_CROSSLEY, 1e7, 1e6), 2.7e-3, height=150.0,
                               gravity=G, duration=30.0, drag=drag)
     assert result.impacts, 'the drop never touched the plate'
     assert result.impacts[0].time == pytest.approx(t_exact, rel=1e-12)

@@ -19,17 +19,17 @@ def test_damping_for_restitution_inverts_the_exact_restitution(law, e):
 
 
 def test_damping_for_restitution_of_one_is_zero_and_bad_values_are_named():
-    assert cs.damping_for_restitution('azad_featherstone', K, M, 1.0, 1.0) == 0.0
+    assert cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, K, M, 1.0, 1.0) == 0.0
     with pytest.raises(ValueError, match=r'restitution = 1\.5 is out of range: allowed 0 < restitution <= 1'):
-        cs.damping_for_restitution('azad_featherstone', K, M, 1.5, 1.0)
+        cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, K, M, 1.5, 1.0)
     with pytest.raises(ValueError, match=r'speed = -1\.0 is out of range'):
-        cs.damping_for_restitution('azad_featherstone', K, M, 0.5, -1.0)
+        cs.damping_for_restitution(cs.AZAD_FEATHERSTONE, K, M, 0.5, -1.0)
 
 
 def test_fit_recovers_the_damping_of_model_data_exactly():
     speeds = np.geomspace(0.05, 5.0, 12)
     truth = cs.Contact(cs.AZAD_FEATHERSTONE, K, 7.5e4)
-    fit = cs.fit_damping('azad_featherstone', K, M, speeds, cs.restitution(truth, M, speeds))
+    fit = cs.fit_damping(cs.AZAD_FEATHERSTONE, K, M, speeds, cs.restitution(truth, M, speeds))
     assert fit.damping == pytest.approx(7.5e4, rel=1e-7)
     assert fit.rms_residual < 1e-9
     np.testing.assert_allclose(fit.pointwise_damping, 7.5e4, rtol=1e-7)
@@ -43,7 +43,7 @@ def test_fit_with_noise_has_a_confidence_interval_that_covers_the_truth():
     speeds = np.geomspace(0.05, 5.0, 30)
     truth = cs.Contact(cs.AZAD_FEATHERSTONE, K, 7.5e4)
     data = cs.restitution(truth, M, speeds) + rng.normal(0.0, 0.005, speeds.size)
-    fit = cs.fit_damping('azad_featherstone', K, M, speeds, data)
+    fit = cs.fit_damping(cs.AZAD_FEATHERSTONE, K, M, speeds, data)
     lo, hi = fit.confidence_interval
     assert lo < 7.5e4 < hi
     assert fit.rms_residual == pytest.approx(np.sqrt(np.mean(fit.residuals ** 2)))
@@ -57,8 +57,8 @@ def test_fit_with_noise_has_a_confidence_interval_that_covers_the_truth():
 def test_compare_laws_ranks_the_generating_law_first():
     speeds = np.geomspace(0.05, 5.0, 15)
     data = cs.restitution(cs.Contact(cs.AZAD_FEATHERSTONE, K, 7.5e4), M, speeds)
-    fits = cs.compare_laws({'azad_featherstone': K, 'hunt_crossley': K, 'lee_wang': K,
-                            'linear': 1e7}, M, speeds, data)
+    fits = cs.compare_laws({cs.AZAD_FEATHERSTONE: K, cs.HUNT_CROSSLEY: K, cs.LEE_WANG: K,
+                            cs.LINEAR: 1e7}, M, speeds, data)
     assert [f.law.name for f in fits][0] == 'azad_featherstone'
     assert fits[0].rms_residual < 1e-9 < fits[1].rms_residual
     hc = next(f for f in fits if f.law.name == 'hunt_crossley')
@@ -75,7 +75,7 @@ def test_compare_laws_ranks_the_generating_law_first():
 ])
 def test_fit_rejects_bad_data_naming_the_point(speeds, restitutions, pattern):
     with pytest.raises(ValueError, match=pattern):
-        cs.fit_damping('azad_featherstone', K, M, speeds, restitutions)
+        cs.fit_damping(cs.AZAD_FEATHERSTONE, K, M, speeds, restitutions)
 
 
 def test_fit_of_a_custom_law_gives_back_its_contact():
@@ -90,7 +90,7 @@ def test_fit_of_a_custom_law_gives_back_its_contact():
 def test_confidence_interval_stays_positive_for_scattered_data():
     speeds = np.geomspace(0.05, 5.0, 6)
     data = np.array([0.9, 0.3, 0.85, 0.2, 0.8, 0.25])
-    lo, hi = cs.fit_damping('azad_featherstone', K, M, speeds, data).confidence_interval
+    lo, hi = cs.fit_damping(cs.AZAD_FEATHERSTONE, K, M, speeds, data).confidence_interval
     assert 0 < lo < hi
 
 
@@ -168,10 +168,10 @@ def test_damping_for_restitution_only_returns_a_damping_restitution_accepts():
     # reproduced: e = 1e-9 gave a λ that restitution() then refused (zeta beyond 1e8)
     with pytest.raises(ValueError, match=r'restitution = 1e-09 is out of range for law '
                                          r'hunt_crossley: allowed (\S+) <= restitution') as info:
-        cs.damping_for_restitution('hunt_crossley', 1e10, 0.066, 1e-9, 1.0)
+        cs.damping_for_restitution(cs.HUNT_CROSSLEY, 1e10, 0.066, 1e-9, 1.0)
     e_min = float(info.value.render().split('allowed ')[1].split(' ')[0])
-    lam = cs.damping_for_restitution('hunt_crossley', 1e10, 0.066, e_min, 1.0)
-    assert cs.restitution(cs.Contact('hunt_crossley', 1e10, lam), 0.066, 1.0) == \
+    lam = cs.damping_for_restitution(cs.HUNT_CROSSLEY, 1e10, 0.066, e_min, 1.0)
+    assert cs.restitution(cs.Contact(cs.HUNT_CROSSLEY, 1e10, lam), 0.066, 1.0) == \
         pytest.approx(e_min, rel=1e-6)
 
 
@@ -179,7 +179,7 @@ def test_compare_laws_with_a_partial_stiffness_mapping_names_the_missing_laws():
     # reproduced: KeyError: 'hunt_crossley'
     with pytest.raises(ValueError, match=r'stiffness has no value for hunt_crossley, lee_wang, '
                                          r'linear'):
-        cs.compare_laws({'azad_featherstone': K}, M, [1.0, 2.0], [0.7, 0.6])
+        cs.compare_laws({cs.AZAD_FEATHERSTONE: K}, M, [1.0, 2.0], [0.7, 0.6])
 
 
 def test_a_one_point_fit_has_no_confidence_interval():

@@ -39,13 +39,13 @@ def test_hunt_crossley_duration_at_heavy_damping(engine, zeta):
     damping = zeta * MASS / LENGTH ** 2.5        # ζ = λ Z^(p+1) v^(q-2) / m
     reference = integrated_duration(K, damping, MASS, SPEED)
     with use_engine(engine):
-        result = cs.simulate_impact(cs.Contact('hunt_crossley', K, damping), MASS, SPEED)
+        result = cs.simulate_impact(cs.Contact(cs.HUNT_CROSSLEY, K, damping), MASS, SPEED)
     # 1e-9: the accuracy the README claims of the exact path; the reference is good to ~1e-11
     assert result.contact_duration == pytest.approx(reference, rel=1e-9)
 
 
 def test_the_issue_case_lasts_2_3139_ms():
-    result = cs.simulate_impact(cs.Contact('hunt_crossley', 1e8, 1e10), 0.01, 1.0)
+    result = cs.simulate_impact(cs.Contact(cs.HUNT_CROSSLEY, 1e8, 1e10), 0.01, 1.0)
     assert result.contact_duration == pytest.approx(
         integrated_duration(1e8, 1e10, 0.01, 1.0), rel=1e-9)
     assert result.contact_duration == pytest.approx(2.3139e-3, rel=1e-4)

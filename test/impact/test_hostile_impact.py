@@ -29,7 +29,7 @@ def test_simulate_impact_refuses_extremes_naming_the_argument(mass, speed, field
 def test_a_speed_whose_square_underflows_is_refused_as_for_an_array(law, k, lam, mass, speed):
     # reproduced (a reviewer's random search): the one-speed check's m v v / k stayed > 0 where
     # the array check's m v**2 / k is 0, and the phase refused 'penetration_rate = 0' unnamed
-    contact = cs.Contact(law, k, lam)
+    contact = cs.Contact(cs.LAWS[law], k, lam)
     with pytest.raises(cs.InputError, match=r'^speed = .*allowed') as info:
         cs.simulate_impact(contact, mass, speed)
     assert info.value.field == 'speed'
@@ -72,12 +72,25 @@ def test_restitution_refuses_what_drop_refuses(contact, mass, field):
     assert 'allowed' in str(fast.value) and 'inf' not in str(fast.value).split('allowed')[1]
 
 
-def test_damping_group_takes_a_law_name():
-    # reproduced: AttributeError 'str' object has no attribute 'n'
-    assert cs.damping_group('azad_featherstone', 1e10, M, 1.0, 1e5) == pytest.approx(
-        cs.damping_group(cs.AZAD_FEATHERSTONE, 1e10, M, 1.0, 1e5))
-    with pytest.raises(cs.InputError, match='law'):
-        cs.damping_group('no_such_law', 1e10, M, 1.0, 1e5)
+def test_the_core_refuses_a_law_name_with_one_error_naming_the_law_field():
+    # names are resolved by the front ends (cs.get_law, cs.LAWS) and by build_contact only
+    calls = [lambda law: cs.Contact(law, 1e10, 1e5),
+             lambda law: cs.Contact.from_materials(law, 'steel', 'cast_iron', 0.0127),
+             lambda law: cs.damping_for_restitution(law, 1e10, M, 0.7, 1.0),
+             lambda law: cs.fit_damping(law, 1e10, M, [1.0, 2.0], [0.8, 0.75])]
+    for call in calls:
+        for name in ('azad_featherstone', 'no_such_law'):
+            with pytest.raises(cs.InputError, match=r"law = '%s' is a name: allowed a ContactLaw "
+                               r"\(resolve a name with cs\.get_law" % name) as refused:
+                call(name)
+            assert refused.value.field == 'law'
+        with pytest.raises(cs.InputError, match='law = 3 is not a ContactLaw') as refused:
+            call(3)
+        assert refused.value.field == 'law'
+    with pytest.raises(cs.InputError, match="laws = 'linear' is a name") as refused:
+        cs.compare_laws(1e10, M, [1.0, 2.0], [0.8, 0.75], laws=['linear'])
+    assert refused.value.field == 'laws'
+    assert cs.build_contact('linear', stiffness=1e5, damping=2.0).law is cs.LINEAR
 
 
 @pytest.mark.parametrize('speeds, restitutions, field', [

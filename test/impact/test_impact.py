@@ -62,7 +62,7 @@ def test_equal_groups_give_equal_restitution():
                             base['v']).restitution
     for k, m, v in [(3e8, 0.5, 0.02), (5e11, 0.001, 7.0), (1e6, 20.0, 300.0)]:
         lam = zeta * m ** 0.4 * k ** 0.6 / v ** 0.2
-        assert float(cs.damping_group(cs.AZAD_FEATHERSTONE, k, m, v, lam)) == pytest.approx(zeta)
+        assert float(cs.damping_group(cs.Contact(cs.AZAD_FEATHERSTONE, k, lam), m, v)) == pytest.approx(zeta)
         e = cs.simulate_impact(cs.Contact(cs.AZAD_FEATHERSTONE, k, lam), m, v).restitution
         assert abs(e - e0) <= 1e-9
     # and a different group gives a different e
@@ -73,9 +73,9 @@ def test_equal_groups_give_equal_restitution():
 
 def test_group_formulas_for_the_named_laws():
     k, m, v, lam = 2e9, 0.3, 1.7, 4e4
-    assert float(cs.damping_group(cs.HUNT_CROSSLEY, k, m, v, lam)) == pytest.approx(lam * v / k)
-    assert float(cs.damping_group(cs.LINEAR, k, m, v, lam)) == pytest.approx(lam / math.sqrt(m * k))
-    assert float(cs.damping_group(cs.LEE_WANG, k, m, v, lam)) == pytest.approx(
+    assert float(cs.damping_group(cs.Contact(cs.HUNT_CROSSLEY, k, lam), m, v)) == pytest.approx(lam * v / k)
+    assert float(cs.damping_group(cs.Contact(cs.LINEAR, k, lam), m, v)) == pytest.approx(lam / math.sqrt(m * k))
+    assert float(cs.damping_group(cs.Contact(cs.LEE_WANG, k, lam), m, v)) == pytest.approx(
         lam * v ** 0.6 / (m ** 0.2 * k ** 0.8))
 
 
@@ -102,7 +102,8 @@ def _random_points(law, count, seed):
     k = 10 ** rng.uniform(5, 11, count)
     m = 10 ** rng.uniform(-3, 1, count)
     v = 10 ** rng.uniform(-3, 1.5, count)
-    lam = cs.damping_group(law, k, m, v, 1.0)
+    lam = np.array([float(cs.damping_group(cs.Contact(law, ki, 1.0), mi, vi))
+                    for ki, mi, vi in zip(k, m, v)])
     return k, m, v, zeta / lam
 
 
@@ -270,7 +271,7 @@ def test_hunt_crossley_restitution_is_total_at_tiny_damping(zeta):
 def test_damping_group_refuses_speeds_that_are_not_positive(speed):
     # reproduced: damping_group accepted zero (nan) and negative speeds (a negative group)
     with pytest.raises(ValueError, match='speed = .* is out of range: allowed 0 < speed'):
-        cs.damping_group(cs.AZAD_FEATHERSTONE, 1e10, 0.066, speed, 1e5)
+        cs.damping_group(cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5), 0.066, speed)
 
 
 @pytest.mark.parametrize('contact', [None, 'azad_featherstone', 1.0])

@@ -110,14 +110,16 @@ def test_material_validation_names_field_value_and_range(kwargs, field, pattern)
     (lambda: cs.ContactLaw('x', math.inf, 0.5, 1.0), r'n = inf is not finite'),
     (lambda: cs.Contact(cs.LINEAR, -5.0, 1.0), r'stiffness = -5\.0 is out of range: allowed 0 < stiffness'),
     (lambda: cs.Contact(cs.LINEAR, 5.0, -1.0), r'damping = -1\.0 is out of range: allowed 0 <= damping'),
-    (lambda: cs.Contact('bouncy', 5.0, 1.0), r"law = 'bouncy' is unknown: allowed one of"),
+    (lambda: cs.Contact('linear', 5.0, 1.0), r"law = 'linear' is a name: allowed a ContactLaw"),
+    (lambda: cs.build_contact('bouncy', stiffness=5.0, damping=1.0),
+     r"law = 'bouncy' is unknown: allowed one of"),
     (lambda: cs.equivalent_radius(-0.01), r'radius = -0\.01 is out of range: allowed 0 < radius'),
     (lambda: cs.equivalent_radius(0.01, 0.0), r'plate_radius = 0\.0 is out of range'),
     (lambda: cs.equivalent_radius(math.inf, math.inf), r'at least one radius must be finite'),
     (lambda: cs.reduced_mass(float('nan')), r'mass = nan is not finite'),
     (lambda: cs.hertz_stiffness(1e9, 0.0), r'radius = 0\.0 is out of range'),
     (lambda: cs.Contact.from_materials(cs.LINEAR, 'steel', 'steel', 0.01),
-     r"law = 'linear' has n = 1: Hertz stiffness needs n = 1\.5"),
+     r"stiffness is missing: law = 'linear' has n = 1 and the Hertz stiffness needs n = 1\.5"),
     (lambda: cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'steel', 0.01,
                                        damping_factor=-2.0),
      r'damping_factor = -2\.0 is out of range: allowed 0 <= damping_factor'),
@@ -212,3 +214,35 @@ def test_the_scalar_force_equals_the_array_force(law):
         for value in (array, whole):   # the same operations: equal to round-off (bit for bit
             # here; numpy's AVX-512 pow, where a CPU has it, may differ in the last bit)
             assert scalar == pytest.approx(value, rel=1e-14, abs=0.0, nan_ok=True), (z, zdot)
+
+
+def test_a_law_answers_its_kernel_curve_and_bounce_table_and_a_twin_gets_none():
+    kernels = {law.name: law.kernel for law in cs.LAWS.values()}
+    assert kernels == {'azad_featherstone': 1, 'hunt_crossley': 2, 'lee_wang': 3, 'linear': 4}
+    for law in cs.LAWS.values():
+        table = law.bounce_table
+        assert law.master_curve is not None and law.master_curve.law_key == (law.n, law.p, law.q)
+        assert table.log_zeta.size == table.x_lift.size == table.a.size == table.b.size > 10
+        assert np.all(np.diff(table.log_zeta) > 0.0)
+    for law in cs.LAWS.values():       # a custom law with a named law's exponents: none of them
+        twin = cs.ContactLaw(f'{law.name}_twin', law.n, law.p, law.q)
+        assert (twin.kernel, twin.master_curve, twin.bounce_table, twin.closed_form) == \
+            (0, None, None, None)
+    # and a named law's name on other exponents finds nothing either
+    impostor = cs.ContactLaw('azad_featherstone', 1.5, 0.25, 1.0)
+    assert (impostor.kernel, impostor.master_curve, impostor.bounce_table) == (0, None, None)
+
+
+def test_one_hertz_rule_and_one_error_type_for_from_materials_and_build_contact():
+    args = dict(sphere='steel', plate='cast_iron', radius=0.0127, damping_factor=8.87e5)
+    assert cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, **args) == \
+        cs.build_contact(cs.AZAD_FEATHERSTONE, **args)
+    messages = set()
+    for call in (lambda: cs.Contact.from_materials(cs.LINEAR, **args),
+                 lambda: cs.build_contact(cs.LINEAR, **args)):
+        with pytest.raises(cs.InputError) as refused:
+            call()
+        assert refused.value.field == 'stiffness'
+        messages.add(str(refused.value))
+    assert messages == {"stiffness is missing: law = 'linear' has n = 1 and the Hertz stiffness "
+                        "needs n = 1.5; give stiffness (N/m^n)"}

@@ -5,12 +5,12 @@ import pytest
 
 import contact_sim as cs
 
-C = cs.Contact('azad_featherstone', 1e10, 1e5)
+C = cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, 1e5)
 
 # (the call with the bad value as x, the field it must name)
 CALLS = [
-    (lambda x: cs.Contact('azad_featherstone', x, 1e5), 'stiffness'),
-    (lambda x: cs.Contact('azad_featherstone', 1e10, x), 'damping'),
+    (lambda x: cs.Contact(cs.AZAD_FEATHERSTONE, x, 1e5), 'stiffness'),
+    (lambda x: cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, x), 'damping'),
     (lambda x: cs.Material('x', x, 0.3, 1000.0), 'youngs_modulus'),
     (lambda x: cs.Material('x', 1e9, x, 1000.0), 'poisson_ratio'),
     (lambda x: cs.build_contact('azad_featherstone', stiffness=x, damping=1.0), 'stiffness'),
@@ -25,7 +25,7 @@ CALLS = [
     (lambda x: cs.simulate_drop(C, 0.066, 1.0, duration=0.1, gravity=x), 'gravity'),
     (lambda x: cs.simulate_drop(C, 0.066, 1.0, duration=x), 'duration'),
     (lambda x: cs.FlightPath(1.0, 0.0, x), 'gravity'),
-    (lambda x: cs.damping_group('azad_featherstone', 1e10, 0.066, 1.0, x), 'damping'),
+    (lambda x: cs.damping_group(cs.Contact(cs.AZAD_FEATHERSTONE, 1e10, x), 0.066, 1.0), 'damping'),
     (lambda x: cs.drop.SinusoidalPlate(x, 20.0, 0.0), 'amplitude'),
 ]
 # reproduced: gravity='9.81' ran at 9.81 m/s², gravity=b'1' at 1 m/s², '\u0669' (Arabic-Indic
@@ -86,5 +86,5 @@ def test_a_material_below_the_floors_is_refused(modulus, density, field):
 def test_a_confidence_whose_interval_is_infinite_is_refused(confidence):
     # reproduced (this branch's probe): 0.9999999999999999 printed the interval [0, inf]
     with pytest.raises(cs.InputError, match=r'^confidence = .* allowed 0 < confidence <= 0.999999'):
-        cs.fit_damping('azad_featherstone', 1e10, 0.066, [0.5, 1, 2], [0.8, 0.75, 0.7],
+        cs.fit_damping(cs.AZAD_FEATHERSTONE, 1e10, 0.066, [0.5, 1, 2], [0.8, 0.75, 0.7],
                        confidence=confidence)

@@ -32,7 +32,8 @@ def _random_impacts(law, count, seed):
     k = 10 ** rng.uniform(5, 11, count)
     m = 10 ** rng.uniform(-3, 1, count)
     v = 10 ** rng.uniform(-3, 1.5, count)
-    return k, m, v, zeta / cs.damping_group(law, k, m, v, 1.0)
+    return k, m, v, zeta / np.array([float(cs.damping_group(cs.Contact(law, ki, 1.0), mi, vi))
+                                     for ki, mi, vi in zip(k, m, v)])
 
 
 def test_the_compiled_engine_is_the_default_and_radau_keeps_the_stiff_phases():
