@@ -5,12 +5,14 @@ Each pair names two bodies of a finalized ``MultibodyPlant`` (by ``RigidBody`` o
 +z) or another sphere body; the radii are given with the pair, ``(body_a, body_b, contact,
 radius_a, radius_b)`` (0 for the world's floor; a sphere's centre is its body's origin).  The system reads the plant's state (connect
 ``plant.get_state_output_port()`` to ``get_input_port()``), and at each of the plant's steps
-evaluates, in a plant context of its own: the gap and normal from the bodies' poses, the contact
+evaluates, in a plant context of its own (free bodies: from the state vector, below): the gap and normal from the bodies' poses, the contact
 point's relative velocity and translational Jacobian (``CalcJacobianTranslationalVelocity``),
 the effective mass along the normal (``CalcMassMatrix``), the rest of the system's normal
 acceleration J M⁻¹ (τ_g − C v) (``CalcGravityGeneralizedForces``, ``CalcBiasTerm``; J̇v left
 out), then ``NormalCoupling.step`` and friction, and outputs impulse / dt as an
-``ExternallyAppliedSpatialForce`` on each body at the contact point.
+``ExternallyAppliedSpatialForce`` on each body: at its origin, the force with its moment about
+the origin from the contact point (the point's offset from the origin is held in the world over
+the step, as a sphere's contact point is).
 
 The discrete plant steps the velocities with the applied forces and then the positions with
 the new velocities (``NormalCoupling``'s ``'semi_implicit'`` host): the output is computed once
@@ -20,15 +22,15 @@ at the ``period`` given: a periodic update at each period's start plans the step
 the plant's gap and velocity to the exact ones at its end (exact for an integrator of order 3
 or more on a free body; the tangential impulse is held constant).
 
-A free body (a floating base with no body outboard of it, its centre of mass at its origin) is
-served without the plant context: its pose and velocities are read from the state vector
-(quaternion, position; angular then translational velocity, world), and the same terms come from
-its mass and rotational inertia read at construction (constant in the body frame), its
-acceleration under gravity (the plant's, once) and the gyroscopic term ω × I ω; the pair's other
-side must be the world or such a body too.  ``test_drake.py`` holds these terms to the plant's
-to 1e-12.  Drake's own contact between
-a pair's collision geometries is filtered out in the ``scene_graph`` given (refused without
-it).  Units: SI.
+A pair whose bodies are free (a floating base with a quaternion, no body outboard of it, its
+centre of mass at its origin) or the world is served without the plant context: the bodies'
+poses and velocities are read from the state vector (quaternion and position; angular then
+translational velocity, in the world), and the same terms come from each body's mass and
+rotational inertia read at construction (constant in its frame; the plant's default
+parameters, as the plant context's), its acceleration under gravity (the plant's, once) and the
+gyroscopic term ω × I ω.  ``test_drake.py`` holds them to the plant context's to 1e-12.  Drake's
+own contact between a pair's collision geometries is filtered out in the ``scene_graph`` given
+(refused without it).  Units: SI.
 """
 import math
 
