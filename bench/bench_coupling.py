@@ -15,7 +15,8 @@ Per engine and host step:
 * cost: µs of a bare step, of a coupled step at rest on the floor (contact active) and far from
   it (no contact in reach): CPU time, best of several runs (the machine is shared); for Drake
   also a step with a no-op Python LeafSystem in the coupling's place (``drake_noop``, measured
-  beside its own bare step), the floor of any Python system on that port.
+  beside its own bare step), the floor of any Python system on that port, and the ball on a
+  prismatic joint, which the coupling serves through its plant context (an articulated body).
 
     python bench/bench_coupling.py [--quick] [--engine mujoco]
 """
@@ -151,15 +152,22 @@ def drake_noop(plant):
 class DrakeBall:
     name = 'drake'
 
-    def __init__(self, dt, height, gravity=G, vz=0.0, coupled=True, contact=STEEL, noop=False):
-        from pydrake.all import (AddMultibodyPlantSceneGraph, DiagramBuilder, RigidTransform,
-                                 Simulator, SpatialInertia, SpatialVelocity)
+    def __init__(self, dt, height, gravity=G, vz=0.0, coupled=True, contact=STEEL, noop=False,
+                 articulated=False):
+        """``noop``: ``drake_noop`` in the coupling's place; ``articulated``: the ball on a
+        vertical prismatic joint instead of free (the coupling then serves it through its plant
+        context, as any articulated body)."""
+        from pydrake.all import (AddMultibodyPlantSceneGraph, DiagramBuilder, PrismaticJoint,
+                                 RigidTransform, Simulator, SpatialInertia, SpatialVelocity)
         from contact_sim.coupling.drake import CoupledContacts
         self.dt = dt
         builder = DiagramBuilder()
         plant, _ = AddMultibodyPlantSceneGraph(builder, time_step=dt)
         plant.mutable_gravity_field().set_gravity_vector([0.0, 0.0, -gravity])
         self.body = plant.AddRigidBody('ball', SpatialInertia.SolidSphereWithMass(MASS, R))
+        if articulated:
+            plant.AddJoint(PrismaticJoint('slide', plant.world_frame(), self.body.body_frame(),
+                                          [0.0, 0.0, 1.0]))
         plant.Finalize()
         self.coupled = builder.AddSystem(drake_noop(plant) if noop else CoupledContacts(
             plant, [('ball', plant.world_body(), contact, R, 0.0)], friction=0.3))
@@ -170,9 +178,12 @@ class DrakeBall:
         self.simulator = Simulator(builder.Build())
         self.plant = plant
         self.context = plant.GetMyMutableContextFromRoot(self.simulator.get_mutable_context())
-        plant.SetFreeBodyPose(self.context, self.body, RigidTransform([0.0, 0.0, height + R]))
-        plant.SetFreeBodySpatialVelocity(self.context, self.body,
-                                         SpatialVelocity(np.zeros(3), np.array([0.0, 0.0, vz])))
+        if articulated:
+            plant.SetPositionsAndVelocities(self.context, [height + R, vz])
+        else:
+            plant.SetFreeBodyPose(self.context, self.body, RigidTransform([0.0, 0.0, height + R]))
+            plant.SetFreeBodySpatialVelocity(self.context, self.body, SpatialVelocity(
+                np.zeros(3), np.array([0.0, 0.0, vz])))
         self.steps = 0
 
     def step(self):
@@ -260,15 +271,16 @@ def export_error(name, dt):
     return f'{result.max_abs_error:.3f}'
 
 
-def cost(engine, dt, repeat=5, steps=2000, kinds=('bare', 'rest', 'far')):
+def cost(engine, dt, repeat=5, steps=2000, kinds=('bare', 'rest', 'far'), **options):
     """µs a step: bare, coupled at rest (contact active), coupled far from the floor (and for
-    Drake, 'noop': ``drake_noop`` in the coupling's place, far from the floor)."""
+    Drake, 'noop': ``drake_noop`` in the coupling's place, far from the floor); ``options`` go
+    to the engine."""
     z0 = STEEL.static_penetration(MASS * G)
     out = []
     for kind in kinds:
         best = float('inf')
         for _ in range(repeat):
-            extra = {'noop': True} if kind == 'noop' else {}
+            extra = dict(options, noop=True) if kind == 'noop' else options
             ball = engine(dt, 0.5 if kind != 'rest' else -z0, gravity=0.0 if kind in (
                 'far', 'noop') else G, coupled=kind != 'bare' or engine is not DrakeBall, **extra)
             run = ball.bare_step if kind == 'bare' else ball.step
@@ -307,10 +319,13 @@ def main():
                   f'{hc:.1e} | {apex:.3g}, {deepest:.2g} | {export_error(name, dt)} | '
                   f'{bare:.1f} / {at_rest:.1f} / {far:.1f} |', flush=True)
             if engine is DrakeBall:
-                floor.append((dt, *cost(engine, dt, kinds=('bare', 'noop'))))
-    for dt, bare, noop in floor:
+                floor.append((dt, cost(engine, dt, kinds=('bare', 'noop')),
+                              cost(engine, dt, articulated=True)))
+    for dt, (bare, noop), jointed in floor:
         print(f'drake {dt:.3g}: a no-op Python LeafSystem wired as the coupling (reads the state, '
-              f'outputs no force): bare {bare:.1f} / no-op {noop:.1f} µs a step')
+              f'outputs no force): bare {bare:.1f} / no-op {noop:.1f} µs a step; the ball on a '
+              'prismatic joint (served through the plant context): bare / at rest / far '
+              + ' / '.join(f'{c:.1f}' for c in jointed) + ' µs a step')
 
 
 if __name__ == '__main__':

@@ -352,10 +352,10 @@ class CoupledContacts(LeafSystem):
         plant, ctx = self.plant, self._context
         if body.index() == plant.world_body().index():
             return np.zeros((3, plant.num_velocities()))
-        pose = plant.EvalBodyPoseInWorld(ctx, body)
+        world = plant.world_frame()
         return plant.CalcJacobianTranslationalVelocity(
-            ctx, JacobianWrtVariable.kV, body.body_frame(), pose.inverse().multiply(point),
-            plant.world_frame(), plant.world_frame())
+            ctx, JacobianWrtVariable.kV, body.body_frame(),
+            plant.CalcPointsPositions(ctx, world, point, body.body_frame()), world, world)
 
 class _Pair:
     """A coupled pair: its bodies (the sphere first), radii (m), ``NormalCoupling``, its sides'
