@@ -27,10 +27,10 @@ centre of mass at its origin) or the world is served without the plant context: 
 poses and velocities are read from the state vector (quaternion and position; angular then
 translational velocity, in the world), and the same terms come from each body's mass and
 rotational inertia read at construction (constant in its frame; the plant's default
-parameters, as the plant context's), its acceleration under gravity (the plant's, once) and the
-gyroscopic term ω × I ω.  ``test_drake.py`` holds them to the plant context's to 1e-12.  Drake's
-own contact between a pair's collision geometries is filtered out in the ``scene_graph`` given
-(refused without it).  Units: SI.
+parameters, as the plant context's), the plant's gravity vector (read at each step in reach:
+it may be changed after ``Finalize``) and the gyroscopic term ω × I ω.  ``test_drake.py`` holds
+them to the plant context's to 1e-12.  Drake's own contact between a pair's collision
+geometries is filtered out in the ``scene_graph`` given (refused without it).  Units: SI.
 """
 import math
 
@@ -143,6 +143,7 @@ class CoupledContacts(LeafSystem):
         self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
         self._leave_drakes_contact(scene_graph)
         self._general = any(p.sides is None for p in self.pairs)   # a pair needs the context
+        self._gravity = plant.gravity_field()
         self._memo = (None, [])
         self._far = set()           # the pairs out of reach at the last step
         self._port = self.DeclareVectorInputPort('plant_state', plant.num_multibody_states())
@@ -237,12 +238,10 @@ class CoupledContacts(LeafSystem):
                 and list(plant.GetBodiesKinematicallyAffectedBy([joints[0].index()]))
                 == [body.index()] and not np.any(inertia.get_com()) and inertia.get_mass() > 0.0):
             return None
-        v = body.floating_velocities_start_in_v()
-        ctx = self._context       # the acceleration under gravity: the plant's, once
-        fall = np.linalg.solve(plant.CalcMassMatrix(ctx), plant.CalcGravityGeneralizedForces(ctx))
-        self._free[key] = _Free(body, plant.num_positions() + v, inertia.get_mass(),
+        self._free[key] = _Free(body, plant.num_positions() + body.floating_velocities_start_in_v(),
+                                inertia.get_mass(),
                                 inertia.CalcRotationalInertia().CopyToFullMatrix3(),
-                                fall[v + 3:v + 6])
+                                plant.is_gravity_enabled(body.model_instance()))
         return self._free[key]
 
     @property
@@ -307,9 +306,11 @@ class CoupledContacts(LeafSystem):
             self._far.discard(index)
             nx, ny, nz = normal
             point = (cx - pair.r_s * nx, cy - pair.r_s * ny, cz - pair.r_s * nz)
-            velocity, acceleration, inverse = (
-                self._terms(pair.sphere, pair.other, point) if sides is None
-                else _free_terms(sides, x, point, centres))
+            if sides is None:
+                velocity, acceleration, inverse = self._terms(pair.sphere, pair.other, point)
+            else:
+                velocity, acceleration, inverse = _free_terms(
+                    sides, x, point, centres, self._gravity.gravity_vector().tolist())
             push = [_dot(row, normal) for row in inverse]     # W n (W symmetric)
             step = coupling.step(t, gap, _dot(normal, velocity), 1.0 / _dot(normal, push),
                                  _dot(normal, acceleration), dt)
@@ -371,19 +372,18 @@ class _Pair:
 
 class _Free:
     """A free body's constants: where its state sits in the plant's state vector, its mass (kg),
-    rotational inertia about its origin (kg m², body frame) and acceleration under gravity
-    (m/s², world)."""
+    rotational inertia about its origin (kg m², body frame) and whether gravity acts on it."""
 
-    __slots__ = ('q', 'v', 'inverse_mass', 'inertia', 'inverse_inertia', 'isotropic', 'gravity')
+    __slots__ = ('q', 'v', 'inverse_mass', 'inertia', 'inverse_inertia', 'isotropic', 'falls')
 
-    def __init__(self, body, v, mass, inertia, gravity):
+    def __init__(self, body, v, mass, inertia, falls):
         self.q, self.v = body.floating_positions_start(), v
         self.inverse_mass = 1.0 / mass
         self.inertia, self.inverse_inertia = inertia, np.linalg.inv(inertia)
         # a uniform sphere's: its inverse is a number, the same in every frame
         self.isotropic = (float(self.inverse_inertia[0, 0]) if np.all(
             self.inverse_inertia == self.inverse_inertia[0, 0] * np.eye(3)) else None)
-        self.gravity = [float(g) for g in gravity]
+        self.falls = bool(falls)
 
     def rotation(self, x):
         """Its rotation matrix (body to world) from its quaternion (w, x, y, z) in the state
@@ -394,18 +394,20 @@ class _Free:
                          (s * (i * j + k * w), 1.0 - s * (i * i + k * k), s * (j * k - i * w)),
                          (s * (i * k - j * w), s * (j * k + i * w), 1.0 - s * (i * i + j * j))))
 
-    def terms(self, x, arm):
-        """The velocity (m/s), the free acceleration (gravity and the gyroscopic ω × I ω, m/s²)
-        and the 3x3 inverse mass 1/m − [r]× I⁻¹ [r]× (1/kg) of its point at ``arm`` (m, world,
-        from its origin), from the state ``x`` (a list)."""
+    def terms(self, x, arm, gravity):
+        """The velocity (m/s), the free acceleration (``gravity``, m/s², if it acts on the body,
+        and the gyroscopic ω × I ω) and the 3x3 inverse mass 1/m − [r]× I⁻¹ [r]× (1/kg) of its
+        point at ``arm`` (m, world, from its origin), from the state ``x`` (a list)."""
         w0, w1, w2, v0, v1, v2 = x[self.v:self.v + 6]
         a0, a1, a2 = arm
         velocity = [v0 + w1 * a2 - w2 * a1, v1 + w2 * a0 - w0 * a2, v2 + w0 * a1 - w1 * a0]
+        if not self.falls:
+            gravity = [0.0, 0.0, 0.0]
         c = self.isotropic
         if c is not None:           # 1/m + c (|r|² − r rᵀ); ω × I ω = 0
             d = self.inverse_mass + c * (a0 * a0 + a1 * a1 + a2 * a2)
             ca0, ca1, ca2 = c * a0, c * a1, c * a2
-            return velocity, self.gravity, [[d - ca0 * a0, -ca0 * a1, -ca0 * a2],
+            return velocity, gravity, [[d - ca0 * a0, -ca0 * a1, -ca0 * a2],
                                             [-ca1 * a0, d - ca1 * a1, -ca1 * a2],
                                             [-ca2 * a0, -ca2 * a1, d - ca2 * a2]]
         rotation, skew, omega = self.rotation(x), _skew(arm), np.array((w0, w1, w2))
@@ -413,16 +415,17 @@ class _Free:
         alpha = -inverse_inertia @ (_skew(omega) @ (rotation @ (self.inertia @ (rotation.T
                                                                                 @ omega))))
         inverse = self.inverse_mass * np.eye(3) - skew @ inverse_inertia @ skew
-        return velocity, (self.gravity - skew @ alpha).tolist(), inverse.tolist()
+        return velocity, (gravity - skew @ alpha).tolist(), inverse.tolist()
 
 
-def _free_terms(sides, x, point, centres):
-    """A pair's terms (``CoupledContacts._terms``) from the state ``x`` alone: each side is a
-    ``_Free`` body or the world."""
+def _free_terms(sides, x, point, centres, gravity):
+    """A pair's terms (``CoupledContacts._terms``) from the state ``x`` and the plant's
+    ``gravity`` vector alone: each side is a ``_Free`` body or the world."""
     sphere, other = sides
-    velocity, acceleration, inverse = sphere.terms(x, [p - c for p, c in zip(point, centres[0])])
+    velocity, acceleration, inverse = sphere.terms(
+        x, [p - c for p, c in zip(point, centres[0])], gravity)
     if other is not _WORLD:
-        v, a, w = other.terms(x, [p - c for p, c in zip(point, centres[1])])
+        v, a, w = other.terms(x, [p - c for p, c in zip(point, centres[1])], gravity)
         velocity = [p - q for p, q in zip(velocity, v)]
         acceleration = [p - q for p, q in zip(acceleration, a)]
         inverse = [[p + q for p, q in zip(r, s)] for r, s in zip(inverse, w)]
