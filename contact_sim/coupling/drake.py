@@ -326,7 +326,7 @@ class CoupledContacts(LeafSystem):
                 impulse = [i + f for i, f in zip(impulse, tangential)]
             rate = step.force_rate
             for slot, sign, side in pair.slots:
-                forces.append((slot, [p - c for p, c in zip(point, centres[side])],
+                forces.append((slot, [q - c for q, c in zip(point, centres[side])],
                                [sign * i / dt for i in impulse], [sign * rate * n for n in normal]))
         return forces
 
