@@ -14,7 +14,10 @@ Per engine and host step:
   the export's speeds (the export measures it);
 * cost: µs of a bare step, of a coupled step at rest on the floor (contact active) and far from
   it (no contact in reach): CPU time, best of several runs (the machine is shared); for PyBullet
-  also the floor of a far step: the bare step with the engine calls it cannot do without.
+  also the floor of a far step: the bare step with the engine calls it cannot do without; for Drake
+  also a step with a no-op Python LeafSystem in the coupling's place (``drake_noop``, measured
+  beside its own bare step), the floor of any Python system on that port, and the ball on a
+  prismatic joint, which the coupling serves through its plant context (an articulated body).
 
     python bench/bench_coupling.py [--quick] [--engine mujoco]
 """
@@ -124,20 +127,50 @@ class BulletBall:
         self.p.disconnect(self.client)
 
 
+def drake_noop(plant):
+    """A Python LeafSystem wired as the coupling is (the plant's state in, evaluated each step;
+    an empty list of applied spatial forces out) that does nothing else: the floor of any
+    Python system on that port."""
+    from pydrake.common.cpp_param import List
+    from pydrake.common.value import Value
+    from pydrake.multibody.plant import ExternallyAppliedSpatialForce_
+    from pydrake.systems.framework import LeafSystem
+
+    class Noop(LeafSystem):
+        def __init__(self):
+            LeafSystem.__init__(self)
+            self.port = self.DeclareVectorInputPort('plant_state', plant.num_multibody_states())
+            self.DeclareAbstractOutputPort(
+                'applied_spatial_force',
+                lambda: Value[List[ExternallyAppliedSpatialForce_[float]]]([]), self._output)
+
+        def _output(self, context, output):
+            self.port.Eval(context)
+            output.set_value([])
+    return Noop()
+
+
 class DrakeBall:
     name = 'drake'
 
-    def __init__(self, dt, height, gravity=G, vz=0.0, coupled=True, contact=STEEL):
-        from pydrake.all import (AddMultibodyPlantSceneGraph, DiagramBuilder, RigidTransform,
-                                 Simulator, SpatialInertia, SpatialVelocity)
+    def __init__(self, dt, height, gravity=G, vz=0.0, coupled=True, contact=STEEL, noop=False,
+                 articulated=False):
+        """``noop``: ``drake_noop`` in the coupling's place; ``articulated``: the ball on a
+        vertical prismatic joint instead of free (the coupling then serves it through its plant
+        context, as any articulated body)."""
+        from pydrake.all import (AddMultibodyPlantSceneGraph, DiagramBuilder, PrismaticJoint,
+                                 RigidTransform, Simulator, SpatialInertia, SpatialVelocity)
         from contact_sim.coupling.drake import CoupledContacts
         self.dt = dt
         builder = DiagramBuilder()
         plant, _ = AddMultibodyPlantSceneGraph(builder, time_step=dt)
         plant.mutable_gravity_field().set_gravity_vector([0.0, 0.0, -gravity])
         self.body = plant.AddRigidBody('ball', SpatialInertia.SolidSphereWithMass(MASS, R))
+        if articulated:
+            plant.AddJoint(PrismaticJoint('slide', plant.world_frame(), self.body.body_frame(),
+                                          [0.0, 0.0, 1.0]))
         plant.Finalize()
-        self.coupled = builder.AddSystem(CoupledContacts(
+        self.coupled = builder.AddSystem(drake_noop(plant) if noop else CoupledContacts(
             plant, [('ball', plant.world_body(), contact, R, 0.0)], friction=0.3))
         builder.Connect(plant.get_state_output_port(), self.coupled.get_input_port())
         if coupled:
@@ -146,9 +179,12 @@ class DrakeBall:
         self.simulator = Simulator(builder.Build())
         self.plant = plant
         self.context = plant.GetMyMutableContextFromRoot(self.simulator.get_mutable_context())
-        plant.SetFreeBodyPose(self.context, self.body, RigidTransform([0.0, 0.0, height + R]))
-        plant.SetFreeBodySpatialVelocity(self.context, self.body,
-                                         SpatialVelocity(np.zeros(3), np.array([0.0, 0.0, vz])))
+        if articulated:
+            plant.SetPositionsAndVelocities(self.context, [height + R, vz])
+        else:
+            plant.SetFreeBodyPose(self.context, self.body, RigidTransform([0.0, 0.0, height + R]))
+            plant.SetFreeBodySpatialVelocity(self.context, self.body, SpatialVelocity(
+                np.zeros(3), np.array([0.0, 0.0, vz])))
         self.steps = 0
 
     def step(self):
@@ -236,15 +272,18 @@ def export_error(name, dt):
     return f'{result.max_abs_error:.3f}'
 
 
-def cost(engine, dt, repeat=5, steps=2000):
-    """µs a step: bare, coupled at rest (contact active), coupled far from the floor."""
+def cost(engine, dt, repeat=5, steps=2000, kinds=('bare', 'rest', 'far'), **options):
+    """µs a step: bare, coupled at rest (contact active), coupled far from the floor (and for
+    Drake, 'noop': ``drake_noop`` in the coupling's place, far from the floor); ``options`` go
+    to the engine."""
     z0 = STEEL.static_penetration(MASS * G)
     out = []
-    for kind in ('bare', 'rest', 'far'):
+    for kind in kinds:
         best = float('inf')
         for _ in range(repeat):
-            ball = engine(dt, 0.5 if kind != 'rest' else -z0, gravity=0.0 if kind == 'far'
-                          else G, coupled=kind != 'bare' or engine is not DrakeBall)
+            extra = dict(options, noop=True) if kind == 'noop' else options
+            ball = engine(dt, 0.5 if kind != 'rest' else -z0, gravity=0.0 if kind in (
+                'far', 'noop') else G, coupled=kind != 'bare' or engine is not DrakeBall, **extra)
             run = ball.bare_step if kind == 'bare' else ball.step
             for _ in range(50):
                 run()
@@ -305,6 +344,7 @@ def main():
           '(m) | throws AF max abs(Δe) | throws HC max abs(Δe) | naive force: 1st apex (m), '
           'deepest (m) | export: max abs(Δe) | µs a step: bare / coupled at rest / coupled far |')
     print('| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |')
+    floor = []
     for name, (engine, steps) in only(args.engine).items():
         for dt in steps:
             ratio, decreasing, rest = drop_figures(engine, dt, exact, 1.0 if args.quick else 10.0)
@@ -315,6 +355,14 @@ def main():
             print(f'| {name} | {dt:.3g} | {ratio:.3f} | {decreasing} | {rest:.1e} | {af:.1e} | '
                   f'{hc:.1e} | {apex:.3g}, {deepest:.2g} | {export_error(name, dt)} | '
                   f'{bare:.1f} / {at_rest:.1f} / {far:.1f} |', flush=True)
+            if engine is DrakeBall:
+                floor.append((dt, cost(engine, dt, kinds=('bare', 'noop')),
+                              cost(engine, dt, articulated=True)))
+    for dt, (bare, noop), jointed in floor:
+        print(f'drake {dt:.3g}: a no-op Python LeafSystem wired as the coupling (reads the state, '
+              f'outputs no force): bare {bare:.1f} / no-op {noop:.1f} µs a step; the ball on a '
+              'prismatic joint (served through the plant context): bare / at rest / far '
+              + ' / '.join(f'{c:.1f}' for c in jointed) + ' µs a step')
     if 'pybullet' in only(args.engine):
         bare, query, both = bullet_floor(1e-3)
         print(f'\npybullet floor of a far step (1 ms, µs): bare {bare:.2f} / + getClosestPoints '

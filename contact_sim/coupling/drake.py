@@ -5,12 +5,14 @@ Each pair names two bodies of a finalized ``MultibodyPlant`` (by ``RigidBody`` o
 +z) or another sphere body; the radii are given with the pair, ``(body_a, body_b, contact,
 radius_a, radius_b)`` (0 for the world's floor; a sphere's centre is its body's origin).  The system reads the plant's state (connect
 ``plant.get_state_output_port()`` to ``get_input_port()``), and at each of the plant's steps
-evaluates, in a plant context of its own: the gap and normal from the bodies' poses, the contact
+evaluates, in a plant context of its own (free bodies: from the state vector, below): the gap and normal from the bodies' poses, the contact
 point's relative velocity and translational Jacobian (``CalcJacobianTranslationalVelocity``),
 the effective mass along the normal (``CalcMassMatrix``), the rest of the system's normal
 acceleration J M⁻¹ (τ_g − C v) (``CalcGravityGeneralizedForces``, ``CalcBiasTerm``; J̇v left
 out), then ``NormalCoupling.step`` and friction, and outputs impulse / dt as an
-``ExternallyAppliedSpatialForce`` on each body at the contact point.
+``ExternallyAppliedSpatialForce`` on each body: at its origin, the force with its moment about
+the origin from the contact point (the point's offset from the origin is held in the world over
+the step, as a sphere's contact point is).
 
 The discrete plant steps the velocities with the applied forces and then the positions with
 the new velocities (``NormalCoupling``'s ``'semi_implicit'`` host): the output is computed once
@@ -18,16 +20,28 @@ per plant step, keyed on the context's time.  A continuous plant (``time_step`` 
 at the ``period`` given: a periodic update at each period's start plans the step (the
 ``'continuous'`` host), and the output is the force linear in time over the period that brings
 the plant's gap and velocity to the exact ones at its end (exact for an integrator of order 3
-or more on a free body; the tangential impulse is held constant).  Drake's own contact between
-a pair's collision geometries is filtered out in the ``scene_graph`` given (refused without
-it).  Units: SI.
+or more on a free body; the tangential impulse is held constant).
+
+A pair whose bodies are free (a floating base with a quaternion, no body outboard of it, its
+centre of mass at its origin) or the world is served without the plant context: the bodies'
+poses and velocities are read from the state vector (quaternion and position; angular then
+translational velocity, in the world), and the same terms come from each body's mass and
+rotational inertia read at construction (constant in its frame; the plant's default
+parameters, as the plant context's), the plant's gravity vector (read at each step in reach:
+it may be changed after ``Finalize``) and the gyroscopic term ω × I ω.  ``test_drake.py`` holds
+them to the plant context's to 1e-12.  Drake's own contact between a pair's collision
+geometries is filtered out in the ``scene_graph`` given (refused without it).  Units: SI.
 """
+import math
+
 import numpy as np
-from pydrake.common.value import AbstractValue
+from pydrake.common.cpp_param import List
+from pydrake.common.value import AbstractValue, Value
 from pydrake.geometry import CollisionFilterDeclaration, GeometrySet
 from pydrake.multibody.math import SpatialForce
-from pydrake.multibody.plant import ExternallyAppliedSpatialForce
-from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
+from pydrake.multibody.plant import (ExternallyAppliedSpatialForce,
+                                     ExternallyAppliedSpatialForce_)
+from pydrake.multibody.tree import JacobianWrtVariable
 from pydrake.systems.framework import LeafSystem
 
 from contact_sim.coupling.core import NormalCoupling
@@ -123,15 +137,19 @@ class CoupledContacts(LeafSystem):
         self.reach = require_positive('reach', reach)
         self.floor_height = require_real('floor_height', floor_height)
         rows = pair_rows(pairs, '(body, body, Contact, radius, radius)')
+        self._context = plant.CreateDefaultContext()
+        self._free = {}             # body index: _Free, the free bodies of the pairs
+        self._applied = []          # an ExternallyAppliedSpatialForce a moving side, reused
         self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
         self._leave_drakes_contact(scene_graph)
-        self._context = plant.CreateDefaultContext()
+        self._general = any(p.sides is None for p in self.pairs)   # a pair needs the context
+        self._gravity = plant.gravity_field()
         self._memo = (None, [])
         self._far = set()           # the pairs out of reach at the last step
-        self.DeclareVectorInputPort('plant_state', plant.num_multibody_states())
+        self._port = self.DeclareVectorInputPort('plant_state', plant.num_multibody_states())
         self.DeclareAbstractOutputPort(
             'applied_spatial_force',
-            lambda: AbstractValue.Make([ExternallyAppliedSpatialForce()]), self._output)
+            lambda: Value[List[ExternallyAppliedSpatialForce_[float]]]([]), self._output)
         if self.continuous:     # the plan of a step, made at its start: (t₀, rows)
             self._plan = self.DeclareAbstractState(AbstractValue.Make((0.0, [])))
             self.DeclarePeriodicUnrestrictedUpdateEvent(self.dt, 0.0, self._update)
@@ -141,7 +159,8 @@ class CoupledContacts(LeafSystem):
         plant = self.plant
         if not plant.geometry_source_is_registered():
             return
-        for index, (a, b, *_) in enumerate(self.pairs):
+        for index, pair in enumerate(self.pairs):
+            a, b = pair.sphere, pair.other
             shapes = [plant.GetCollisionGeometriesForBody(body) for body in (a, b)]
             if not (shapes[0] and shapes[1]):
                 continue
@@ -188,101 +207,243 @@ class CoupledContacts(LeafSystem):
                              'freedom: allowed a pair that can move' % index)
         if radii[0] == 0.0:         # the sphere first
             a, b, radii = b, a, radii[::-1]
-        return a, b, radii[0], radii[1], NormalCoupling(
-            contact, host='continuous' if self.continuous else 'semi_implicit')
+        sides = [self._free_body(body) for body in (a, b)]
+        if sides[1] is None and b.index() == world:
+            sides[1] = _WORLD
+        slots = []      # (its force object, the sign of its force, the side: 0 sphere, 1 other)
+        for side, (body, sign) in enumerate(((a, 1.0), (b, -1.0))):
+            if body.index() != world:   # applied at its origin (the force and its moment)
+                slots.append((len(self._applied), sign, side))
+                self._applied.append(ExternallyAppliedSpatialForce())
+                self._applied[-1].body_index = body.index()
+                self._applied[-1].p_BoBq_B = _ZERO
+        return _Pair(a, b, radii[0], radii[1], NormalCoupling(
+            contact, host='continuous' if self.continuous else 'semi_implicit'),
+            None if None in sides else tuple(sides), tuple(slots))
+
+    def _free_body(self, body):
+        """The body's ``_Free`` constants, or None when it is not a free body (a floating base
+        with a quaternion, no body outboard of it, its centre of mass at its origin)."""
+        plant = self.plant
+        key = int(body.index())
+        if key in self._free or key == int(plant.world_body().index()):
+            return self._free.get(key)
+        joints = [plant.get_joint(i) for i in plant.GetJointIndices()
+                  if plant.get_joint(i).child_body().index() == body.index()]
+        inertia = body.default_spatial_inertia()
+        if not (body.is_floating_base_body() and body.has_quaternion_dofs() and len(joints) == 1
+                and joints[0].type_name() == 'quaternion_floating'
+                and joints[0].frame_on_parent().index() == plant.world_frame().index()
+                and joints[0].frame_on_child().index() == body.body_frame().index()
+                and list(plant.GetBodiesKinematicallyAffectedBy([joints[0].index()]))
+                == [body.index()] and not np.any(inertia.get_com()) and inertia.get_mass() > 0.0):
+            return None
+        self._free[key] = _Free(body, plant.num_positions() + body.floating_velocities_start_in_v(),
+                                inertia.get_mass(),
+                                inertia.CalcRotationalInertia().CopyToFullMatrix3(),
+                                plant.is_gravity_enabled(body.model_instance()))
+        return self._free[key]
 
     @property
     def impacts(self):
         """Every impact of every pair so far (``CoupledImpact``), in time order."""
-        return sorted((i for p in self.pairs for i in p[4].impacts), key=lambda i: i.time)
+        return sorted((i for p in self.pairs for i in p.coupling.impacts), key=lambda i: i.time)
 
     def _output(self, context, output):
         t = float(context.get_time())
         if self.continuous:     # the step's linear force at t
             t0, rows = context.get_abstract_state(0).get_value()
             late = t - t0 - 0.5 * self.dt
-            output.set_value([_force(body, p, mean + late * rate) for body, p, mean, rate in rows])
+            output.set_value([self._apply(slot, arm, [m + late * r for m, r in zip(mean, rate)])
+                              for slot, arm, mean, rate in rows])
             return
         if self._memo[0] != t:
-            state = self.get_input_port().Eval(context)
-            self._memo = (t, [_force(body, p, mean) for body, p, mean, _
-                              in self._forces(t, state)])
+            self._memo = (t, [self._apply(slot, arm, mean) for slot, arm, mean, _
+                              in self._forces(t, self._port.Eval(context))])
         output.set_value(self._memo[1])
+
+    def _apply(self, slot, arm, force):
+        """The side's ``ExternallyAppliedSpatialForce``: ``force`` (N, world) at ``arm`` (m,
+        world) from the body's origin, as the force and its moment at the origin."""
+        (ax, ay, az), (fx, fy, fz) = arm, force
+        out = self._applied[slot]
+        out.F_Bq_W = SpatialForce([ay * fz - az * fy, az * fx - ax * fz, ax * fy - ay * fx],
+                                  [fx, fy, fz])
+        return out
 
     def _update(self, context, state):
         """A continuous plant's step starts: plan its forces from the plant's state."""
         t = float(context.get_time())
-        rows = self._forces(t, self.get_input_port().Eval(context))
+        rows = self._forces(t, self._port.Eval(context))
         state.get_mutable_abstract_state(0).set_value((t, rows))
 
     def _forces(self, t, state):
-        """(body index, contact point in the body's frame, mean force N, force rate N/s) rows of
-        the step from t (s) at the plant's state."""
-        plant, ctx, dt = self.plant, self._context, self.dt
-        plant.SetPositionsAndVelocities(ctx, state)
-        dynamics = None
+        """(force object's slot, contact point from the body's origin (m, world), mean force N,
+        force rate N/s) rows of the step from t (s) at the plant's state (plain floats: numpy
+        costs more on 3-vectors)."""
+        dt, mu = self.dt, self.friction
+        if self._general:
+            self.plant.SetPositionsAndVelocities(self._context, state)
+        x = state.tolist()
         forces = []
-        for index, (sphere, other, r_s, r_o, coupling) in enumerate(self.pairs):
-            centre = plant.EvalBodyPoseInWorld(ctx, sphere).translation()
-            if r_o == 0.0:
-                normal = np.array([0.0, 0.0, 1.0])
-                gap = centre[2] - self.floor_height - r_s
+        for index, pair in enumerate(self.pairs):
+            sides, coupling = pair.sides, pair.coupling
+            cx, cy, cz = self._centre(pair.sphere, sides and sides[0], x)
+            if pair.r_o == 0.0:
+                normal, gap = (0.0, 0.0, 1.0), cz - self.floor_height - pair.r_s
+                centres = ((cx, cy, cz), None)
             else:
-                d = centre - plant.EvalBodyPoseInWorld(ctx, other).translation()
-                dist = float(np.linalg.norm(d))
-                normal = d / dist
-                gap = dist - r_s - r_o
+                other = self._centre(pair.other, sides and sides[1], x)
+                d = (cx - other[0], cy - other[1], cz - other[2])
+                dist = math.sqrt(_dot(d, d))
+                normal, gap = (d[0] / dist, d[1] / dist, d[2] / dist), dist - pair.r_s - pair.r_o
+                centres = ((cx, cy, cz), other)
             if gap > self.reach and not coupling.carrying:
                 self._far.add(index)
                 continue                # out of reach: no dynamics evaluated
             if index in self._far and gap < 0.0:
                 refuse_tunnel(index, gap, self.reach)
             self._far.discard(index)
-            if dynamics is None:
-                mass_matrix = plant.CalcMassMatrix(ctx)
-                v = plant.GetVelocities(ctx)
-                smooth = np.linalg.solve(mass_matrix, plant.CalcGravityGeneralizedForces(ctx)
-                                         - plant.CalcBiasTerm(ctx))
-                dynamics = True
-            point = centre - r_s * normal
-            jac = self._jacobian(sphere, point) - self._jacobian(other, point)
-            inverse = jac @ np.linalg.solve(mass_matrix, jac.T)
-            w_n = float(normal @ inverse @ normal)
-            velocity, acceleration = jac @ v, jac @ smooth
-            step = coupling.step(t, float(gap), float(normal @ velocity), 1.0 / w_n,
-                                 float(normal @ acceleration), dt)
-            if step.impulse == 0.0:
+            nx, ny, nz = normal
+            point = (cx - pair.r_s * nx, cy - pair.r_s * ny, cz - pair.r_s * nz)
+            if sides is None:
+                velocity, acceleration, inverse = self._terms(pair.sphere, pair.other, point)
+            else:
+                velocity, acceleration, inverse = _free_terms(
+                    sides, x, point, centres, self._gravity.gravity_vector().tolist())
+            push = [_dot(row, normal) for row in inverse]     # W n (W symmetric)
+            step = coupling.step(t, gap, _dot(normal, velocity), 1.0 / _dot(normal, push),
+                                 _dot(normal, acceleration), dt)
+            p = step.impulse
+            if p == 0.0:
                 continue
-            impulse = step.impulse * normal
-            if self.friction > 0.0:     # Coulomb's, from the velocity without friction
-                impulse = impulse + tangential_impulse(
-                    step.impulse, velocity + dt * acceleration + inverse @ impulse, normal,
-                    inverse, self.friction)
-            rate = step.force_rate * normal
-            for body, sign in ((sphere, 1.0), (other, -1.0)):
-                if body.index() == plant.world_body().index():
-                    continue
-                pose = plant.EvalBodyPoseInWorld(ctx, body)
-                forces.append((int(body.index()), pose.inverse().multiply(point),
-                               sign * impulse / dt, sign * rate))
+            impulse = [p * nx, p * ny, p * nz]
+            free = [v + dt * a + p * w for v, a, w in zip(velocity, acceleration, push)]
+            along = _dot(free, normal)
+            if mu > 0.0 and any(f - along * n for f, n in zip(free, normal)):   # it slides
+                tangential = tangential_impulse(p, np.array(free), np.array(normal),
+                                                np.array(inverse), mu).tolist()
+                impulse = [i + f for i, f in zip(impulse, tangential)]
+            rate = step.force_rate
+            for slot, sign, side in pair.slots:
+                forces.append((slot, [q - c for q, c in zip(point, centres[side])],
+                               [sign * i / dt for i in impulse], [sign * rate * n for n in normal]))
         return forces
+
+    def _centre(self, body, side, x):
+        """The body's origin in the world (m), from the state ``x`` (a list) for a free body."""
+        if side:
+            return x[side.q + 4:side.q + 7]
+        return self.plant.EvalBodyPoseInWorld(self._context, body).translation().tolist()
+
+    def _terms(self, sphere, other, point):
+        """The plant's terms at the contact ``point`` (m, world) of a pair, from the context: its
+        relative velocity (m/s), the rest of the system's acceleration J M⁻¹ (τ_g − C v) (m/s²)
+        and the 3x3 inverse mass J M⁻¹ Jᵀ (1/kg), as lists."""
+        plant, ctx = self.plant, self._context
+        point = np.array(point)
+        jac = self._jacobian(sphere, point) - self._jacobian(other, point)
+        rhs = np.column_stack((plant.CalcGravityGeneralizedForces(ctx) - plant.CalcBiasTerm(ctx),
+                               jac.T))
+        solved = np.linalg.solve(plant.CalcMassMatrix(ctx), rhs)
+        return ((jac @ plant.GetVelocities(ctx)).tolist(), (jac @ solved[:, 0]).tolist(),
+                (jac @ solved[:, 1:]).tolist())
 
     def _jacobian(self, body, point):
         plant, ctx = self.plant, self._context
         if body.index() == plant.world_body().index():
             return np.zeros((3, plant.num_velocities()))
-        pose = plant.EvalBodyPoseInWorld(ctx, body)
+        world = plant.world_frame()
         return plant.CalcJacobianTranslationalVelocity(
-            ctx, JacobianWrtVariable.kV, body.body_frame(), pose.inverse().multiply(point),
-            plant.world_frame(), plant.world_frame())
+            ctx, JacobianWrtVariable.kV, body.body_frame(),
+            plant.CalcPointsPositions(ctx, world, point, body.body_frame()), world, world)
+
+class _Pair:
+    """A coupled pair: its bodies (the sphere first), radii (m), ``NormalCoupling``, its sides'
+    ``_Free`` constants (or ``_WORLD``; None: the plant context serves it) and the slots of
+    the forces on its moving sides."""
+
+    __slots__ = ('sphere', 'other', 'r_s', 'r_o', 'coupling', 'sides', 'slots')
+
+    def __init__(self, sphere, other, r_s, r_o, coupling, sides, slots):
+        self.sphere, self.other, self.r_s, self.r_o = sphere, other, r_s, r_o
+        self.coupling, self.sides, self.slots = coupling, sides, slots
 
 
-def _force(body_index, point, force):
-    """The ``ExternallyAppliedSpatialForce`` of ``force`` (N, world) at ``point`` (body frame)."""
-    out = ExternallyAppliedSpatialForce()
-    out.body_index, out.p_BoBq_B = BodyIndex(body_index), point
-    out.F_Bq_W = SpatialForce(np.zeros(3), force)
-    return out
+class _Free:
+    """A free body's constants: where its state sits in the plant's state vector, its mass (kg),
+    rotational inertia about its origin (kg m², body frame) and whether gravity acts on it."""
+
+    __slots__ = ('q', 'v', 'inverse_mass', 'inertia', 'inverse_inertia', 'isotropic', 'falls')
+
+    def __init__(self, body, v, mass, inertia, falls):
+        self.q, self.v = body.floating_positions_start(), v
+        self.inverse_mass = 1.0 / mass
+        self.inertia, self.inverse_inertia = inertia, np.linalg.inv(inertia)
+        # a uniform sphere's: its inverse is a number, the same in every frame
+        self.isotropic = (float(self.inverse_inertia[0, 0]) if np.all(
+            self.inverse_inertia == self.inverse_inertia[0, 0] * np.eye(3)) else None)
+        self.falls = bool(falls)
+
+    def rotation(self, x):
+        """Its rotation matrix (body to world) from its quaternion (w, x, y, z) in the state
+        ``x``, normalized as Drake's ``RotationMatrix(Quaternion)``."""
+        w, i, j, k = x[self.q:self.q + 4]
+        s = 2.0 / (w * w + i * i + j * j + k * k)
+        return np.array(((1.0 - s * (j * j + k * k), s * (i * j - k * w), s * (i * k + j * w)),
+                         (s * (i * j + k * w), 1.0 - s * (i * i + k * k), s * (j * k - i * w)),
+                         (s * (i * k - j * w), s * (j * k + i * w), 1.0 - s * (i * i + j * j))))
+
+    def terms(self, x, arm, gravity):
+        """The velocity (m/s), the free acceleration (``gravity``, m/s², if it acts on the body,
+        and the gyroscopic ω × I ω) and the 3x3 inverse mass 1/m − [r]× I⁻¹ [r]× (1/kg) of its
+        point at ``arm`` (m, world, from its origin), from the state ``x`` (a list)."""
+        w0, w1, w2, v0, v1, v2 = x[self.v:self.v + 6]
+        a0, a1, a2 = arm
+        velocity = [v0 + w1 * a2 - w2 * a1, v1 + w2 * a0 - w0 * a2, v2 + w0 * a1 - w1 * a0]
+        if not self.falls:
+            gravity = [0.0, 0.0, 0.0]
+        c = self.isotropic
+        if c is not None:           # 1/m + c (|r|² − r rᵀ); ω × I ω = 0
+            d = self.inverse_mass + c * (a0 * a0 + a1 * a1 + a2 * a2)
+            ca0, ca1, ca2 = c * a0, c * a1, c * a2
+            return velocity, gravity, [[d - ca0 * a0, -ca0 * a1, -ca0 * a2],
+                                            [-ca1 * a0, d - ca1 * a1, -ca1 * a2],
+                                            [-ca2 * a0, -ca2 * a1, d - ca2 * a2]]
+        rotation, skew, omega = self.rotation(x), _skew(arm), np.array((w0, w1, w2))
+        inverse_inertia = rotation @ self.inverse_inertia @ rotation.T
+        alpha = -inverse_inertia @ (_skew(omega) @ (rotation @ (self.inertia @ (rotation.T
+                                                                                @ omega))))
+        inverse = self.inverse_mass * np.eye(3) - skew @ inverse_inertia @ skew
+        return velocity, (gravity - skew @ alpha).tolist(), inverse.tolist()
+
+
+def _free_terms(sides, x, point, centres, gravity):
+    """A pair's terms (``CoupledContacts._terms``) from the state ``x`` and the plant's
+    ``gravity`` vector alone: each side is a ``_Free`` body or the world."""
+    sphere, other = sides
+    velocity, acceleration, inverse = sphere.terms(
+        x, [p - c for p, c in zip(point, centres[0])], gravity)
+    if other is not _WORLD:
+        v, a, w = other.terms(x, [p - c for p, c in zip(point, centres[1])], gravity)
+        velocity = [p - q for p, q in zip(velocity, v)]
+        acceleration = [p - q for p, q in zip(acceleration, a)]
+        inverse = [[p + q for p, q in zip(r, s)] for r, s in zip(inverse, w)]
+    return velocity, acceleration, inverse
+
+
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _skew(u):
+    """The matrix of u × (plain arithmetic: numpy's cross costs more)."""
+    x, y, z = (float(c) for c in u)
+    return np.array(((0.0, -z, y), (z, 0.0, -x), (-y, x, 0.0)))
+
+
+_WORLD = False      # a pair's side that is the world (falsy: no free body)
+_ZERO = np.zeros(3)
 
 
 def _moves(plant, body):

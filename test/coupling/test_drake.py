@@ -179,3 +179,116 @@ def test_the_example_drops_in_pybullet_and_drake():
         assert len(heights) >= 3
         for h, h_exact in zip(heights, exact):
             assert h == pytest.approx(h_exact, rel=0.01)
+
+
+def free_bodies_plant(plant_kind='discrete', gravity=(0.3, -0.2, -G)):
+    """A plant with a uniform steel ball 'a' and a free body 'b' of a box's (unequal) inertia
+    carrying a 2 cm sphere, both coupled: a on the floor, b on a, the gravity vector set after
+    the coupling was made; returns (simulator, plant, context, coupled, bodies)."""
+    builder = pydrake.DiagramBuilder()
+    continuous = plant_kind == 'continuous'
+    plant, _ = pydrake.AddMultibodyPlantSceneGraph(builder, time_step=0.0 if continuous else DT)
+    bodies = {'a': plant.AddRigidBody('a', pydrake.SpatialInertia.SolidSphereWithMass(MASS, R)),
+              'b': plant.AddRigidBody('b', pydrake.SpatialInertia.SolidBoxWithMass(
+                  0.4, 0.02, 0.05, 0.09))}
+    plant.Finalize()
+    contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'steel', radius=R,
+                                        plate_radius=0.02, damping_factor=8.87e5)
+    coupled = builder.AddSystem(CoupledContacts(
+        plant, [('a', plant.world_body(), STEEL, R, 0.0), ('b', 'a', contact, 0.02, R)],
+        friction=0.3, period=DT if continuous else None))
+    plant.mutable_gravity_field().set_gravity_vector(list(gravity))     # after: it may change
+    builder.Connect(plant.get_state_output_port(), coupled.get_input_port())
+    builder.Connect(coupled.get_output_port(), plant.get_applied_spatial_force_input_port())
+    simulator = pydrake.Simulator(builder.Build())
+    context = plant.GetMyMutableContextFromRoot(simulator.get_mutable_context())
+    return simulator, plant, context, coupled, bodies
+
+
+def through_the_plant(coupled):
+    """Make ``coupled`` serve every pair from its plant context (its general path, as for an
+    articulated body) instead of the free bodies' state vector."""
+    for pair in coupled.pairs:
+        pair.sides = None
+    coupled._general = True
+
+
+def test_free_bodies_terms_are_the_plants():
+    """The free-body path's velocity, acceleration (gravity, ω × I ω) and inverse mass at the
+    contact point are the plant's (CalcJacobianTranslationalVelocity, CalcMassMatrix,
+    CalcBiasTerm, CalcGravityGeneralizedForces) on random states and gravity vectors (changed
+    after the coupling was made), and so is the impulse."""
+    from contact_sim.coupling import NormalCoupling
+    from contact_sim.coupling.drake import _free_terms
+    _, plant, _, coupled, _ = free_bodies_plant()
+    assert all(pair.sides is not None for pair in coupled.pairs)
+    rng = np.random.default_rng(31)
+    for _ in range(8):
+        state = np.concatenate([rng.normal(size=4), rng.normal(scale=0.05, size=3),
+                                rng.normal(size=4), rng.normal(scale=0.05, size=3),
+                                rng.normal(scale=20.0, size=3), rng.normal(size=3),
+                                rng.normal(scale=20.0, size=3), rng.normal(size=3)])
+        plant.mutable_gravity_field().set_gravity_vector(rng.normal(scale=5.0, size=3))
+        plant.SetPositionsAndVelocities(coupled._context, state)
+        x, gravity = state.tolist(), plant.gravity_field().gravity_vector().tolist()
+        for pair in coupled.pairs:
+            centres = [x[side.q + 4:side.q + 7] if side else None for side in pair.sides]
+            if centres[1] is None:
+                normal = np.array([0.0, 0.0, 1.0])
+            else:
+                normal = np.subtract(centres[0], centres[1])
+                normal /= np.linalg.norm(normal)
+            point = (np.array(centres[0]) - pair.r_s * normal).tolist()
+            fast = [np.array(t) for t in _free_terms(pair.sides, x, point, centres, gravity)]
+            general = [np.array(t) for t in coupled._terms(pair.sphere, pair.other, point)]
+            for f, g in zip(fast, general):
+                np.testing.assert_allclose(f, g, rtol=0.0, atol=1e-12 * np.abs(g).max())
+            impulses = []
+            for velocity, acceleration, inverse in (fast, general):    # 10 µm in, closing
+                coupling = NormalCoupling(pair.coupling.contact)
+                impulses.append(coupling.step(0.0, -1e-5, -abs(float(normal @ velocity)) - 0.1,
+                                              1.0 / float(normal @ inverse @ normal),
+                                              float(normal @ acceleration), DT).impulse)
+            assert impulses[0] > 0.0
+            assert impulses[0] == pytest.approx(impulses[1], rel=1e-12, abs=0.0)
+
+
+@pytest.mark.parametrize('plant_kind', PLANTS)
+def test_free_bodies_move_as_through_the_plant(plant_kind):
+    """A spinning ball bounces on the floor, then a spinning body of unequal inertia strikes
+    it obliquely as it rises (friction 0.3, tilted gravity): the free-body path and the plant's
+    give the same motion."""
+    runs = []
+    for general in (False, True):
+        simulator, plant, context, coupled, bodies = free_bodies_plant(plant_kind)
+        if general:
+            through_the_plant(coupled)
+        plant.SetFreeBodyPose(context, bodies['a'], pydrake.RigidTransform([0.0, 0.0, R + 0.004]))
+        plant.SetFreeBodySpatialVelocity(context, bodies['a'], pydrake.SpatialVelocity(
+            np.array([0.0, 4.0, 0.0]), np.array([0.3, 0.0, -1.0])))
+        plant.SetFreeBodyPose(context, bodies['b'], pydrake.RigidTransform(
+            pydrake.RollPitchYaw(0.3, -0.5, 1.1), [0.005, 0.0, 2 * R + 0.02 + 0.02]))
+        plant.SetFreeBodySpatialVelocity(context, bodies['b'], pydrake.SpatialVelocity(
+            np.array([3.0, -5.0, 20.0]), np.array([-0.2, 0.1, -1.5])))
+        simulator.AdvanceTo(11 * DT)    # before the ball, struck down, meets the floor again
+        assert [len(pair.coupling.impacts) for pair in coupled.pairs] == [1, 1]
+        runs.append((plant.GetPositionsAndVelocities(context), coupled.impacts))
+    (fast, fast_impacts), (general, general_impacts) = runs
+    for a, b in zip(fast_impacts, general_impacts):
+        assert a.speed_out == pytest.approx(b.speed_out, rel=1e-9)
+    np.testing.assert_allclose(fast, general, rtol=1e-9, atol=1e-12)
+
+
+def test_an_articulated_or_offset_body_goes_through_the_plant():
+    builder = pydrake.DiagramBuilder()
+    plant, _ = pydrake.AddMultibodyPlantSceneGraph(builder, time_step=DT)
+    arm = plant.AddRigidBody('arm', pydrake.SpatialInertia.SolidSphereWithMass(MASS, R))
+    plant.AddJoint(pydrake.RevoluteJoint('hinge', plant.world_frame(), arm.body_frame(),
+                                         [0.0, 1.0, 0.0]))
+    plant.AddRigidBody('offset', pydrake.SpatialInertia(
+        MASS, [0.0, 0.0, 0.003], pydrake.UnitInertia.SolidSphere(R)))
+    plant.Finalize()
+    world = plant.world_body()
+    coupled = CoupledContacts(plant, [('arm', world, STEEL, R, 0.0),
+                                      ('offset', world, STEEL, R, 0.0)])
+    assert [pair.sides for pair in coupled.pairs] == [None, None]
