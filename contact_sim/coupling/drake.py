@@ -1,9 +1,16 @@
 """The coupling in Drake: ``CoupledContacts(plant, pairs)``, a ``LeafSystem`` whose output goes
 to the plant's applied spatial force input port.
 
-Each pair names two bodies of a finalized ``MultibodyPlant`` (by ``RigidBody`` or by name): a sphere body and the world (a floor: the plane z = ``floor_height`` of the world, normal
-+z) or another sphere body; the radii are given with the pair, ``(body_a, body_b, contact,
-radius_a, radius_b)`` (0 for the world's floor; a sphere's centre is its body's origin).  The system reads the plant's state (connect
+Each pair names two bodies of a finalized ``MultibodyPlant`` (by ``RigidBody`` or by name) and
+a contact, ``(body_a, body_b, contact)``: the shapes are read once from the ``scene_graph``
+given (``contact_sim.coupling.drake_shapes``): a sphere (a body's one ``Sphere`` collision
+geometry, its centre anywhere in the body's frame) against the world's ``HalfSpace`` (or one on
+a body welded to the world; any orientation: its normal and height from its pose), against the
+world without collision geometry (the floor z = ``floor_height``, normal +z), or against
+another sphere.  The radii may instead be given with the pair, ``(body_a, body_b, contact,
+radius_a, radius_b)`` (0 for the world's floor; a sphere's centre is then its body's origin; no
+scene graph needed).  A plane is kept as (unit normal, height along it), a sphere's centre as
+a point of its body's frame.  The system reads the plant's state (connect
 ``plant.get_state_output_port()`` to ``get_input_port()``), and at each of the plant's steps
 evaluates, in a plant context of its own: the gap and normal from the bodies' poses, the contact
 point's relative velocity and translational Jacobian (``CalcJacobianTranslationalVelocity``),
@@ -31,6 +38,7 @@ from pydrake.multibody.tree import BodyIndex, JacobianWrtVariable
 from pydrake.systems.framework import LeafSystem
 
 from contact_sim.coupling.core import NormalCoupling
+from contact_sim.coupling.drake_shapes import UP, body_shape
 from contact_sim.coupling.rows import pair_rows, refuse_tunnel, tangential_impulse
 from contact_sim.model import require_contact
 from contact_sim.validation import (InputError, require_nonnegative, require_positive,
@@ -48,13 +56,18 @@ class CoupledContacts(LeafSystem):
     ----------
     plant : pydrake.multibody.plant.MultibodyPlant
         A finalized plant, discrete (``time_step`` > 0) or continuous.
-    pairs : sequence of (body, body, Contact, float, float)
-        (body_a, body_b, contact, radius_a, radius_b): bodies as ``RigidBody`` or names, the
-        radii of their spheres in m (0: the world's floor, z = ``floor_height``).
+    pairs : sequence of (body, body, Contact) or (body, body, Contact, float, float)
+        (body_a, body_b, contact): bodies as ``RigidBody`` or names, their shapes from
+        ``scene_graph``: a body's one ``Sphere`` collision geometry (centred anywhere in its
+        frame), the world's ``HalfSpace`` (or one on a body welded to the world), or the world
+        without collision geometry (the floor z = ``floor_height``).  Or (body_a, body_b,
+        contact, radius_a, radius_b): the radii of their spheres in m, centred on the bodies'
+        origins (0: the world's floor, z = ``floor_height``).
     friction : float, optional
         Coulomb's μ of every pair, >= 0 (default 0).
     floor_height : float, optional
-        The world floor's height, m (default 0).
+        The height of the world's floor, m (default 0): the world without collision geometry,
+        or radius 0 in a 5-tuple (a ``HalfSpace``'s height comes from its pose).
     period : float, optional
         The coupling's step, s, > 0: needed for a continuous plant; a discrete plant's is its
         ``time_step``.
@@ -62,33 +75,42 @@ class CoupledContacts(LeafSystem):
         A pair farther apart than this (m) and carrying no contact state costs its poses only;
         > 0 (default ``REACH``); it must exceed the distance the bodies close in one step.
     scene_graph : pydrake.geometry.SceneGraph, optional
-        The plant's scene graph, before its context is made: Drake's own contact between the
-        collision geometries of a coupled pair's bodies is filtered out there.  Needed when
-        both bodies of a pair have collision geometry.
+        The plant's scene graph (of ``AddMultibodyPlantSceneGraph``), before its context is
+        made: the shapes of a 3-tuple's bodies are read there (``model_inspector``), and
+        Drake's own contact between the collision geometries of a coupled pair's bodies is
+        filtered out there.  Needed for 3-tuples with collision geometry, and when both bodies
+        of a pair have collision geometry.
 
     Raises
     ------
     InputError
         Keyed ``plant`` (not finalized), ``period`` (a continuous plant without one, or one
         that is not a discrete plant's ``time_step``), ``reach``,
-        ``pairs`` (no such body, no sphere, no degree of freedom, a bad radius), ``friction``,
-        ``floor_height`` or ``scene_graph`` (missing while both bodies of a pair have collision
-        geometry: Drake's own contact would act beside the coupling).
+        ``pairs`` (no such body, no sphere, no degree of freedom, a bad radius, a row of
+        another length; a body with no or several collision geometries, or a shape that is not
+        a ``Sphere`` or, on a body that does not move, a ``HalfSpace``), ``friction``,
+        ``floor_height`` or ``scene_graph`` (missing or not the plant's while a 3-tuple's shape
+        must be read, or while both bodies of a pair have collision geometry: Drake's own
+        contact would act beside the coupling).
 
     Examples
     --------
     >>> import contact_sim as cs
-    >>> from pydrake.all import (AddMultibodyPlantSceneGraph, DiagramBuilder, Simulator,
-    ...                          SpatialInertia, RigidTransform)
+    >>> from pydrake.all import (AddMultibodyPlantSceneGraph, CoulombFriction, DiagramBuilder,
+    ...                          HalfSpace, RigidTransform, Simulator, SpatialInertia, Sphere)
     >>> from contact_sim.coupling.drake import CoupledContacts
     >>> builder = DiagramBuilder()
-    >>> plant, _ = AddMultibodyPlantSceneGraph(builder, time_step=1e-3)
+    >>> plant, scene_graph = AddMultibodyPlantSceneGraph(builder, time_step=1e-3)
     >>> ball = plant.AddRigidBody('ball', SpatialInertia.SolidSphereWithMass(0.0669, 0.0127))
+    >>> _ = plant.RegisterCollisionGeometry(ball, RigidTransform(), Sphere(0.0127), 'ball',
+    ...                                     CoulombFriction(0.3, 0.3))
+    >>> _ = plant.RegisterCollisionGeometry(plant.world_body(), RigidTransform(), HalfSpace(),
+    ...                                     'floor', CoulombFriction(0.3, 0.3))
     >>> plant.Finalize()
     >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
     ...                                     radius=0.0127, damping_factor=8.87e5)
     >>> coupled = builder.AddSystem(CoupledContacts(
-    ...     plant, [('ball', plant.world_body(), contact, 0.0127, 0.0)]))
+    ...     plant, [(ball, plant.world_body(), contact)], scene_graph=scene_graph))
     >>> _ = builder.Connect(plant.get_state_output_port(), coupled.get_input_port())
     >>> _ = builder.Connect(coupled.get_output_port(),
     ...                     plant.get_applied_spatial_force_input_port())
@@ -122,10 +144,10 @@ class CoupledContacts(LeafSystem):
         self.friction = require_nonnegative('friction', friction)
         self.reach = require_positive('reach', reach)
         self.floor_height = require_real('floor_height', floor_height)
-        rows = pair_rows(pairs, '(body, body, Contact, radius, radius)')
-        self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
-        self._leave_drakes_contact(scene_graph)
+        rows = pair_rows(pairs, '(body, body, Contact)')
         self._context = plant.CreateDefaultContext()
+        self.pairs = [self._pair(row, i, scene_graph) for i, row in enumerate(rows)]
+        self._leave_drakes_contact(scene_graph)
         self._memo = (None, [])
         self._far = set()           # the pairs out of reach at the last step
         self.DeclareVectorInputPort('plant_state', plant.num_multibody_states())
@@ -167,29 +189,41 @@ class CoupledContacts(LeafSystem):
         raise InputError('pairs', value, '{n[pairs]}[%d] = {value}: allowed a RigidBody or a '
                          'body name' % index)
 
-    def _pair(self, row, index):
-        if len(row) != 5:
+    def _pair(self, row, index, scene_graph):
+        """(sphere body, other body, sphere radius, other radius (0: a plane), NormalCoupling,
+        sphere centre in its body's frame, other centre in its body's frame, the plane's (unit
+        normal, height along it) in the world)."""
+        if len(row) not in (3, 5):
             raise InputError('pairs', row, '{n[pairs]}[%d] = {value}: allowed (body, body, '
-                             'Contact, radius, radius)' % index)
+                             'Contact) or (body, body, Contact, radius, radius)' % index)
         a, b = self._body(row[0], index), self._body(row[1], index)
         contact = require_contact(row[2], 'pairs')
-        radii = [require_nonnegative('pairs', r) for r in row[3:]]
         world = self.plant.world_body().index()
-        for body, radius in ((a, radii[0]), (b, radii[1])):
-            if radius == 0.0 and body.index() != world:
-                raise InputError('pairs', body.name(), '{n[pairs]}[%d]: body {value} has radius '
-                                 '0: allowed 0 for the world (its floor) only' % index)
-        if radii[0] == 0.0 and radii[1] == 0.0:
+        if len(row) == 3:           # the shapes from the scene graph
+            shapes = [body_shape(self.plant, scene_graph, body, index, self.floor_height,
+                                 None if _moves(self.plant, body) else
+                                 self.plant.EvalBodyPoseInWorld(self._context, body))
+                      for body in (a, b)]
+        else:
+            shapes = [(require_nonnegative('pairs', r), np.zeros(3), (UP, self.floor_height))
+                      for r in row[3:]]
+            for body, (radius, *_) in zip((a, b), shapes):
+                if radius == 0.0 and body.index() != world:
+                    raise InputError('pairs', body.name(), '{n[pairs]}[%d]: body {value} has '
+                                     'radius 0: allowed 0 for the world (its floor) only' % index)
+        if shapes[0][0] == 0.0 and shapes[1][0] == 0.0:
             raise InputError('pairs', row[:2], '{n[pairs]}[%d] has no sphere: allowed a sphere '
                              'against the floor or another sphere' % index)
         free = [body.index() != world and _moves(self.plant, body) for body in (a, b)]
         if not any(free):
             raise InputError('pairs', row[:2], '{n[pairs]}[%d]: neither body has a degree of '
                              'freedom: allowed a pair that can move' % index)
-        if radii[0] == 0.0:         # the sphere first
-            a, b, radii = b, a, radii[::-1]
-        return a, b, radii[0], radii[1], NormalCoupling(
-            contact, host='continuous' if self.continuous else 'semi_implicit')
+        if shapes[0][0] == 0.0:     # the sphere first
+            a, b, shapes = b, a, shapes[::-1]
+        (r_s, centre_s, _), (r_o, centre_o, plane) = shapes
+        return a, b, r_s, r_o, NormalCoupling(
+            contact, host='continuous' if self.continuous else 'semi_implicit'), \
+            centre_s, centre_o, plane
 
     @property
     def impacts(self):
@@ -222,13 +256,13 @@ class CoupledContacts(LeafSystem):
         plant.SetPositionsAndVelocities(ctx, state)
         dynamics = None
         forces = []
-        for index, (sphere, other, r_s, r_o, coupling) in enumerate(self.pairs):
-            centre = plant.EvalBodyPoseInWorld(ctx, sphere).translation()
-            if r_o == 0.0:
-                normal = np.array([0.0, 0.0, 1.0])
-                gap = centre[2] - self.floor_height - r_s
+        for index, (sphere, other, r_s, r_o, coupling, c_s, c_o, plane) in enumerate(self.pairs):
+            centre = plant.EvalBodyPoseInWorld(ctx, sphere).multiply(c_s)
+            if r_o == 0.0:              # a plane: (unit normal, height along it)
+                normal = plane[0]
+                gap = float(normal @ centre) - plane[1] - r_s
             else:
-                d = centre - plant.EvalBodyPoseInWorld(ctx, other).translation()
+                d = centre - plant.EvalBodyPoseInWorld(ctx, other).multiply(c_o)
                 dist = float(np.linalg.norm(d))
                 normal = d / dist
                 gap = dist - r_s - r_o
