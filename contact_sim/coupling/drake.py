@@ -17,7 +17,8 @@ point's relative velocity and translational Jacobian (``CalcJacobianTranslationa
 the effective mass along the normal (``CalcMassMatrix``), the rest of the system's normal
 acceleration J M⁻¹ (τ_g − C v) (``CalcGravityGeneralizedForces``, ``CalcBiasTerm``; J̇v left
 out), then ``NormalCoupling.step`` and friction, and outputs impulse / dt as an
-``ExternallyAppliedSpatialForce`` on each body at the contact point.
+``ExternallyAppliedSpatialForce`` on each body (at a sphere's centre with the torque of the
+contact point's lever, at the contact point on a plane's body).
 
 The discrete plant steps the velocities with the applied forces and then the positions with
 the new velocities (``NormalCoupling``'s ``'semi_implicit'`` host): the output is computed once
@@ -25,7 +26,9 @@ per plant step, keyed on the context's time.  A continuous plant (``time_step`` 
 at the ``period`` given: a periodic update at each period's start plans the step (the
 ``'continuous'`` host), and the output is the force linear in time over the period that brings
 the plant's gap and velocity to the exact ones at its end (exact for an integrator of order 3
-or more on a free body; the tangential impulse is held constant).  Drake's own contact between
+or more on a free body; the tangential impulse is held constant; a sphere's force is applied at
+its centre with its torque about it held in the world, so a ball turning over the step keeps
+its lever).  Drake's own contact between
 a pair's collision geometries is filtered out in the ``scene_graph`` given (refused without
 it).  Units: SI.
 """
@@ -235,11 +238,12 @@ class CoupledContacts(LeafSystem):
         if self.continuous:     # the step's linear force at t
             t0, rows = context.get_abstract_state(0).get_value()
             late = t - t0 - 0.5 * self.dt
-            output.set_value([_force(body, p, mean + late * rate) for body, p, mean, rate in rows])
+            output.set_value([_force(body, p, mean + late * rate, lever)
+                              for body, p, lever, mean, rate in rows])
             return
         if self._memo[0] != t:
             state = self.get_input_port().Eval(context)
-            self._memo = (t, [_force(body, p, mean) for body, p, mean, _
+            self._memo = (t, [_force(body, p, mean, lever) for body, p, lever, mean, _
                               in self._forces(t, state)])
         output.set_value(self._memo[1])
 
@@ -250,8 +254,9 @@ class CoupledContacts(LeafSystem):
         state.get_mutable_abstract_state(0).set_value((t, rows))
 
     def _forces(self, t, state):
-        """(body index, contact point in the body's frame, mean force N, force rate N/s) rows of
-        the step from t (s) at the plant's state."""
+        """(body index, point of application in the body's frame, lever from it to the contact
+        point in the world m (None: 0), mean force N, force rate N/s) rows of the step from t
+        (s) at the plant's state."""
         plant, ctx, dt = self.plant, self._context, self.dt
         plant.SetPositionsAndVelocities(ctx, state)
         dynamics = None
@@ -293,12 +298,17 @@ class CoupledContacts(LeafSystem):
                     step.impulse, velocity + dt * acceleration + inverse @ impulse, normal,
                     inverse, self.friction)
             rate = step.force_rate * normal
-            for body, sign in ((sphere, 1.0), (other, -1.0)):
+            for body, sign, own in ((sphere, 1.0, c_s), (other, -1.0, c_o)):
                 if body.index() == plant.world_body().index():
                     continue
                 pose = plant.EvalBodyPoseInWorld(ctx, body)
-                forces.append((int(body.index()), pose.inverse().multiply(point),
-                               sign * impulse / dt, sign * rate))
+                if own is None:         # a plane's body: at the contact point
+                    forces.append((int(body.index()), pose.inverse().multiply(point), None,
+                                   sign * impulse / dt, sign * rate))
+                else:   # at the sphere's centre, the lever to the contact point fixed in the
+                    # world: a continuous plant's sphere turning over the step keeps its torque
+                    forces.append((int(body.index()), own, point - pose.multiply(own),
+                                   sign * impulse / dt, sign * rate))
         return forces
 
     def _jacobian(self, body, point):
@@ -311,11 +321,17 @@ class CoupledContacts(LeafSystem):
             plant.world_frame(), plant.world_frame())
 
 
-def _force(body_index, point, force):
-    """The ``ExternallyAppliedSpatialForce`` of ``force`` (N, world) at ``point`` (body frame)."""
+def _force(body_index, point, force, lever=None):
+    """The ``ExternallyAppliedSpatialForce`` of ``force`` (N, world) at ``point`` (body frame),
+    with the torque lever × force about it (``lever``: m, world; None: no torque)."""
     out = ExternallyAppliedSpatialForce()
     out.body_index, out.p_BoBq_B = BodyIndex(body_index), point
-    out.F_Bq_W = SpatialForce(np.zeros(3), force)
+    if lever is None:
+        torque = np.zeros(3)
+    else:       # plain arithmetic: numpy's cross costs tens of µs a call
+        (x, y, z), (fx, fy, fz) = lever, force
+        torque = np.array([y * fz - z * fy, z * fx - x * fz, x * fy - y * fx])
+    out.F_Bq_W = SpatialForce(torque, force)
     return out
 
 

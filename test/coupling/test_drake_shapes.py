@@ -133,10 +133,13 @@ def test_a_sphere_off_its_bodys_origin_drops_as_one_on_it(plant_kind):
         assert a.speed_out == pytest.approx(b.speed_out, rel=1e-9)
 
 
-@pytest.mark.parametrize('plant_kind', ['discrete'])
+@pytest.mark.parametrize('plant_kind', PLANTS)
 def test_a_ball_rolls_down_a_tilted_half_space(plant_kind):
     """On a plane tilted 0.2 rad, μ = 0.3 (stick needs 2/7 tan θ = 0.058): from rest the ball
-    rolls without slipping, its speed along the slope 5/7 g sin θ t, on the plane."""
+    rolls without slipping, its speed along the slope 5/7 g sin θ t, on the plane.  (Before the
+    force was applied at the sphere's centre with its torque held in the world, the continuous
+    plant turned the contact point with the ball over each step: 0.745 m/s at 0.5 s instead of
+    0.696.)"""
     theta, seconds = 0.2, 0.5
     normal = np.array([np.sin(theta), 0.0, np.cos(theta)])
     down = np.array([np.cos(theta), 0.0, -np.sin(theta)])
