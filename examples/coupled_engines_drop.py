@@ -47,16 +47,21 @@ def pybullet_drop(dt, seconds):
 
 
 def drake_drop(dt, seconds, continuous):
-    from pydrake.all import (AddMultibodyPlantSceneGraph, DiagramBuilder, RigidTransform,
-                             Simulator, SpatialInertia)
+    from pydrake.all import (AddMultibodyPlantSceneGraph, CoulombFriction, DiagramBuilder,
+                             HalfSpace, RigidTransform, Simulator, SpatialInertia, Sphere)
     from contact_sim.coupling.drake import CoupledContacts
     builder = DiagramBuilder()
-    plant, _ = AddMultibodyPlantSceneGraph(builder, time_step=0.0 if continuous else dt)
+    plant, scene_graph = AddMultibodyPlantSceneGraph(builder,
+                                                     time_step=0.0 if continuous else dt)
     ball = plant.AddRigidBody('ball', SpatialInertia.SolidSphereWithMass(MASS, R))
+    plant.RegisterCollisionGeometry(ball, RigidTransform(), Sphere(R), 'ball',
+                                    CoulombFriction(0.3, 0.3))
+    plant.RegisterCollisionGeometry(plant.world_body(), RigidTransform(), HalfSpace(), 'floor',
+                                    CoulombFriction(0.3, 0.3))
     plant.Finalize()
-    coupled = builder.AddSystem(CoupledContacts(
-        plant, [('ball', plant.world_body(), CONTACT, R, 0.0)], friction=0.3,
-        period=dt if continuous else None))
+    coupled = builder.AddSystem(CoupledContacts(   # the shapes from the scene graph
+        plant, [(ball, plant.world_body(), CONTACT)], friction=0.3,
+        period=dt if continuous else None, scene_graph=scene_graph))
     builder.Connect(plant.get_state_output_port(), coupled.get_input_port())
     builder.Connect(coupled.get_output_port(), plant.get_applied_spatial_force_input_port())
     simulator = Simulator(builder.Build())

@@ -6,6 +6,7 @@ exact state it carries out), over ``flight`` (the flight inside a step in closed
 compiled contact phase of ``phase``; ``friction`` (Coulomb's tangential impulse in the same
 step); ``rows`` (what the adapters share about their pairs).  The host adapters, one module an engine, each importing its engine there only:
 ``contact_sim.coupling.mujoco``, ``contact_sim.coupling.pybullet``, ``contact_sim.coupling.drake``
+(its pairs' shapes read from the scene graph by ``drake_shapes``)
 (import them by their module names; this package imports no engine).  Units: SI.
 """
 from contact_sim._lazy import lazy_exports

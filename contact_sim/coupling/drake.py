@@ -1,9 +1,16 @@
 """The coupling in Drake: ``CoupledContacts(plant, pairs)``, a ``LeafSystem`` whose output goes
 to the plant's applied spatial force input port.
 
-Each pair names two bodies of a finalized ``MultibodyPlant`` (by ``RigidBody`` or by name): a sphere body and the world (a floor: the plane z = ``floor_height`` of the world, normal
-+z) or another sphere body; the radii are given with the pair, ``(body_a, body_b, contact,
-radius_a, radius_b)`` (0 for the world's floor; a sphere's centre is its body's origin).  The system reads the plant's state (connect
+Each pair names two bodies of a finalized ``MultibodyPlant`` (by ``RigidBody`` or by name) and
+a contact, ``(body_a, body_b, contact)``: the shapes are read once from the ``scene_graph``
+given (``contact_sim.coupling.drake_shapes``): a sphere (a body's one ``Sphere`` collision
+geometry, its centre anywhere in the body's frame) against the world's ``HalfSpace`` (or one on
+a body welded to the world; any orientation: its normal and height from its pose), against the
+world without collision geometry (the floor z = ``floor_height``, normal +z), or against
+another sphere.  The radii may instead be given with the pair, ``(body_a, body_b, contact,
+radius_a, radius_b)`` (0 for the world's floor; a sphere's centre is then its body's origin; no
+scene graph needed).  A plane is kept as (unit normal, height along it), a sphere's centre as
+a point of its body's frame.  The system reads the plant's state (connect
 ``plant.get_state_output_port()`` to ``get_input_port()``), and at each of the plant's steps
 evaluates, in a plant context of its own (free bodies: from the state vector, below): the gap and normal from the bodies' poses, the contact
 point's relative velocity and translational Jacobian (``CalcJacobianTranslationalVelocity``),
@@ -45,6 +52,7 @@ from pydrake.multibody.tree import JacobianWrtVariable
 from pydrake.systems.framework import LeafSystem
 
 from contact_sim.coupling.core import NormalCoupling
+from contact_sim.coupling.drake_shapes import UP, body_shape
 from contact_sim.coupling.rows import pair_rows, refuse_tunnel, tangential_impulse
 from contact_sim.model import require_contact
 from contact_sim.validation import (InputError, require_nonnegative, require_positive,
@@ -62,13 +70,18 @@ class CoupledContacts(LeafSystem):
     ----------
     plant : pydrake.multibody.plant.MultibodyPlant
         A finalized plant, discrete (``time_step`` > 0) or continuous.
-    pairs : sequence of (body, body, Contact, float, float)
-        (body_a, body_b, contact, radius_a, radius_b): bodies as ``RigidBody`` or names, the
-        radii of their spheres in m (0: the world's floor, z = ``floor_height``).
+    pairs : sequence of (body, body, Contact) or (body, body, Contact, float, float)
+        (body_a, body_b, contact): bodies as ``RigidBody`` or names, their shapes from
+        ``scene_graph``: a body's one ``Sphere`` collision geometry (centred anywhere in its
+        frame), the world's ``HalfSpace`` (or one on a body welded to the world), or the world
+        without collision geometry (the floor z = ``floor_height``).  Or (body_a, body_b,
+        contact, radius_a, radius_b): the radii of their spheres in m, centred on the bodies'
+        origins (0: the world's floor, z = ``floor_height``).
     friction : float, optional
         Coulomb's μ of every pair, >= 0 (default 0).
     floor_height : float, optional
-        The world floor's height, m (default 0).
+        The height of the world's floor, m (default 0): the world without collision geometry,
+        or radius 0 in a 5-tuple (a ``HalfSpace``'s height comes from its pose).
     period : float, optional
         The coupling's step, s, > 0: needed for a continuous plant; a discrete plant's is its
         ``time_step``.
@@ -76,33 +89,42 @@ class CoupledContacts(LeafSystem):
         A pair farther apart than this (m) and carrying no contact state costs its poses only;
         > 0 (default ``REACH``); it must exceed the distance the bodies close in one step.
     scene_graph : pydrake.geometry.SceneGraph, optional
-        The plant's scene graph, before its context is made: Drake's own contact between the
-        collision geometries of a coupled pair's bodies is filtered out there.  Needed when
-        both bodies of a pair have collision geometry.
+        The plant's scene graph (of ``AddMultibodyPlantSceneGraph``), before its context is
+        made: the shapes of a 3-tuple's bodies are read there (``model_inspector``), and
+        Drake's own contact between the collision geometries of a coupled pair's bodies is
+        filtered out there.  Needed for 3-tuples with collision geometry, and when both bodies
+        of a pair have collision geometry.
 
     Raises
     ------
     InputError
         Keyed ``plant`` (not finalized), ``period`` (a continuous plant without one, or one
         that is not a discrete plant's ``time_step``), ``reach``,
-        ``pairs`` (no such body, no sphere, no degree of freedom, a bad radius), ``friction``,
-        ``floor_height`` or ``scene_graph`` (missing while both bodies of a pair have collision
-        geometry: Drake's own contact would act beside the coupling).
+        ``pairs`` (no such body, no sphere, no degree of freedom, a bad radius, a row of
+        another length; a body with no or several collision geometries, or a shape that is not
+        a ``Sphere`` or, on a body that does not move, a ``HalfSpace``), ``friction``,
+        ``floor_height`` or ``scene_graph`` (missing or not the plant's while a 3-tuple's shape
+        must be read, or while both bodies of a pair have collision geometry: Drake's own
+        contact would act beside the coupling).
 
     Examples
     --------
     >>> import contact_sim as cs
-    >>> from pydrake.all import (AddMultibodyPlantSceneGraph, DiagramBuilder, Simulator,
-    ...                          SpatialInertia, RigidTransform)
+    >>> from pydrake.all import (AddMultibodyPlantSceneGraph, CoulombFriction, DiagramBuilder,
+    ...                          HalfSpace, RigidTransform, Simulator, SpatialInertia, Sphere)
     >>> from contact_sim.coupling.drake import CoupledContacts
     >>> builder = DiagramBuilder()
-    >>> plant, _ = AddMultibodyPlantSceneGraph(builder, time_step=1e-3)
+    >>> plant, scene_graph = AddMultibodyPlantSceneGraph(builder, time_step=1e-3)
     >>> ball = plant.AddRigidBody('ball', SpatialInertia.SolidSphereWithMass(0.0669, 0.0127))
+    >>> _ = plant.RegisterCollisionGeometry(ball, RigidTransform(), Sphere(0.0127), 'ball',
+    ...                                     CoulombFriction(0.3, 0.3))
+    >>> _ = plant.RegisterCollisionGeometry(plant.world_body(), RigidTransform(), HalfSpace(),
+    ...                                     'floor', CoulombFriction(0.3, 0.3))
     >>> plant.Finalize()
     >>> contact = cs.Contact.from_materials(cs.AZAD_FEATHERSTONE, 'steel', 'cast_iron',
     ...                                     radius=0.0127, damping_factor=8.87e5)
     >>> coupled = builder.AddSystem(CoupledContacts(
-    ...     plant, [('ball', plant.world_body(), contact, 0.0127, 0.0)]))
+    ...     plant, [(ball, plant.world_body(), contact)], scene_graph=scene_graph))
     >>> _ = builder.Connect(plant.get_state_output_port(), coupled.get_input_port())
     >>> _ = builder.Connect(coupled.get_output_port(),
     ...                     plant.get_applied_spatial_force_input_port())
@@ -136,11 +158,11 @@ class CoupledContacts(LeafSystem):
         self.friction = require_nonnegative('friction', friction)
         self.reach = require_positive('reach', reach)
         self.floor_height = require_real('floor_height', floor_height)
-        rows = pair_rows(pairs, '(body, body, Contact, radius, radius)')
+        rows = pair_rows(pairs, '(body, body, Contact)')
         self._context = plant.CreateDefaultContext()
         self._free = {}             # body index: _Free, the free bodies of the pairs
         self._applied = []          # an ExternallyAppliedSpatialForce a moving side, reused
-        self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
+        self.pairs = [self._pair(row, i, scene_graph) for i, row in enumerate(rows)]
         self._leave_drakes_contact(scene_graph)
         self._general = any(p.sides is None for p in self.pairs)   # a pair needs the context
         self._gravity = plant.gravity_field()
@@ -186,40 +208,52 @@ class CoupledContacts(LeafSystem):
         raise InputError('pairs', value, '{n[pairs]}[%d] = {value}: allowed a RigidBody or a '
                          'body name' % index)
 
-    def _pair(self, row, index):
-        if len(row) != 5:
+    def _pair(self, row, index, scene_graph):
+        """The ``_Pair`` of ``row``: (body, body, Contact) with the shapes from ``scene_graph``,
+        or (body, body, Contact, radius, radius)."""
+        if len(row) not in (3, 5):
             raise InputError('pairs', row, '{n[pairs]}[%d] = {value}: allowed (body, body, '
-                             'Contact, radius, radius)' % index)
+                             'Contact) or (body, body, Contact, radius, radius)' % index)
         a, b = self._body(row[0], index), self._body(row[1], index)
         contact = require_contact(row[2], 'pairs')
-        radii = [require_nonnegative('pairs', r) for r in row[3:]]
-        world = self.plant.world_body().index()
-        for body, radius in ((a, radii[0]), (b, radii[1])):
-            if radius == 0.0 and body.index() != world:
-                raise InputError('pairs', body.name(), '{n[pairs]}[%d]: body {value} has radius '
-                                 '0: allowed 0 for the world (its floor) only' % index)
-        if radii[0] == 0.0 and radii[1] == 0.0:
+        plant = self.plant
+        world = plant.world_body().index()
+        if len(row) == 3:           # the shapes from the scene graph
+            shapes = [body_shape(plant, scene_graph, body, index, self.floor_height,
+                                 None if _moves(plant, body) else
+                                 plant.EvalBodyPoseInWorld(self._context, body))
+                      for body in (a, b)]
+        else:
+            shapes = [(require_nonnegative('pairs', r), np.zeros(3), (UP, self.floor_height))
+                      for r in row[3:]]
+            for body, (radius, *_) in zip((a, b), shapes):
+                if radius == 0.0 and body.index() != world:
+                    raise InputError('pairs', body.name(), '{n[pairs]}[%d]: body {value} has '
+                                     'radius 0: allowed 0 for the world (its floor) only' % index)
+        if shapes[0][0] == 0.0 and shapes[1][0] == 0.0:
             raise InputError('pairs', row[:2], '{n[pairs]}[%d] has no sphere: allowed a sphere '
                              'against the floor or another sphere' % index)
-        free = [body.index() != world and _moves(self.plant, body) for body in (a, b)]
-        if not any(free):
+        moving = [body.index() != world and _moves(plant, body) for body in (a, b)]
+        if not any(moving):
             raise InputError('pairs', row[:2], '{n[pairs]}[%d]: neither body has a degree of '
                              'freedom: allowed a pair that can move' % index)
-        if radii[0] == 0.0:         # the sphere first
-            a, b, radii = b, a, radii[::-1]
+        if shapes[0][0] == 0.0:     # the sphere first
+            a, b, shapes, moving = b, a, shapes[::-1], moving[::-1]
+        (r_s, centre_s, _), (r_o, centre_o, plane) = shapes
         sides = [self._free_body(body) for body in (a, b)]
-        if sides[1] is None and b.index() == world:
+        if sides[1] is None and not moving[1]:      # the world, or a body welded to it
             sides[1] = _WORLD
         slots = []      # (its force object, the sign of its force, the side: 0 sphere, 1 other)
         for side, (body, sign) in enumerate(((a, 1.0), (b, -1.0))):
-            if body.index() != world:   # applied at its origin (the force and its moment)
+            if moving[side]:            # applied at its origin (the force and its moment)
                 slots.append((len(self._applied), sign, side))
                 self._applied.append(ExternallyAppliedSpatialForce())
                 self._applied[-1].body_index = body.index()
                 self._applied[-1].p_BoBq_B = _ZERO
-        return _Pair(a, b, radii[0], radii[1], NormalCoupling(
+        return _Pair(a, b, r_s, r_o, NormalCoupling(
             contact, host='continuous' if self.continuous else 'semi_implicit'),
-            None if None in sides else tuple(sides), tuple(slots))
+            None if None in sides else tuple(sides), tuple(slots), _offset(centre_s),
+            _offset(centre_o), (tuple(float(c) for c in plane[0]), float(plane[1])))
 
     def _free_body(self, body):
         """The body's ``_Free`` constants, or None when it is not a free body (a floating base
@@ -288,16 +322,17 @@ class CoupledContacts(LeafSystem):
         forces = []
         for index, pair in enumerate(self.pairs):
             sides, coupling = pair.sides, pair.coupling
-            cx, cy, cz = self._centre(pair.sphere, sides and sides[0], x)
-            if pair.r_o == 0.0:
-                normal, gap = (0.0, 0.0, 1.0), cz - self.floor_height - pair.r_s
-                centres = ((cx, cy, cz), None)
+            origin, (cx, cy, cz) = self._centre(pair.sphere, sides and sides[0], pair.c_s, x)
+            if pair.r_o == 0.0:         # a plane: (unit normal, height along it)
+                normal, height = pair.plane
+                gap = _dot(normal, (cx, cy, cz)) - height - pair.r_s
+                origins = (origin, None)
             else:
-                other = self._centre(pair.other, sides and sides[1], x)
+                origin_o, other = self._centre(pair.other, sides and sides[1], pair.c_o, x)
                 d = (cx - other[0], cy - other[1], cz - other[2])
                 dist = math.sqrt(_dot(d, d))
                 normal, gap = (d[0] / dist, d[1] / dist, d[2] / dist), dist - pair.r_s - pair.r_o
-                centres = ((cx, cy, cz), other)
+                origins = (origin, origin_o)
             if gap > self.reach and not coupling.carrying:
                 self._far.add(index)
                 continue                # out of reach: no dynamics evaluated
@@ -310,7 +345,7 @@ class CoupledContacts(LeafSystem):
                 velocity, acceleration, inverse = self._terms(pair.sphere, pair.other, point)
             else:
                 velocity, acceleration, inverse = _free_terms(
-                    sides, x, point, centres, self._gravity.gravity_vector().tolist())
+                    sides, x, point, origins, self._gravity.gravity_vector().tolist())
             push = [_dot(row, normal) for row in inverse]     # W n (W symmetric)
             step = coupling.step(t, gap, _dot(normal, velocity), 1.0 / _dot(normal, push),
                                  _dot(normal, acceleration), dt)
@@ -326,15 +361,22 @@ class CoupledContacts(LeafSystem):
                 impulse = [i + f for i, f in zip(impulse, tangential)]
             rate = step.force_rate
             for slot, sign, side in pair.slots:
-                forces.append((slot, [q - c for q, c in zip(point, centres[side])],
+                forces.append((slot, [q - c for q, c in zip(point, origins[side])],
                                [sign * i / dt for i in impulse], [sign * rate * n for n in normal]))
         return forces
 
-    def _centre(self, body, side, x):
-        """The body's origin in the world (m), from the state ``x`` (a list) for a free body."""
+    def _centre(self, body, side, offset, x):
+        """The body's origin and its sphere's centre in the world (m, lists): the centre at
+        ``offset`` (m, the body's frame; None: the origin); from the state ``x`` (a list) for a
+        free body."""
         if side:
-            return x[side.q + 4:side.q + 7]
-        return self.plant.EvalBodyPoseInWorld(self._context, body).translation().tolist()
+            origin = x[side.q + 4:side.q + 7]
+            if offset is None:
+                return origin, origin
+            return origin, (np.array(origin) + side.rotation(x) @ offset).tolist()
+        pose = self.plant.EvalBodyPoseInWorld(self._context, body)
+        origin = pose.translation().tolist()
+        return origin, origin if offset is None else pose.multiply(offset).tolist()
 
     def _terms(self, sphere, other, point):
         """The plant's terms at the contact ``point`` (m, world) of a pair, from the context: its
@@ -363,11 +405,13 @@ class _Pair:
     ``_Free`` constants (or ``_WORLD``; None: the plant context serves it) and the slots of
     the forces on its moving sides."""
 
-    __slots__ = ('sphere', 'other', 'r_s', 'r_o', 'coupling', 'sides', 'slots')
+    __slots__ = ('sphere', 'other', 'r_s', 'r_o', 'coupling', 'sides', 'slots', 'c_s', 'c_o',
+                 'plane')
 
-    def __init__(self, sphere, other, r_s, r_o, coupling, sides, slots):
+    def __init__(self, sphere, other, r_s, r_o, coupling, sides, slots, c_s, c_o, plane):
         self.sphere, self.other, self.r_s, self.r_o = sphere, other, r_s, r_o
         self.coupling, self.sides, self.slots = coupling, sides, slots
+        self.c_s, self.c_o, self.plane = c_s, c_o, plane
 
 
 class _Free:
@@ -443,6 +487,11 @@ def _skew(u):
 
 
 _WORLD = False      # a pair's side that is the world (falsy: no free body)
+
+
+def _offset(centre):
+    """A sphere's centre in its body's frame (m), or None where it is the body's origin."""
+    return None if centre is None or not np.any(centre) else np.array(centre, dtype=float)
 _ZERO = np.zeros(3)
 
 
