@@ -52,6 +52,7 @@ from pydrake.multibody.tree import JacobianWrtVariable
 from pydrake.systems.framework import LeafSystem
 
 from contact_sim.coupling.core import NormalCoupling
+from contact_sim.coupling.drake_free import WORLD, FreeBody, dot, free_terms
 from contact_sim.coupling.drake_shapes import UP, body_shape
 from contact_sim.coupling.rows import pair_rows, refuse_tunnel, tangential_impulse
 from contact_sim.model import require_contact
@@ -160,7 +161,7 @@ class CoupledContacts(LeafSystem):
         self.floor_height = require_real('floor_height', floor_height)
         rows = pair_rows(pairs, '(body, body, Contact)')
         self._context = plant.CreateDefaultContext()
-        self._free = {}             # body index: _Free, the free bodies of the pairs
+        self._free = {}             # body index: FreeBody, the free bodies of the pairs
         self._applied = []          # an ExternallyAppliedSpatialForce a moving side, reused
         self.pairs = [self._pair(row, i, scene_graph) for i, row in enumerate(rows)]
         self._leave_drakes_contact(scene_graph)
@@ -242,7 +243,7 @@ class CoupledContacts(LeafSystem):
         (r_s, centre_s, _), (r_o, centre_o, plane) = shapes
         sides = [self._free_body(body) for body in (a, b)]
         if sides[1] is None and not moving[1]:      # the world, or a body welded to it
-            sides[1] = _WORLD
+            sides[1] = WORLD
         slots = []      # (its force object, the sign of its force, the side: 0 sphere, 1 other)
         for side, (body, sign) in enumerate(((a, 1.0), (b, -1.0))):
             if moving[side]:            # applied at its origin (the force and its moment)
@@ -253,10 +254,11 @@ class CoupledContacts(LeafSystem):
         return _Pair(a, b, r_s, r_o, NormalCoupling(
             contact, host='continuous' if self.continuous else 'semi_implicit'),
             None if None in sides else tuple(sides), tuple(slots), _offset(centre_s),
-            _offset(centre_o), (tuple(float(c) for c in plane[0]), float(plane[1])))
+            _offset(centre_o), None if plane is None else (tuple(float(c) for c in plane[0]),
+                                                 float(plane[1])))
 
     def _free_body(self, body):
-        """The body's ``_Free`` constants, or None when it is not a free body (a floating base
+        """The body's ``FreeBody`` constants, or None when it is not a free body (a floating base
         with a quaternion, no body outboard of it, its centre of mass at its origin)."""
         plant = self.plant
         key = int(body.index())
@@ -272,7 +274,7 @@ class CoupledContacts(LeafSystem):
                 and list(plant.GetBodiesKinematicallyAffectedBy([joints[0].index()]))
                 == [body.index()] and not np.any(inertia.get_com()) and inertia.get_mass() > 0.0):
             return None
-        self._free[key] = _Free(body, plant.num_positions() + body.floating_velocities_start_in_v(),
+        self._free[key] = FreeBody(body, plant.num_positions() + body.floating_velocities_start_in_v(),
                                 inertia.get_mass(),
                                 inertia.CalcRotationalInertia().CopyToFullMatrix3(),
                                 plant.is_gravity_enabled(body.model_instance()))
@@ -325,12 +327,12 @@ class CoupledContacts(LeafSystem):
             origin, (cx, cy, cz) = self._centre(pair.sphere, sides and sides[0], pair.c_s, x)
             if pair.r_o == 0.0:         # a plane: (unit normal, height along it)
                 normal, height = pair.plane
-                gap = _dot(normal, (cx, cy, cz)) - height - pair.r_s
+                gap = dot(normal, (cx, cy, cz)) - height - pair.r_s
                 origins = (origin, None)
             else:
                 origin_o, other = self._centre(pair.other, sides and sides[1], pair.c_o, x)
                 d = (cx - other[0], cy - other[1], cz - other[2])
-                dist = math.sqrt(_dot(d, d))
+                dist = math.sqrt(dot(d, d))
                 normal, gap = (d[0] / dist, d[1] / dist, d[2] / dist), dist - pair.r_s - pair.r_o
                 origins = (origin, origin_o)
             if gap > self.reach and not coupling.carrying:
@@ -344,17 +346,17 @@ class CoupledContacts(LeafSystem):
             if sides is None:
                 velocity, acceleration, inverse = self._terms(pair.sphere, pair.other, point)
             else:
-                velocity, acceleration, inverse = _free_terms(
+                velocity, acceleration, inverse = free_terms(
                     sides, x, point, origins, self._gravity.gravity_vector().tolist())
-            push = [_dot(row, normal) for row in inverse]     # W n (W symmetric)
-            step = coupling.step(t, gap, _dot(normal, velocity), 1.0 / _dot(normal, push),
-                                 _dot(normal, acceleration), dt)
+            push = [dot(row, normal) for row in inverse]     # W n (W symmetric)
+            step = coupling.step(t, gap, dot(normal, velocity), 1.0 / dot(normal, push),
+                                 dot(normal, acceleration), dt)
             p = step.impulse
             if p == 0.0:
                 continue
             impulse = [p * nx, p * ny, p * nz]
             free = [v + dt * a + p * w for v, a, w in zip(velocity, acceleration, push)]
-            along = _dot(free, normal)
+            along = dot(free, normal)
             if mu > 0.0 and any(f - along * n for f, n in zip(free, normal)):   # it slides
                 tangential = tangential_impulse(p, np.array(free), np.array(normal),
                                                 np.array(inverse), mu).tolist()
@@ -402,7 +404,7 @@ class CoupledContacts(LeafSystem):
 
 class _Pair:
     """A coupled pair: its bodies (the sphere first), radii (m), ``NormalCoupling``, its sides'
-    ``_Free`` constants (or ``_WORLD``; None: the plant context serves it) and the slots of
+    ``FreeBody`` constants (or ``WORLD``; None: the plant context serves it) and the slots of
     the forces on its moving sides."""
 
     __slots__ = ('sphere', 'other', 'r_s', 'r_o', 'coupling', 'sides', 'slots', 'c_s', 'c_o',
@@ -414,79 +416,6 @@ class _Pair:
         self.c_s, self.c_o, self.plane = c_s, c_o, plane
 
 
-class _Free:
-    """A free body's constants: where its state sits in the plant's state vector, its mass (kg),
-    rotational inertia about its origin (kg m², body frame) and whether gravity acts on it."""
-
-    __slots__ = ('q', 'v', 'inverse_mass', 'inertia', 'inverse_inertia', 'isotropic', 'falls')
-
-    def __init__(self, body, v, mass, inertia, falls):
-        self.q, self.v = body.floating_positions_start(), v
-        self.inverse_mass = 1.0 / mass
-        self.inertia, self.inverse_inertia = inertia, np.linalg.inv(inertia)
-        # a uniform sphere's: its inverse is a number, the same in every frame
-        self.isotropic = (float(self.inverse_inertia[0, 0]) if np.all(
-            self.inverse_inertia == self.inverse_inertia[0, 0] * np.eye(3)) else None)
-        self.falls = bool(falls)
-
-    def rotation(self, x):
-        """Its rotation matrix (body to world) from its quaternion (w, x, y, z) in the state
-        ``x``, normalized as Drake's ``RotationMatrix(Quaternion)``."""
-        w, i, j, k = x[self.q:self.q + 4]
-        s = 2.0 / (w * w + i * i + j * j + k * k)
-        return np.array(((1.0 - s * (j * j + k * k), s * (i * j - k * w), s * (i * k + j * w)),
-                         (s * (i * j + k * w), 1.0 - s * (i * i + k * k), s * (j * k - i * w)),
-                         (s * (i * k - j * w), s * (j * k + i * w), 1.0 - s * (i * i + j * j))))
-
-    def terms(self, x, arm, gravity):
-        """The velocity (m/s), the free acceleration (``gravity``, m/s², if it acts on the body,
-        and the gyroscopic ω × I ω) and the 3x3 inverse mass 1/m − [r]× I⁻¹ [r]× (1/kg) of its
-        point at ``arm`` (m, world, from its origin), from the state ``x`` (a list)."""
-        w0, w1, w2, v0, v1, v2 = x[self.v:self.v + 6]
-        a0, a1, a2 = arm
-        velocity = [v0 + w1 * a2 - w2 * a1, v1 + w2 * a0 - w0 * a2, v2 + w0 * a1 - w1 * a0]
-        if not self.falls:
-            gravity = [0.0, 0.0, 0.0]
-        c = self.isotropic
-        if c is not None:           # 1/m + c (|r|² − r rᵀ); ω × I ω = 0
-            d = self.inverse_mass + c * (a0 * a0 + a1 * a1 + a2 * a2)
-            ca0, ca1, ca2 = c * a0, c * a1, c * a2
-            return velocity, gravity, [[d - ca0 * a0, -ca0 * a1, -ca0 * a2],
-                                            [-ca1 * a0, d - ca1 * a1, -ca1 * a2],
-                                            [-ca2 * a0, -ca2 * a1, d - ca2 * a2]]
-        rotation, skew, omega = self.rotation(x), _skew(arm), np.array((w0, w1, w2))
-        inverse_inertia = rotation @ self.inverse_inertia @ rotation.T
-        alpha = -inverse_inertia @ (_skew(omega) @ (rotation @ (self.inertia @ (rotation.T
-                                                                                @ omega))))
-        inverse = self.inverse_mass * np.eye(3) - skew @ inverse_inertia @ skew
-        return velocity, (gravity - skew @ alpha).tolist(), inverse.tolist()
-
-
-def _free_terms(sides, x, point, centres, gravity):
-    """A pair's terms (``CoupledContacts._terms``) from the state ``x`` and the plant's
-    ``gravity`` vector alone: each side is a ``_Free`` body or the world."""
-    sphere, other = sides
-    velocity, acceleration, inverse = sphere.terms(
-        x, [p - c for p, c in zip(point, centres[0])], gravity)
-    if other is not _WORLD:
-        v, a, w = other.terms(x, [p - c for p, c in zip(point, centres[1])], gravity)
-        velocity = [p - q for p, q in zip(velocity, v)]
-        acceleration = [p - q for p, q in zip(acceleration, a)]
-        inverse = [[p + q for p, q in zip(r, s)] for r, s in zip(inverse, w)]
-    return velocity, acceleration, inverse
-
-
-def _dot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def _skew(u):
-    """The matrix of u × (plain arithmetic: numpy's cross costs more)."""
-    x, y, z = (float(c) for c in u)
-    return np.array(((0.0, -z, y), (z, 0.0, -x), (-y, x, 0.0)))
-
-
-_WORLD = False      # a pair's side that is the world (falsy: no free body)
 
 
 def _offset(centre):

@@ -219,7 +219,7 @@ def test_free_bodies_terms_are_the_plants():
     CalcBiasTerm, CalcGravityGeneralizedForces) on random states and gravity vectors (changed
     after the coupling was made), and so is the impulse."""
     from contact_sim.coupling import NormalCoupling
-    from contact_sim.coupling.drake import _free_terms
+    from contact_sim.coupling.drake_free import free_terms
     _, plant, _, coupled, _ = free_bodies_plant()
     assert all(pair.sides is not None for pair in coupled.pairs)
     rng = np.random.default_rng(31)
@@ -239,7 +239,7 @@ def test_free_bodies_terms_are_the_plants():
                 normal = np.subtract(centres[0], centres[1])
                 normal /= np.linalg.norm(normal)
             point = (np.array(centres[0]) - pair.r_s * normal).tolist()
-            fast = [np.array(t) for t in _free_terms(pair.sides, x, point, centres, gravity)]
+            fast = [np.array(t) for t in free_terms(pair.sides, x, point, centres, gravity)]
             general = [np.array(t) for t in coupled._terms(pair.sphere, pair.other, point)]
             for f, g in zip(fast, general):
                 np.testing.assert_allclose(f, g, rtol=0.0, atol=1e-12 * np.abs(g).max())
