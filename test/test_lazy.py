@@ -51,8 +51,8 @@ def test_a_public_name_wins_over_its_namesake_submodule_imported_first():
     # importing contact_sim/impact/restitution.py binds the module on its package: the
     # function restitution must stay what `from contact_sim.impact import restitution` gives
     lines = _fresh('import importlib, types\n'
-                   'for m in ("contact_sim.impact.restitution", "contact_sim.impact.dimensionless",'
-                   ' "contact_sim.drop.sweep"):\n'
+                   'for m in ("contact_sim.impact.outcomes", "contact_sim.impact.dimensionless_outcomes",'
+                   ' "contact_sim.drop.sweeps"):\n'
                    '    importlib.import_module(m)\n'
                    'from contact_sim.impact import dimensionless, restitution\n'
                    'from contact_sim.drop import sweep\n'

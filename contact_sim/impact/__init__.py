@@ -13,10 +13,10 @@ from contact_sim._lazy import lazy_exports
 _EXPORTS = {
     'damping_fit': ('DampingFit', 'compare_laws', 'damping_for_restitution', 'fit_damping',
                     'group_for_restitution', 'robust_weights'),
-    'dimensionless': ('dimensionless', 'master_curve'),
+    'dimensionless_outcomes': ('dimensionless', 'master_curve'),
     'fit_options': ('LOSSES', 'MAX_POINTS', 'require_fit_options'),
-    'restitution': ('contact_duration', 'damping_from_group', 'damping_group', 'max_penetration',
-                    'peak_force', 'restitution'),
+    'outcomes': ('contact_duration', 'damping_from_group', 'damping_group', 'max_penetration',
+                 'peak_force', 'restitution'),
     'scales': ('CONTACT_LENGTH_MAX', 'CONTACT_TIME_MIN', 'ZETA_MAX', 'ZETA_MIN', 'checked_scales',
                'damping_group_of', 'impact_scales', 'require_speeds'),
     'simulate': ('ImpactResult', 'simulate_impact'),

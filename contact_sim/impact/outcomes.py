@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from contact_sim.impact.dimensionless import dimensionless
+from contact_sim.impact.dimensionless_outcomes import dimensionless
 from contact_sim.impact.scales import (checked_scales, checked_scales_at, damping_group_of,
                                       impact_scales, require_speeds)
 from contact_sim.impact.tails import restitution_tails
