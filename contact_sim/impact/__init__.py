@@ -2,8 +2,8 @@
 (closed forms and master curves, exact where they do not reach); fits of the damping λ.
 
 ``simulate`` (the exact reference path), ``scales`` (Z, T and the damping group ζ),
-``tails`` (asymptotics beyond a master curve), ``dimensionless`` (e, τc, F̂, x̂ of ζ from the
-best source the law has), ``restitution`` (the dimensional results), ``damping_fit`` (λ from
+``tails`` (asymptotics beyond a master curve), ``dimensionless_outcomes`` (e, τc, F̂, x̂ of ζ
+from the best source the law has), ``outcomes`` (the dimensional results), ``damping_fit`` (λ from
 restitution, fits to data) and ``fit_options`` (a fit's point limit, losses and confidence,
 which the command line reads without importing the engine).
 """

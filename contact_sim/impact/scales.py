@@ -2,7 +2,7 @@
 
 With Z = (m v² / k)^(1/(n+1)) (the depth at which the spring would hold all the kinetic energy)
 and T = Z / v, an impact without gravity reduces to one problem in the group
-ζ = λ Z^(p+1) v^(q-2) / m (see ``restitution``).  These functions work on numpy arrays.
+ζ = λ Z^(p+1) v^(q-2) / m (see ``outcomes``).  These functions work on numpy arrays.
 """
 import math
 
