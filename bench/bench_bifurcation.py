@@ -20,7 +20,7 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'examples'))
 from bifurcation import tables  # noqa: E402
 
-from contact_sim.drop.sweep import bifurcation_diagram  # noqa: E402
+from contact_sim.drop.sweeps import bifurcation_diagram  # noqa: E402
 
 TARGET_WALL = 3.0     # s, the default diagram on 2 workers (issue 36)
 # the default diagram with the compiled bounce loop (mode_train, removed by issue 36), as

@@ -31,7 +31,7 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..', 'examples'))
 from bifurcation import tables  # noqa: E402
 
-from contact_sim.drop.sweep import bifurcation_diagram, sweep  # noqa: E402
+from contact_sim.drop.sweeps import bifurcation_diagram, sweep  # noqa: E402
 from contact_sim.model import LINEAR  # noqa: E402
 
 ROUND_TRIPS = 200

@@ -8,29 +8,12 @@ one of its names is used, and the command line parses (and refuses) its argument
 importing numba, scipy's solvers or the exporters.
 
 A submodule is reached as before (``contact_sim.phase.compiled``, ``from contact_sim import
-impact``), imported when first asked for.  Where a public name is also a submodule's name
-(``contact_sim.impact.restitution``, the function, and ``contact_sim/impact/restitution.py``),
-the public name wins, as it did when the ``__init__`` imported it: the import system's binding
-of the submodule on its package is ignored for those names.
+impact``), imported when first asked for.  No public name is a submodule's name (a test in
+``test/test_layout.py``): the import system binds a submodule on its package when it is
+imported, and would otherwise replace the public name.
 """
 import importlib
 import sys
-import types
-
-
-class _LazyPackage(types.ModuleType):
-    """A package whose public names win over its submodules of the same name.
-
-    So ``contact_sim.impact.restitution`` is the function, as it was when the packages imported
-    their names eagerly, and ``import contact_sim.impact.restitution as m`` gives the function
-    too: reach such a submodule through ``sys.modules['contact_sim.impact.restitution']`` (or
-    ``importlib.import_module``), e.g. for ``unittest.mock.patch.object``."""
-
-    def __setattr__(self, name, value):
-        if (isinstance(value, types.ModuleType) and value.__name__ == f'{self.__name__}.{name}'
-                and name in self.__dict__['_lazy_sources']):
-            return     # the import system binding submodule ``name``: the public name stays
-        super().__setattr__(name, value)
 
 
 def lazy_exports(package, exports):
@@ -70,8 +53,7 @@ def lazy_exports(package, exports):
         for name in names:
             if sources.setdefault(name, absolute) != absolute:
                 raise ValueError(f'{package}: {name} is given by {sources[name]} and {absolute}')
-    module.__dict__['_lazy_sources'] = sources
-    module.__class__ = _LazyPackage
+    module._lazy_sources = sources
 
     def __getattr__(name):
         source = sources.get(name)

@@ -19,7 +19,7 @@ import numpy as np
 from contact_sim.model import LINEAR, AZAD_FEATHERSTONE
 from contact_sim.model.contact import Contact
 from contact_sim.impact.damping_fit import damping_for_restitution
-from contact_sim.drop.sweep import bifurcation_diagram
+from contact_sim.drop.sweeps import bifurcation_diagram
 from contact_sim.drop.table import VibratingTable, period_doubling_threshold, period_one_threshold
 
 MASS, STIFFNESS, LINEAR_STIFFNESS, E_1MS, FREQUENCY = 0.066, 1e10, 1e7, 0.7, 10.0

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from contact_sim.impact.dimensionless import _exact_dimensionless
+from contact_sim.impact.dimensionless_outcomes import _exact_dimensionless
 from contact_sim.model import LAWS, QUANTITIES
 from contact_sim.model.master_curves import TABLE_FILE
 

@@ -46,7 +46,7 @@ def restitution_figures(out_dir):
 def bifurcation_figure(out_dir):
     import matplotlib.pyplot as plt
 
-    from contact_sim.drop.sweep import bifurcation_diagram
+    from contact_sim.drop.sweeps import bifurcation_diagram
     from contact_sim.drop.table import period_doubling_threshold, period_one_threshold
     example = _example('bifurcation')
     gammas = np.linspace(0.3, 4.0, POINTS)

@@ -1,10 +1,10 @@
 """The packages' public names, imported on first use (``contact_sim._lazy``, issue 17 item 7).
 
 Importing a package imports none of its modules; every name of its ``__all__`` is reached as
-before (``from contact_sim.impact import LOSSES``), and where a public name is also a
-submodule's name (``contact_sim.impact.restitution``) the public name wins whatever was imported
-first, as it did when the ``__init__`` imported it.  The import-order cases run in a fresh
-interpreter: this one has imported everything already.
+before (``from contact_sim.impact import LOSSES``), whatever was imported first: no public name
+is a submodule's name (``test_layout``; issue 36 renamed ``impact/restitution.py`` to
+``impact/outcomes.py``).  The import-order cases run in a fresh interpreter: this one has
+imported everything already.
 """
 import importlib
 import subprocess
@@ -47,19 +47,20 @@ def test_importing_the_packages_imports_none_of_their_modules():
     assert lines[-1] == '[]'
 
 
-def test_a_public_name_wins_over_its_namesake_submodule_imported_first():
-    # importing contact_sim/impact/restitution.py binds the module on its package: the
-    # function restitution must stay what `from contact_sim.impact import restitution` gives
-    lines = _fresh('import importlib, types\n'
-                   'for m in ("contact_sim.impact.restitution", "contact_sim.impact.dimensionless",'
-                   ' "contact_sim.drop.sweep"):\n'
+def test_a_public_name_stays_itself_when_its_module_was_imported_first():
+    # importing contact_sim/impact/outcomes.py binds the module `outcomes` on its package; the
+    # function restitution it defines is what `contact_sim.impact.restitution` gives (issue 36:
+    # once the module had the function's name, and _lazy overrode the import system's binding)
+    lines = _fresh('import importlib\n'
+                   'for m in ("contact_sim.impact.outcomes", "contact_sim.impact.dimensionless_outcomes",'
+                   ' "contact_sim.drop.sweeps"):\n'
                    '    importlib.import_module(m)\n'
-                   'from contact_sim.impact import dimensionless, restitution\n'
-                   'from contact_sim.drop import sweep\n'
-                   'import contact_sim.impact as impact\n'
-                   'print([type(f).__name__ for f in (restitution, dimensionless, sweep, '
-                   'impact.restitution)])\n')
-    assert lines[-1] == str(['function'] * 4)
+                   'import contact_sim.impact as impact, contact_sim.drop as drop\n'
+                   'import contact_sim.impact.outcomes as outcomes\n'
+                   'print([type(f).__name__ for f in (impact.restitution, impact.dimensionless, '
+                   'drop.sweep, outcomes, drop.sweeps)])\n'
+                   'print(impact.restitution is outcomes.restitution)\n')
+    assert lines[-2:] == [str(['function'] * 3 + ['module'] * 2), 'True']
 
 
 def test_a_submodule_is_reached_as_an_attribute_and_a_missing_name_is_refused():

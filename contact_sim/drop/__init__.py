@@ -57,7 +57,7 @@ _EXPORTS = {
               'vibrating_table'),
     'records': ('AdvanceResult', 'DropResult', 'DropState', 'ImpactRecord', 'Recorder', 'Samples',
                 'TickBatch'),
-    'sweep': ('bifurcation_diagram', 'sweep'),
+    'sweeps': ('bifurcation_diagram', 'sweep'),
     'table': ('VibratingTable', 'period_doubling_threshold', 'period_one_phase',
               'period_one_threshold'),
 }

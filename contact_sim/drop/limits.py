@@ -4,7 +4,8 @@ import math
 
 from contact_sim.model import require_contact
 from contact_sim.phase import phase_scales
-from contact_sim.impact import CONTACT_LENGTH_MAX, CONTACT_TIME_MIN, ZETA_MIN, checked_scales
+from contact_sim.impact import (CONTACT_LENGTH_MAX, CONTACT_TIME_MIN, ZETA_MAX, ZETA_MIN,
+                                checked_scales)
 from contact_sim import validation
 from contact_sim.validation import (GRAVITY_MAX, HEIGHT_MAX, MASS_RANGE, InputError,  # noqa: F401 (GRAVITY_MAX: re-exported by drop)
                                     require_range)
@@ -18,7 +19,6 @@ DURATION_MAX = 1e9                   # s
 SAMPLE_RATE_MAX = 1e7                # Hz
 MAX_SAMPLES = 200_000                # trajectory samples of one simulate_drop call (~7 s)
 MAX_STEPS = 100_000                  # integrator steps of one simulate_drop call (~10 s)
-DAMPING_GROUP_MAX = 1e8              # ζ: beyond it a contact is a creep that never ends in time
 RADIUS_RANGE = (1e-9, 1e3)           # m: the sphere's radius R1 (R^(n+1) stays a normal double)
 TIME_MAX = DURATION_MAX              # s: the latest time a drop is advanced to
 MAX_TICKS = 1_000_000                # tick times of one advance_ticks call (6 x 8 MB of state)
@@ -68,7 +68,7 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
     impact speed (a vibrating table that pumps the sphere higher still can exceed it).
 
     * the contact's time scale T (at the first impact, and at rest under gravity) must be at
-      least ``CONTACT_TIME_MIN``, and its damping group ζ at most ``DAMPING_GROUP_MAX`` (a
+      least ``CONTACT_TIME_MIN``, and its damping group ζ at most ``impact.ZETA_MAX`` (a
       larger ζ is a creep of the sphere into the plate far slower than any drop);
     * with the sphere ``radius`` R (m): the undamped sphere must not sink deeper than R, where
       no contact law here applies.  The first impact at v1 = √(v0² + 2 g h) stops undamped at
@@ -173,12 +173,12 @@ def check_drop(contact, mass, gravity, height, velocity, radius=None, plate_spee
                          '>= %g s), or a larger {n[mass]}'
                          % (n, mass, shortest, k_max, n, CONTACT_TIME_MIN))
     largest = max(sc.zeta for sc in regimes)
-    if largest > DAMPING_GROUP_MAX:
-        lam_max = lam * (DAMPING_GROUP_MAX / largest)
+    if largest > ZETA_MAX:
+        lam_max = lam * (ZETA_MAX / largest)
         raise InputError('damping', lam, '{n[damping]} = {value} is too large for this drop: '
                          'the damping group would be zeta = %.3g and the sphere would creep '
                          'into the plate for ages; allowed {n[damping]} <= %.4g (zeta <= %g)'
-                         % (largest, lam_max, DAMPING_GROUP_MAX))
+                         % (largest, lam_max, ZETA_MAX))
     if radius is None or speed == 0.0 and gravity == 0.0:
         return
     minimum = (n + 1.0) * (0.5 * mass * speed ** 2 + mass * gravity * radius) / radius ** (n + 1.0)

@@ -38,11 +38,14 @@ import math
 from dataclasses import InitVar, dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
-from contact_sim.flight.air import AIR_DENSITY, SPHERE_DRAG_COEFFICIENT
 from contact_sim.validation import (InputError, require_nonnegative, require_positive,
                                     require_range, require_real)
+
+# the air a sphere flies through, by default (the command line shows them in its help: this
+# module imports numpy only, scipy's root search where a linear drag term needs it)
+AIR_DENSITY = 1.204          # kg/m³: dry air at 20 °C and 101.325 kPa
+SPHERE_DRAG_COEFFICIENT = 0.47   # smooth sphere, subcritical Reynolds number (1e3 - 2e5)
 
 
 @dataclass(frozen=True)
@@ -242,6 +245,7 @@ def _fall_root(d, s0, g, kappa, beta):
     lo = 0.0
     while float(_fall(hi, s0, g, kappa, beta)[0]) < d:
         lo, hi = hi, 2.0 * hi
+    from scipy.optimize import brentq   # only a linear drag term (β > 0) has no closed form
     return brentq(lambda t: float(_fall(t, s0, g, kappa, beta)[0]) - d, lo, hi,
                   xtol=1e-300, rtol=1e-15, maxiter=200)
 

@@ -2,8 +2,8 @@
 (closed forms and master curves, exact where they do not reach); fits of the damping λ.
 
 ``simulate`` (the exact reference path), ``scales`` (Z, T and the damping group ζ),
-``tails`` (asymptotics beyond a master curve), ``dimensionless`` (e, τc, F̂, x̂ of ζ from the
-best source the law has), ``restitution`` (the dimensional results), ``damping_fit`` (λ from
+``tails`` (asymptotics beyond a master curve), ``dimensionless_outcomes`` (e, τc, F̂, x̂ of ζ
+from the best source the law has), ``outcomes`` (the dimensional results), ``damping_fit`` (λ from
 restitution, fits to data) and ``fit_options`` (a fit's point limit, losses and confidence,
 which the command line reads without importing the engine).
 """
@@ -13,10 +13,10 @@ from contact_sim._lazy import lazy_exports
 _EXPORTS = {
     'damping_fit': ('DampingFit', 'compare_laws', 'damping_for_restitution', 'fit_damping',
                     'group_for_restitution', 'robust_weights'),
-    'dimensionless': ('dimensionless', 'master_curve'),
+    'dimensionless_outcomes': ('dimensionless', 'master_curve'),
     'fit_options': ('LOSSES', 'MAX_POINTS', 'require_fit_options'),
-    'restitution': ('contact_duration', 'damping_from_group', 'damping_group', 'max_penetration',
-                    'peak_force', 'restitution'),
+    'outcomes': ('contact_duration', 'damping_from_group', 'damping_group', 'max_penetration',
+                 'peak_force', 'restitution'),
     'scales': ('CONTACT_LENGTH_MAX', 'CONTACT_TIME_MIN', 'ZETA_MAX', 'ZETA_MIN', 'checked_scales',
                'damping_group_of', 'impact_scales', 'require_speeds'),
     'simulate': ('ImpactResult', 'simulate_impact'),

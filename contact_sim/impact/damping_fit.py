@@ -10,9 +10,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from contact_sim.impact.dimensionless import dimensionless
+from contact_sim.impact.dimensionless_outcomes import dimensionless
 from contact_sim.impact.fit_options import MAX_POINTS, require_fit_options
-from contact_sim.impact.restitution import damping_from_group, restitution
+from contact_sim.impact.outcomes import damping_from_group, restitution
 from contact_sim.impact.scales import ZETA_MAX, checked_scales
 from contact_sim.model import LAWS, Contact, ContactLaw, require_law
 from contact_sim.validation import (InputError, require_mass, require_positive, require_range,

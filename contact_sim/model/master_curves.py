@@ -7,7 +7,7 @@ interpolated by cubic splines.  A table is the fact of one law, its name and exp
 (``curve_for``): ``laws`` gives each law its curve, and ``impact`` asks the law for it.
 """
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 from importlib import resources
 
@@ -19,12 +19,20 @@ TABLE_FILE = 'master_curves.npz'
 
 @dataclass(frozen=True)
 class MasterCurve:
-    """Splines of the four dimensionless results on a uniform grid s = ln ζ ∈ [s0, s0 + h N]."""
+    """Splines of the four dimensionless results on a uniform grid s = ln ζ ∈ [s0, s0 + h N].
+
+    ``rows`` (derived, not an argument) holds the same coefficients as Python floats, one
+    (a, b, c, d) tuple an interval, for ``evaluate_scalar``."""
 
     law_key: tuple
     s0: float
     h: float
     coefficients: dict  # quantity -> (4, N) cubic coefficients, highest power first
+    rows: dict = field(init=False, repr=False, compare=False)   # quantity -> N (a, b, c, d)
+
+    def __post_init__(self):
+        object.__setattr__(self, 'rows', {q: [tuple(col) for col in c.T.tolist()]
+                                          for q, c in self.coefficients.items()})
 
     @property
     def zeta_range(self):
@@ -46,7 +54,7 @@ class MasterCurve:
     def evaluate_scalar(self, quantity, zeta):
         """The same for one float, in plain Python (no numpy overhead); ``None`` if outside."""
         x = (math.log(zeta) - self.s0) / self.h
-        rows = self._rows(quantity)
+        rows = self.rows[quantity]
         n = len(rows)
         if not 0.0 <= x <= n:
             return None
@@ -54,12 +62,6 @@ class MasterCurve:
         ds = (x - i) * self.h
         a, b, c, d = rows[i]
         return ((a * ds + b) * ds + c) * ds + d
-
-    def _rows(self, quantity):
-        cache = self.__dict__.setdefault('_row_cache', {})
-        if quantity not in cache:
-            cache[quantity] = [tuple(col) for col in self.coefficients[quantity].T.tolist()]
-        return cache[quantity]
 
 
 @lru_cache(maxsize=1)

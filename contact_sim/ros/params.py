@@ -29,7 +29,6 @@ from contact_sim.drop import (TABLE_ACCELERATION_MAX, TABLE_AMPLITUDE_MAX, TABLE
 from contact_sim.validation import InputError, require_positive, require_range
 
 NODE_NAME = 'contact_sim'
-INF = math.inf
 # The node's own bounds, beyond the core's: values past them overflow the engine's scales (a
 # stiffness of 1e308 N/m^n leaves no length scale to a contact phase), the stamps (int32 seconds)
 # or the tick arithmetic (real_time_factor 1e9 is 1e7 s of simulated time a tick). The damping
@@ -101,7 +100,7 @@ PARAMETERS = (
          constraints=f'{RADIUS_MIN:g} <= sphere_radius <= {RADIUS_MAX:g}'),
     Spec('sphere_mass', 0.0,
          f'Sphere mass [kg]; 0 = from sphere density and radius, (4/3) pi R1^3 rho; {_RESET_NOTE}',
-         (0.0, INF), constraints='0 <= sphere_mass < inf'),
+         (0.0, math.inf), constraints='0 <= sphere_mass < inf'),
     Spec('plate_material', _DEFAULT.plate,
          f'Material of the plate (or of the lower sphere); {_CONTACT_NOTE}',
          constraints=f'one of: {_MATERIALS}, custom'),
@@ -118,10 +117,11 @@ PARAMETERS = (
                      f'{STIFFNESS_MAX:g}'),
     Spec('damping', 0.0,
          f'Damping override lambda [N s^q/m^(p+q)]; 0 = lambda* sqrt(R) (eq. 9); '
-         f'{_CONTACT_NOTE}', (0.0, INF), constraints='0 <= damping < inf'),
+         f'{_CONTACT_NOTE}', (0.0, math.inf), constraints='0 <= damping < inf'),
     Spec('damping_factor', _DEFAULT.damping_factor,
          f'Damping factor lambda* [N s/m^(p+q+1/2)], N s/m^2 for azad_featherstone; used when '
-         f'damping is 0; {_CONTACT_NOTE}', (0.0, INF), constraints='0 <= damping_factor < inf'),
+         f'damping is 0; {_CONTACT_NOTE}', (0.0, math.inf),
+         constraints='0 <= damping_factor < inf'),
     Spec('gravity', 9.81, f'Gravitational acceleration g, pulling the sphere down [m/s^2]; '
          f'{_RESET_NOTE}', (0.0, GRAVITY_MAX), constraints=f'gravity = 0, or {GRAVITY_MIN:g} <= gravity <= '
                                            f'{GRAVITY_MAX:g}'),
@@ -164,7 +164,7 @@ PARAMETERS = (
     Spec('real_time_factor', 1.0,
          'Simulated seconds per wall-clock second [-]; 0 (or .inf) = as fast as possible (each '
          'tick advances 1/publish_rate simulated seconds); takes effect at once',
-         (0.0, INF), constraints=f'real_time_factor = 0 or .inf (as fast as possible), or '
+         (0.0, math.inf), constraints=f'real_time_factor = 0 or .inf (as fast as possible), or '
                                  f'{REAL_TIME_FACTOR_MIN:g} <= real_time_factor <= '
                                  f'{REAL_TIME_FACTOR_MAX:g}'),
     Spec('frame_id', 'plate', 'frame_id of every stamped message: the plate frame, z up, the '
@@ -198,7 +198,7 @@ def _require_cap(spec, value):
     """Refuse a finite number above the cap of ``spec`` (the core checks the rest: type, sign,
     finiteness; ``plate_radius`` .inf is a flat plate), naming the parameter's whole range."""
     if isinstance(value, (int, float)) and not isinstance(value, bool) \
-            and spec.range[1] < value < INF:
+            and spec.range[1] < value < math.inf:
         raise InputError(spec.name, value, '{n[%s]} = {value} is out of range: allowed %s'
                          % (spec.name, spec.constraints), value=repr(value))
 DEFAULTS = {spec.name: spec.default for spec in PARAMETERS}
@@ -395,10 +395,10 @@ def _build_model(values):
 def real_time_factor(value):
     """``real_time_factor``: 0 or inf (as fast as possible), or REAL_TIME_FACTOR_MIN <= value
     <= REAL_TIME_FACTOR_MAX."""
-    if isinstance(value, float) and value in (0.0, INF):
+    if isinstance(value, float) and value in (0.0, math.inf):
         return value
     if isinstance(value, (int, float)) and not isinstance(value, bool) \
-            and (REAL_TIME_FACTOR_MAX < value < INF or 0.0 < value < REAL_TIME_FACTOR_MIN):
+            and (REAL_TIME_FACTOR_MAX < value < math.inf or 0.0 < value < REAL_TIME_FACTOR_MIN):
         raise InputError('real_time_factor', value, '{n[real_time_factor]} = {value} is out of '
                          f'range: allowed {REAL_TIME_FACTOR_MIN:g} <= real_time_factor <= '
                          f'{REAL_TIME_FACTOR_MAX:g}, or 0 or .inf (as fast as possible)',
@@ -409,7 +409,7 @@ def real_time_factor(value):
 def flat_or_radius(value):
     """``plate_radius`` -> R2 in m: 0.0 (or inf) = a flat plate, inf; else a positive radius."""
     if isinstance(value, (int, float)) and not isinstance(value, bool) and value == 0.0:
-        return INF
+        return math.inf
     return require_positive('plate_radius', value, allow_inf=True)
 
 
@@ -432,7 +432,7 @@ def build(values):
         def departure(name):   # orders of magnitude away from the default
             value, default = values[name], DEFAULTS[name]
             if isinstance(value, bool) or not isinstance(value, float) or not value > 0.0 \
-                    or not isinstance(default, float) or not 0.0 < default < INF:
+                    or not isinstance(default, float) or not 0.0 < default < math.inf:
                 return -1.0
             return abs(math.log10(value / default))
         name = max(DEFAULTS, key=departure)

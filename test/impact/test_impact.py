@@ -292,7 +292,7 @@ TAIL_ZETAS = [1e-12, 1e-9, 1e-7, 3e-6, 2e3, 1e4, 1e6, 1e8]
 def test_restitution_beyond_the_tables_is_within_1e_8_of_the_exact_path(law, monkeypatch):
     # reproduced: outside the master curves restitution() integrated (19 ms a call)
     exact = np.array([exact_e(law, z) for z in TAIL_ZETAS])
-    fast = importlib.import_module('contact_sim.impact.dimensionless')   # (it defines the slow path)
+    fast = importlib.import_module('contact_sim.impact.dimensionless_outcomes')   # (it defines the slow path)
 
     def refuse(*_):
         raise AssertionError('the fast path integrated')
@@ -367,7 +367,7 @@ def test_closed_forms_are_registered_per_law_not_found_by_exponents():
 def test_duration_peak_and_depth_below_the_table_follow_the_elastic_limit(law, monkeypatch):
     zetas = np.array([1e-12, 1e-8, 3e-6])
     exact = [cs.simulate_impact(cs.Contact(law, 1.0, z), 1.0, 1.0) for z in zetas]
-    fast = importlib.import_module('contact_sim.impact.dimensionless')
+    fast = importlib.import_module('contact_sim.impact.dimensionless_outcomes')
     monkeypatch.setattr(fast, '_exact_dimensionless', lambda *_: 1 / 0)   # must not integrate
     for quantity, attr in (('duration', 'contact_duration'), ('peak_force', 'peak_force'),
                            ('max_penetration', 'max_penetration')):

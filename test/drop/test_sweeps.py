@@ -8,7 +8,7 @@ import pytest
 import contact_sim as cs
 
 from contact_sim.model.contact import Contact
-from contact_sim.drop.sweep import bifurcation_diagram, sweep
+from contact_sim.drop.sweeps import bifurcation_diagram, sweep
 from contact_sim.drop.table import VibratingTable, period_one_threshold, period_doubling_threshold
 
 TABLE = VibratingTable(Contact(cs.LINEAR, 1e9, 715.0), 0.01, 20.0, bounces=30, transient=150,
@@ -38,7 +38,7 @@ def test_sweep_errors_are_named():
 def test_sweep_refuses_a_pool_beyond_its_stated_limit_and_starts_no_more_than_the_values(
         monkeypatch):
     # issue 17: max_workers=10**6 started every worker at once under fork (~5000 processes)
-    sweep_module = importlib.import_module('contact_sim.drop.sweep')   # (the package's sweep is the function)
+    sweep_module = importlib.import_module('contact_sim.drop.sweeps')   # (the package's sweep is the function)
     limit = sweep_module.max_workers_limit()
     for bad in (10 ** 6, limit + 1, 2.5, 'abc', True):
         with pytest.raises(cs.InputError, match=r'max_workers = .* allowed 1 <= max_workers <= %d'

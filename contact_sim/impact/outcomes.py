@@ -22,15 +22,15 @@ linear ζ = λ / √(m k) (velocity independent).  Two parameter sets with the s
 
 The law says which of these it has (``ContactLaw.closed_form``, ``ContactLaw.master_curve``):
 they are registered per law, never found by exponents, so a custom law is integrated, with a
-warning the first time (``dimensionless``).  This module holds the public dimensional results
-and the group ζ with its inverse; ``scales`` the impact's scales, ``dimensionless`` the choice
-of source.
+warning the first time (``dimensionless_outcomes``).  This module holds the public dimensional
+results and the group ζ with its inverse; ``scales`` the impact's scales,
+``dimensionless_outcomes`` the choice of source.
 """
 import math
 
 import numpy as np
 
-from contact_sim.impact.dimensionless import dimensionless
+from contact_sim.impact.dimensionless_outcomes import dimensionless
 from contact_sim.impact.scales import (checked_scales, checked_scales_at, damping_group_of,
                                       impact_scales, require_speeds)
 from contact_sim.impact.tails import restitution_tails
