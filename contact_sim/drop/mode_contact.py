@@ -98,8 +98,12 @@ class InContact(Mode):
                 self.passed = t_end
             return
         pts = self.integrator.points                    # times increase
-        start = bisect.bisect_right(pts, self.passed, lo=self.emitted, key=_TIME)
-        self.emitted = bisect.bisect_right(pts, t_end, lo=start, key=_TIME)
+        start = self.emitted
+        if start < len(pts) and pts[start][0] <= self.passed:
+            start = bisect.bisect_right(pts, self.passed, lo=start, key=_TIME)
+        # the bisections' answers where they are plain: all points up to t_end (a whole phase)
+        self.emitted = (len(pts) if pts[-1][0] <= t_end
+                        else bisect.bisect_right(pts, t_end, lo=start, key=_TIME))
         points.extend(pts[start:self.emitted])
 
     def advance(self, sim, t_end, budget, points):

@@ -169,7 +169,7 @@ class CompiledPhase:
         self._rows = []     # the rows of points the runs added, not yet in ``_points``
         if forcing is not None:
             par[compiled.P_AMPLITUDE:compiled.P_DRAG2 + 1] = forcing.dimensionless(
-                mass, self.scales, start_time)
+                mass, self._length_scale, self._time_scale, start_time)
 
     @property
     def scales(self):

@@ -34,10 +34,10 @@ class Forcing:
         return (self.acceleration_amplitude != 0.0 or self.linear_drag != 0.0
                 or self.quadratic_drag != 0.0)
 
-    def dimensionless(self, mass, scales, start_time):
+    def dimensionless(self, mass, length, time, start_time):
         """(A T²/Z, Ω T, Ω t₀ + ϕ, c₁ T/m, c₂ Z/m): the slots P_AMPLITUDE ... P_DRAG2 of a phase
-        that starts at t₀ with the scales Z, T."""
-        length, time = scales.length, scales.time
+        of ``mass`` (kg) that starts at t₀ = ``start_time`` (s) with the scales Z = ``length``
+        (m) and T = ``time`` (s)."""
         return (self.acceleration_amplitude * (time * time) / length,
                 self.angular_frequency * time,
                 self.angular_frequency * start_time + self.phase,
