@@ -4,17 +4,12 @@ acceleration as forcing, until one of its events: ``lift_off`` (the force vanish
 became permanent: the same phase goes on), ``settled`` (the fixed plate's rest took over) or
 ``carried`` (a moving plate carries the sphere).  (The mode is ``InContact``, the model's
 ``Contact`` the law with its k and λ.)"""
-import bisect
 import math
-from operator import itemgetter
 
 from contact_sim.drop.mode import NO_POINTS, Event, Mode, Move
 from contact_sim.drop.mode_carried import CarryWatch
 from contact_sim.drop.mode_rest import RestWatch
 from contact_sim.phase import potential_at
-
-_TIME = itemgetter(0)   # a point's time (points are (t, z, ż, F))
-
 
 def energy_bounded_rate(sim, start, z, zdot):
     """The rate ż (m/s) at a lift-off at (z, ż) on the fixed plate, with the energy above rest
@@ -91,20 +86,15 @@ class InContact(Mode):
         return phase.state_at(t)
 
     def hand_out(self, points, t_end):
-        """Append the integrator's points up to ``t_end`` (s) not handed out yet to ``points``;
-        to ``NO_POINTS`` none: they are passed (the integrator's list is then not read)."""
+        """Append the integrator's points up to ``t_end`` (s) not handed out yet to ``points``,
+        as one (n, 4) array of rows (t, z, ż, F); to ``NO_POINTS`` none: they are passed."""
         if points is NO_POINTS:
             if t_end > self.passed:
                 self.passed = t_end
             return
-        pts = self.integrator.points                    # times increase
-        start = self.emitted
-        if start < len(pts) and pts[start][0] <= self.passed:
-            start = bisect.bisect_right(pts, self.passed, lo=start, key=_TIME)
-        # the bisections' answers where they are plain: all points up to t_end (a whole phase)
-        self.emitted = (len(pts) if pts[-1][0] <= t_end
-                        else bisect.bisect_right(pts, t_end, lo=start, key=_TIME))
-        points.extend(pts[start:self.emitted])
+        rows, self.emitted = self.integrator.points_after(self.emitted, self.passed, t_end)
+        if len(rows):
+            points.append(rows)
 
     def advance(self, sim, t_end, budget, points):
         phase, knot, watch = self.integrator, self.valid_until, self.watch

@@ -44,6 +44,7 @@ def constant_parameters(contact, mass, rtol, atol, lift_events):
     return par
 
 
+TABLE_ROWS = 64     # the rows a phase that keeps its points starts with (doubled when full)
 _SHAPES = (compiled.NSTATE, (compiled.A.shape[0], 2), (compiled.D.shape[0] + 3, 2))
 
 
@@ -149,24 +150,30 @@ class CompiledPhase:
         """The phase ``start_phase`` started in ``par`` (its own) and ``storage`` (st, K, F), its
         first ``peak`` force (N), with its ``scales`` (a ``PhaseScales``, or its fields (Z m,
         T s, γ, ζ) as a tuple): its attributes, and the slots of ``forcing`` (``None``: gravity
-        alone); ``buffer``, the (POINT_BUFFER, 4) rows a run writes its points to, may be shared
-        by phases run one at a time (default: its own)."""
+        alone); ``buffer``, the (POINT_BUFFER, 4) rows a run of a phase that keeps no points
+        writes its points to, may be shared by phases run one at a time (default: its own)."""
         self._scales = scales
         self._length_scale, self._time_scale = (scales[:2] if isinstance(scales, tuple)
                                                 else (scales.length, scales.time))
         self.contact, self.mass = contact, mass
         self.start_time = start_time
         self._par, (self._st, self._k, self._f) = par, storage
-        self._buffer = np.empty((compiled.POINT_BUFFER, 4)) if buffer is None else buffer
-        self._keep_points = keep_points
+        first = (start_time, penetration, penetration_rate, peak)
+        if keep_points:     # the points' rows: the runs write into the rows left (``run``)
+            self._buffer = None
+            self._table = table = np.empty((TABLE_ROWS, 4))
+            table[0] = first
+        else:
+            self._buffer = np.empty((compiled.POINT_BUFFER, 4)) if buffer is None else buffer
+            self._table = None
+        self._count = 1     # the rows of ``_table`` written
         self.lifted_off = False
         self.steps = 0
         self._s = 0.0           # σ = sqrt((t - start) / T) reached: ``start_phase`` set it to 0
         self.peak_force = peak
         self.max_penetration = penetration
         self.end = None  # (t, z, ż) at lift-off
-        self._points = [(start_time, penetration, penetration_rate, peak)]
-        self._rows = []     # the rows of points the runs added, not yet in ``_points``
+        self._points = [first]      # the first rows of ``_table`` as tuples (``points``)
         if forcing is not None:
             par[compiled.P_AMPLITUDE:compiled.P_DRAG2 + 1] = forcing.dimensionless(
                 mass, self._length_scale, self._time_scale, start_time)
@@ -182,12 +189,25 @@ class CompiledPhase:
     def points(self):
         """The points (t s, z m, ż m/s, F N) so far, a list of tuples: the start, then each
         step's end and the peak, deepest point and lift-off located in it."""
-        if self._rows:
-            points = self._points
-            for rows in self._rows:
-                points.extend(map(tuple, rows.tolist()))
-            self._rows = []
-        return self._points
+        points = self._points
+        if len(points) < self._count:
+            points.extend(map(tuple, self._table[len(points):self._count].tolist()))
+        return points
+
+    def points_after(self, first, after, until):
+        """(rows, end): the points of index ``first`` on with times in (``after``, ``until``]
+        (s), an (n, 4) array of rows (t, z, ż, F) (a view: rows once written do not change),
+        and the index after the last of them.  (Times increase: the ``bisect_right``s of
+        ``points`` over their times, on the array.)"""
+        n, table = self._count, self._table
+        if table is None:
+            table = np.array(self._points)
+        start = first
+        if start < n and table[start, 0] <= after:
+            start += int(table[start:n, 0].searchsorted(after, 'right'))
+        end = (n if table[n - 1, 0] <= until
+               else start + int(table[start:n, 0].searchsorted(until, 'right')))
+        return table[start:end], end
 
     def run(self, t_stop=math.inf, max_steps=None, stop_energy=-math.inf):
         """Step until lift-off, until ``time >= t_stop`` (s), for ``max_steps`` steps, or until a
@@ -196,16 +216,23 @@ class CompiledPhase:
         a step before the caller's own test agrees, never after).  Returns the steps taken."""
         budget = MAX_STEPS if max_steps is None else int(min(max_steps, MAX_STEPS))
         stop = self._energy_stop(stop_energy) if stop_energy > -math.inf else -math.inf
-        st, k, f, par, buf = self._st, self._k, self._f, self._par, self._buffer
+        st, k, f, par, table = self._st, self._k, self._f, self._par, self._table
         t_stop = float(t_stop)
         taken = 0
         while True:
-            reason, npts, n = _run(st, k, f, par, buf, t_stop, budget - taken, stop)
+            if table is None:       # no points kept: the shared rows
+                reason, _, n = _run(st, k, f, par, self._buffer, t_stop, budget - taken, stop)
+            else:                   # straight into the rows left (a view)
+                reason, npts, n = _run(st, k, f, par, table[self._count:], t_stop,
+                                       budget - taken, stop)
+                self._count += npts
             taken += n
-            if npts and self._keep_points:
-                self._rows.append(buf[:npts].copy())
             if reason != BUFFER_FULL:
                 break
+            if table is not None:   # twice the rows, those written kept
+                table = np.empty((2 * table.shape[0], 4))
+                table[:self._count] = self._table[:self._count]
+                self._table = table
         values = st.tolist()            # the results of the steps taken
         self._s = values[S_S]
         self.steps = int(values[S_STEPS])
