@@ -30,6 +30,7 @@ import math
 
 import numpy as np
 from numba import njit
+from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from contact_sim.phase.brent import brent_evaluated, brent_next, brent_start
 from contact_sim.phase._dop853_coefficients import A as _A16, B as _B, C as _C16, D as _D, E3 as _E3, E5 as _E5
@@ -311,21 +312,40 @@ def _dimensional(s, x, u, par):
     return par[P_START] + time * s * s, x * length, u * length / time
 
 
-@njit('float64(float64, float64, float64[::1])', **_KW)
-def contact_force(z, zdot, par):
-    """The clamped force (N) of eq. 11, as ``ContactLaw.force``."""
+@njit(**_KW)
+def _values(par):
+    """The parameter vector as a tuple, which the kernels below pass to the functions they call
+    (passed by value: an array would be reference-counted at every call, a stage's ``_accel``
+    and an event's evaluation included, which cost more than the arithmetic)."""
+    return to_fixed_tuple(par, NPAR)
+
+
+@njit(**_KW)
+def _contact_force(z, zdot, par):
+    """``contact_force`` of the parameters as a tuple.  (A point a step: the powers
+    that are the same double without pow() are taken so: zᵖ = zⁿ when p = n, and |ż|^1 = |ż|,
+    which pow returns exactly.)"""
     if not z > 0.0:
         return 0.0
     sign = 1.0 if zdot > 0.0 else (-1.0 if zdot < 0.0 else 0.0)
-    f = (par[P_STIFFNESS] * z ** par[P_N]
-         + par[P_DAMPING] * z ** par[P_P] * sign * abs(zdot) ** par[P_Q])
+    n, p, q = par[P_N], par[P_P], par[P_Q]
+    zn = z ** n
+    zp = zn if p == n else z ** p
+    rate = abs(zdot) if q == 1.0 else abs(zdot) ** q
+    f = par[P_STIFFNESS] * zn + par[P_DAMPING] * zp * sign * rate
     return f if f > 0.0 else 0.0
+
+
+@njit('float64(float64, float64, float64[::1])', **_KW)
+def contact_force(z, zdot, par):
+    """The clamped force (N) of eq. 11, as ``ContactLaw.force``."""
+    return _contact_force(z, zdot, _values(par))
 
 
 @njit(**_KW)
 def _record(st, s, x, u, par, pts, npts):
     t, z, zdot = _dimensional(s, x, u, par)
-    f = contact_force(z, zdot, par)
+    f = _contact_force(z, zdot, par)
     pts[npts, 0], pts[npts, 1], pts[npts, 2], pts[npts, 3] = t, z, zdot, f
     if f > st[S_PEAK]:
         st[S_PEAK] = f
@@ -399,6 +419,7 @@ def run(st, K, F, par, pts, t_stop, max_steps, stop_energy):
 
     The step's points (t, z, ż, F) go to ``pts`` from row 0.  Returns (reason, points, steps).
     """
+    values = _values(par)
     npts = 0
     taken = 0
     cap = pts.shape[0] - 3
@@ -411,12 +432,13 @@ def run(st, K, F, par, pts, t_stop, max_steps, stop_energy):
             return BUDGET_SPENT, npts, taken
         if npts >= cap:
             return BUFFER_FULL, npts, taken
-        if not _step(st, K, par):
+        if not _step(st, K, values):
             return STEP_TOO_SMALL, npts, taken
         taken += 1
         st[S_STEPS] += 1.0
-        npts = _events(st, K, F, par, pts, npts)
-        if st[S_LIFTED] == 0.0 and _energy_above_rest(st, par) < stop_energy:
+        npts = _events(st, K, F, values, pts, npts)
+        if (stop_energy > -np.inf and st[S_LIFTED] == 0.0
+                and _energy_above_rest(st, values) < stop_energy):
             return ENERGY_BELOW, npts, taken
 
 
@@ -424,12 +446,12 @@ def run(st, K, F, par, pts, t_stop, max_steps, stop_energy):
       'float64)', **_KW)
 def state_in_last_step(st, K, F, par, s):
     """(x, u) at σ within the last step, from its dense output (built on first use)."""
-    _build_dense(st, K, F, par)
+    _build_dense(st, K, F, _values(par))
     return _dense(st, F, s)
 
 
 @njit('float64(float64[::1], float64[::1])', **_KW)
 def energy_above_rest(st, par):
     """The energy above rest (J) at the integrator's state."""
-    return _energy_above_rest(st, par)
+    return _energy_above_rest(st, _values(par))
 

@@ -54,14 +54,15 @@ def phase_storage(empty=np.empty, shapes=_SHAPES):
     return empty(shapes[0]), empty(shapes[1]), empty(shapes[2])
 
 
-@njit('float64(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], float64, float64, '
-      'float64, float64, float64, float64, float64)', **_KW)
-def start_phase(par, st, K, F, start_time, penetration, penetration_rate, length, time, gamma,
-                zeta):
+@njit('float64(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], float64[:, ::1], '
+      'float64, float64, float64, float64, float64, float64, float64)', **_KW)
+def start_phase(par, st, K, F, pts, start_time, penetration, penetration_rate, length, time,
+                gamma, zeta):
     """Start a phase at ``start_time`` (s) from (z, ż) (m, m/s) with the scales (Z m, T s, γ, ζ):
     fill the per-phase slots of ``par`` (as ``constant_parameters`` left it, its forcing
-    slots set by the caller), set (st, K, F) to the state at σ = 0; returns the phase's first
-    peak force (N), ``scales.start_peak_force`` of the force there.
+    slots set by the caller), set (st, K, F) to the state at σ = 0, write its first point
+    (t, z, ż, peak) to row 0 of ``pts``; returns the phase's first peak force (N),
+    ``scales.start_peak_force`` of the force there.
 
     The energy of rest is taken at the g the scales give back, m γ Z / T² / m (as the phase's
     energy test uses it)."""
@@ -81,12 +82,13 @@ def start_phase(par, st, K, F, start_time, penetration, penetration_rate, length
     peak = _start_peak(par[P_P], par[P_DAMPING], par[P_Q], penetration, penetration_rate,
                        compiled.contact_force(penetration, penetration_rate, par))
     st[S_PEAK], st[S_DEPTH] = peak, penetration
+    pts[0, 0], pts[0, 1], pts[0, 2], pts[0, 3] = start_time, penetration, penetration_rate, peak
     return peak
 
 
 @njit('UniTuple(float64, 5)(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], '
-      'float64, float64, float64, float64)', **_KW)
-def start_scaled(par, st, K, F, start_time, penetration, penetration_rate, gravity):
+      'float64[:, ::1], float64, float64, float64, float64)', **_KW)
+def start_scaled(par, st, K, F, pts, start_time, penetration, penetration_rate, gravity):
     """``start_phase`` with the phase's scales found here (``scales.scales_of`` of the law, k,
     λ and m in ``par`` and ``gravity`` m/s²): returns (peak force N, Z m, T s, γ, ζ); nothing
     started where Z <= 0 (no motion and no gravity, ``phase_scales`` refuses it)."""
@@ -95,8 +97,8 @@ def start_scaled(par, st, K, F, start_time, penetration, penetration_rate, gravi
                                            penetration_rate)
     if not length > 0.0:
         return math.nan, length, time, gamma, zeta
-    peak = start_phase(par, st, K, F, start_time, penetration, penetration_rate, length, time,
-                       gamma, zeta)
+    peak = start_phase(par, st, K, F, pts, start_time, penetration, penetration_rate, length,
+                       time, gamma, zeta)
     return peak, length, time, gamma, zeta
 
 
@@ -140,40 +142,37 @@ class CompiledPhase:
                                   2 if force_can_vanish_inside(contact.law, gravity, forcing)
                                   else 1)
         st, k, f = phase_storage()
-        peak = start_phase(par, st, k, f, start_time, penetration, penetration_rate, sc.length,
-                           sc.time, sc.gamma, sc.zeta)
+        table = np.empty((TABLE_ROWS if keep_points else compiled.POINT_BUFFER, 4))
+        peak = start_phase(par, st, k, f, table, start_time, penetration, penetration_rate,
+                           sc.length, sc.time, sc.gamma, sc.zeta)
         self._started(contact, mass, par, (st, k, f), start_time, penetration, penetration_rate,
-                      peak, sc, keep_points, forcing)
+                      peak, sc, table if keep_points else None, forcing, table)
+
+    # the state of a phase just started (``_started``), until its runs say otherwise
+    lifted_off = False
+    steps = 0
+    end = None          # (t, z, ż) at lift-off
+    _s = 0.0            # σ = sqrt((t - start) / T) reached
+    _count = 1          # the rows of ``_table`` written
 
     def _started(self, contact, mass, par, storage, start_time, penetration, penetration_rate,
-                 peak, scales, keep_points, forcing, buffer=None):
-        """The phase ``start_phase`` started in ``par`` (its own) and ``storage`` (st, K, F), its
-        first ``peak`` force (N), with its ``scales`` (a ``PhaseScales``, or its fields (Z m,
-        T s, γ, ζ) as a tuple): its attributes, and the slots of ``forcing`` (``None``: gravity
-        alone); ``buffer``, the (POINT_BUFFER, 4) rows a run of a phase that keeps no points
-        writes its points to, may be shared by phases run one at a time (default: its own)."""
+                 peak, scales, table, forcing, buffer=None):
+        """The phase ``start_phase`` started in ``par`` (its own), ``storage`` (st, K, F) and
+        ``table``, its first ``peak`` force (N), with its ``scales`` (a ``PhaseScales``, or its
+        fields (Z m, T s, γ, ζ) as a tuple): its attributes, and the slots of ``forcing``
+        (``None``: gravity alone).  ``table``: the rows of its points, the first written by
+        ``start_phase``, the rest by the runs (``None``: no points kept: the runs write to
+        ``buffer``, (POINT_BUFFER, 4) rows that phases run one at a time may share)."""
         self._scales = scales
         self._length_scale, self._time_scale = (scales[:2] if isinstance(scales, tuple)
                                                 else (scales.length, scales.time))
         self.contact, self.mass = contact, mass
         self.start_time = start_time
         self._par, (self._st, self._k, self._f) = par, storage
-        first = (start_time, penetration, penetration_rate, peak)
-        if keep_points:     # the points' rows: the runs write into the rows left (``run``)
-            self._buffer = None
-            self._table = table = np.empty((TABLE_ROWS, 4))
-            table[0] = first
-        else:
-            self._buffer = np.empty((compiled.POINT_BUFFER, 4)) if buffer is None else buffer
-            self._table = None
-        self._count = 1     # the rows of ``_table`` written
-        self.lifted_off = False
-        self.steps = 0
-        self._s = 0.0           # σ = sqrt((t - start) / T) reached: ``start_phase`` set it to 0
+        self._table, self._buffer = table, buffer
         self.peak_force = peak
         self.max_penetration = penetration
-        self.end = None  # (t, z, ż) at lift-off
-        self._points = [first]      # the first rows of ``_table`` as tuples (``points``)
+        self._points = [(start_time, penetration, penetration_rate, peak)]  # ``points``' cache
         if forcing is not None:
             par[compiled.P_AMPLITUDE:compiled.P_DRAG2 + 1] = forcing.dimensionless(
                 mass, self._length_scale, self._time_scale, start_time)
