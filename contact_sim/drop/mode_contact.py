@@ -41,6 +41,9 @@ class InContact(Mode):
 
     in_contact = True
     until = -math.inf
+    first_point, peak, depth = None, 0.0, -math.inf     # no record carried in
+    emitted = 0             # the points handed out (an index into the integrator's)
+    passed = -math.inf      # and the points up to this time (s), passed
 
     def __init__(self, sim, t, z, zdot, resumed=False, record=None):
         plate = sim.plate_motion
@@ -48,12 +51,11 @@ class InContact(Mode):
         phases = sim.phase_factory()
         self.integrator = phase = phases.start(t, z, zdot, forcing=forcing)
         self.start_point = phase.points[0]      # (t, z, ż, F) at the phase's start
-        self.moving = plate.moving
-        self.watch = CarryWatch() if self.moving else RestWatch(phases.energy_floor)
+        self.moving = moving = plate.moving
+        self.watch = CarryWatch() if moving else RestWatch(phases.energy_floor)
         self.resumed = resumed
-        self.first_point, self.peak, self.depth = record or (None, 0.0, -math.inf)
-        self.emitted = 0            # the points handed out (an index into the integrator's)
-        self.passed = -math.inf     # and the points up to this time (s), passed
+        if record is not None:
+            self.first_point, self.peak, self.depth = record
 
     @property
     def steps(self):

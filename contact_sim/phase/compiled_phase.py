@@ -12,13 +12,15 @@ import numpy as np
 from numba import njit
 
 from contact_sim.phase import compiled
-from contact_sim.phase.compiled import (BUFFER_FULL, MAX_STEPS, NPAR, P_ATOL, P_DAMPING,
-                                        P_ENERGY_GRAVITY, P_GRAVITY, P_KIND, P_LENGTH,
-                                        P_LIFT_EVENTS, P_MASS, P_N, P_P, P_Q, P_REST_POTENTIAL,
-                                        P_RTOL, P_START, P_STIFFNESS, P_TIME, P_ZETA, S_DEPTH,
-                                        S_END_RATE, S_END_T, S_END_Z, S_H, S_LIFTED, S_PEAK,
-                                        S_S, S_STEPS, S_U, S_X, STEP_TOO_SMALL)
+from contact_sim.phase.compiled import (BUFFER_FULL, MAX_STEPS, NPAR, P_AMPLITUDE, P_ATOL,
+                                        P_DAMPING, P_DRAG1, P_DRAG2, P_ENERGY_GRAVITY, P_GRAVITY,
+                                        P_KIND, P_LENGTH, P_LIFT_EVENTS, P_MASS, P_N, P_OMEGA,
+                                        P_P, P_PHASE, P_Q, P_REST_POTENTIAL, P_RTOL, P_START,
+                                        P_STIFFNESS, P_TIME, P_ZETA, S_DEPTH, S_END_RATE,
+                                        S_END_T, S_END_Z, S_H, S_LIFTED, S_PEAK, S_S, S_STEPS,
+                                        S_U, S_X, STEP_TOO_SMALL)
 from contact_sim.phase.compiled import run as _run
+from contact_sim.phase.forcing import NO_FORCING_TERMS
 from contact_sim.phase.lift_off import force_can_vanish_inside
 from contact_sim.phase.scales import (DEFAULT_ATOL, DEFAULT_RTOL, FIRST_STEP, PhaseScales,
                                       phase_scales, scales_of, start_peak)
@@ -54,21 +56,32 @@ def phase_storage(empty=np.empty, shapes=_SHAPES):
     return empty(shapes[0]), empty(shapes[1]), empty(shapes[2])
 
 
-@njit('float64(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], float64[:, ::1], '
-      'float64, float64, float64, float64, float64, float64, float64)', **_KW)
+_START = ('float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], float64[:, ::1], '
+          'float64, float64, float64, ')     # par, st, K, F, pts, t₀, z, ż
+_TERMS = 'float64, float64, float64, float64, float64'  # ``Forcing.terms``
+
+
+@njit('float64(' + _START + 'float64, float64, float64, float64, ' + _TERMS + ')', **_KW)
 def start_phase(par, st, K, F, pts, start_time, penetration, penetration_rate, length, time,
-                gamma, zeta):
-    """Start a phase at ``start_time`` (s) from (z, ż) (m, m/s) with the scales (Z m, T s, γ, ζ):
-    fill the per-phase slots of ``par`` (as ``constant_parameters`` left it, its forcing
-    slots set by the caller), set (st, K, F) to the state at σ = 0, write its first point
-    (t, z, ż, peak) to row 0 of ``pts``; returns the phase's first peak force (N),
-    ``scales.start_peak_force`` of the force there.
+                gamma, zeta, amplitude, omega, phase, drag1, drag2):
+    """Start a phase at ``start_time`` (s) from (z, ż) (m, m/s) with the scales (Z m, T s, γ, ζ)
+    and the forcing terms (A m/s², Ω rad/s, ϕ rad, c₁ N·s/m, c₂ N·s²/m², ``Forcing.terms``;
+    zeros: gravity alone): fill the per-phase slots of ``par`` (as ``constant_parameters`` left
+    it), the forcing's made dimensionless (A T²/Z, Ω T, Ω t₀ + ϕ, c₁ T/m, c₂ Z/m), set
+    (st, K, F) to the state at σ = 0, write its first point (t, z, ż, peak) to row 0 of
+    ``pts``; returns the phase's first peak force (N), ``scales.start_peak_force`` of the force
+    there.
 
     The energy of rest is taken at the g the scales give back, m γ Z / T² / m (as the phase's
     energy test uses it)."""
     par[P_ZETA], par[P_GRAVITY] = zeta, gamma
     par[P_START], par[P_TIME], par[P_LENGTH] = start_time, time, length
     mass, k, n = par[P_MASS], par[P_STIFFNESS], par[P_N]
+    par[P_AMPLITUDE] = amplitude * (time * time) / length
+    par[P_OMEGA] = omega * time
+    par[P_PHASE] = omega * start_time + phase
+    par[P_DRAG1] = drag1 * time / mass
+    par[P_DRAG2] = drag2 * length / mass
     mass_g = mass * gamma * length / (time * time)
     g = mass_g / mass
     z0 = (mass_g / k) ** (1.0 / n)
@@ -86,9 +99,9 @@ def start_phase(par, st, K, F, pts, start_time, penetration, penetration_rate, l
     return peak
 
 
-@njit('UniTuple(float64, 5)(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], '
-      'float64[:, ::1], float64, float64, float64, float64)', **_KW)
-def start_scaled(par, st, K, F, pts, start_time, penetration, penetration_rate, gravity):
+@njit('UniTuple(float64, 5)(' + _START + 'float64, ' + _TERMS + ')', **_KW)
+def start_scaled(par, st, K, F, pts, start_time, penetration, penetration_rate, gravity,
+                 amplitude, omega, phase, drag1, drag2):
     """``start_phase`` with the phase's scales found here (``scales.scales_of`` of the law, k,
     λ and m in ``par`` and ``gravity`` m/s²): returns (peak force N, Z m, T s, γ, ζ); nothing
     started where Z <= 0 (no motion and no gravity, ``phase_scales`` refuses it)."""
@@ -98,7 +111,7 @@ def start_scaled(par, st, K, F, pts, start_time, penetration, penetration_rate, 
     if not length > 0.0:
         return math.nan, length, time, gamma, zeta
     peak = start_phase(par, st, K, F, pts, start_time, penetration, penetration_rate, length,
-                       time, gamma, zeta)
+                       time, gamma, zeta, amplitude, omega, phase, drag1, drag2)
     return peak, length, time, gamma, zeta
 
 
@@ -144,9 +157,10 @@ class CompiledPhase:
         st, k, f = phase_storage()
         table = np.empty((TABLE_ROWS if keep_points else compiled.POINT_BUFFER, 4))
         peak = start_phase(par, st, k, f, table, start_time, penetration, penetration_rate,
-                           sc.length, sc.time, sc.gamma, sc.zeta)
+                           sc.length, sc.time, sc.gamma, sc.zeta,
+                           *(NO_FORCING_TERMS if forcing is None else forcing.terms))
         self._started(contact, mass, par, (st, k, f), start_time, penetration, penetration_rate,
-                      peak, sc, table if keep_points else None, forcing, table)
+                      peak, sc, table if keep_points else None, table)
 
     # the state of a phase just started (``_started``), until its runs say otherwise
     lifted_off = False
@@ -156,11 +170,10 @@ class CompiledPhase:
     _count = 1          # the rows of ``_table`` written
 
     def _started(self, contact, mass, par, storage, start_time, penetration, penetration_rate,
-                 peak, scales, table, forcing, buffer=None):
+                 peak, scales, table, buffer=None):
         """The phase ``start_phase`` started in ``par`` (its own), ``storage`` (st, K, F) and
         ``table``, its first ``peak`` force (N), with its ``scales`` (a ``PhaseScales``, or its
-        fields (Z m, T s, γ, ζ) as a tuple): its attributes, and the slots of ``forcing``
-        (``None``: gravity alone).  ``table``: the rows of its points, the first written by
+        fields (Z m, T s, γ, ζ) as a tuple): its attributes.  ``table``: the rows of its points, the first written by
         ``start_phase``, the rest by the runs (``None``: no points kept: the runs write to
         ``buffer``, (POINT_BUFFER, 4) rows that phases run one at a time may share)."""
         self._scales = scales
@@ -173,9 +186,6 @@ class CompiledPhase:
         self.peak_force = peak
         self.max_penetration = penetration
         self._points = [(start_time, penetration, penetration_rate, peak)]  # ``points``' cache
-        if forcing is not None:
-            par[compiled.P_AMPLITUDE:compiled.P_DRAG2 + 1] = forcing.dimensionless(
-                mass, self._length_scale, self._time_scale, start_time)
 
     @property
     def scales(self):
@@ -262,14 +272,11 @@ class CompiledPhase:
         s = self._s             # σ reached (read from the compiled state by ``run``)
         return self.start_time + self._time_scale * s * s
 
-    def _dimensional(self, s, x, u):
-        time, length = self._time_scale, self._length_scale
-        return self.start_time + time * s * s, x * length, u * length / time
-
     @property
     def state(self):
-        st = self._st
-        return self._dimensional(st[S_S], st[S_X], st[S_U])[1:]
+        """(z m, ż m/s) at the integrator's time, as floats."""
+        st, length = self._st, self._length_scale
+        return st.item(S_X) * length, st.item(S_U) * length / self._time_scale
 
     def state_at(self, t):
         """(z, ż) at a time t within the last step, from the dense output."""
