@@ -94,47 +94,58 @@ class InContact(Mode):
             if t_end > self.passed:
                 self.passed = t_end
             return
-        rows, self.emitted = self.integrator.points_after(self.emitted, self.passed, t_end)
-        if len(rows):
+        start = self.emitted
+        rows, self.emitted = self.integrator.points_after(start, self.passed, t_end)
+        if self.emitted > start:
             points.append(rows)
 
     def advance(self, sim, t_end, budget, points):
         phase, knot, watch = self.integrator, self.valid_until, self.watch
         stop = min(t_end, knot)
+        spent = False
         while True:
-            if points is NO_POINTS:         # hand_out's pass, inline (a phase a bounce)
-                if stop > self.passed:
-                    self.passed = stop
-            else:
-                self.hand_out(points, stop)
             # the end within the forcing piece: lift-off, or the switch to rest
             if phase.lifted_off:
                 finish = phase.end[0] if phase.end[0] <= knot else None
             else:
                 finish = watch.settled[0] if watch.settled is not None else None
             if finish is not None:
-                if finish > t_end:
-                    return Move(None, t_end, budget)
-                return Move(self._finish(sim), finish, budget)
+                move = (Move(None, t_end, budget) if finish > t_end
+                        else Move(self._finish(sim), finish, budget))
+                break
             if knot <= t_end and (phase.lifted_off or phase.time >= knot):
                 # the forcing changes at the knot: restart there from the dense output (the last
                 # step integrated the forcing continued smoothly past the knot: exact up to it)
                 z, zdot = phase.state_at(knot)
-                return Move(Event('knot', knot, z, zdot, resumed=self.resumed,
+                move = Move(Event('knot', knot, z, zdot, resumed=self.resumed,
                                   record=self.record_until(knot)), knot, budget)
+                break
             if phase.time >= t_end:
-                return Move(None, t_end, budget)
+                move = Move(None, t_end, budget)
+                break
             if budget <= 0:         # out of budget: stop where the integrator is
-                self.hand_out(points, phase.time)
-                return Move(None, phase.time, budget)
+                move, spent = Move(None, phase.time, budget), True
+                break
             event = watch.before_run(sim, self)
             if event is not None:
-                return Move(event, event.time, budget)
+                move = Move(event, event.time, budget)
+                break
             budget -= watch.run(sim, phase, stop, budget)
             if watch.after_run(sim, self):     # landed for good
-                return Move(Event('landed', phase.time, resumed=self.resumed,
+                move = Move(Event('landed', phase.time, resumed=self.resumed,
                                   record=(self.start_point, phase.peak_force,
                                           phase.max_penetration)), phase.time, budget)
+                break
+        # the points up to ``stop`` handed out once, whatever ended the loop (they are the same
+        # points, in the same order, as handed out before each of its checks)
+        if points is NO_POINTS:             # hand_out's pass, inline (a phase a bounce)
+            if stop > self.passed:
+                self.passed = stop
+        else:
+            self.hand_out(points, stop)
+        if spent:
+            self.hand_out(points, phase.time)
+        return move
 
     def _finish(self, sim):
         """The event at the end of the phase: ``lift_off`` (the rebound's rate bounded by the

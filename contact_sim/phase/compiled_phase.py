@@ -212,9 +212,9 @@ class CompiledPhase:
         if table is None:
             table = np.array(self._points)
         start = first
-        if start < n and table[start, 0] <= after:
+        if start < n and table.item(start, 0) <= after:
             start += int(table[start:n, 0].searchsorted(after, 'right'))
-        end = (n if table[n - 1, 0] <= until
+        end = (n if table.item(n - 1, 0) <= until
                else start + int(table[start:n, 0].searchsorted(until, 'right')))
         return table[start:end], end
 
