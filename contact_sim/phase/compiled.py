@@ -56,7 +56,8 @@ P_ENERGY_GRAVITY, P_REST_POTENTIAL = 16, 17    # g (m/s²) and k z₀^(n+1)/(n+1
 P_RTOL, P_ATOL = 18, 19
 P_KIND = 20                                              # the law's short form (ContactLaw.kernel)
 P_LIFT_EVENTS = 21        # 2: lift-off at x = 0 or φ = 0; 1: at x = 0 alone (φ cannot reach 0)
-NPAR = 22
+P_SINE = 22               # sin(Ω·0 + ϕ): the forcing's sine where Ω = 0 (set by ``_values``)
+NPAR = 23
 # (n, p, q) -> kind: the right-hand side of these spends no pow() (sqrt at most)
 
 # -- the integrator state (float64[NSTATE]) -----------------------------------------------------
@@ -100,7 +101,10 @@ def _forcing(s, u, par):
     """The external dimensionless acceleration f(σ, u) (see the module docstring)."""
     f = par[P_GRAVITY] - par[P_DRAG1] * u - par[P_DRAG2] * u * abs(u)
     if par[P_AMPLITUDE] != 0.0:
-        f += par[P_AMPLITUDE] * math.sin(par[P_OMEGA] * s * s + par[P_PHASE])
+        if par[P_OMEGA] == 0.0:     # a constant acceleration (a commanded plate's piece): the
+            f += par[P_AMPLITUDE] * par[P_SINE]     # same sine at every σ, found once
+        else:
+            f += par[P_AMPLITUDE] * math.sin(par[P_OMEGA] * s * s + par[P_PHASE])
     return f
 
 
@@ -316,7 +320,10 @@ def _dimensional(s, x, u, par):
 def _values(par):
     """The parameter vector as a tuple, which the kernels below pass to the functions they call
     (passed by value: an array would be reference-counted at every call, a stage's ``_accel``
-    and an event's evaluation included, which cost more than the arithmetic)."""
+    and an event's evaluation included, which cost more than the arithmetic); with its
+    ``P_SINE`` slot set first: sin(Ω σ² + ϕ) of a forcing with Ω = ±0, whose Ω σ² is Ω itself
+    at every σ >= 0 (the same double the sine is then taken of)."""
+    par[P_SINE] = math.sin(par[P_OMEGA] + par[P_PHASE])
     return to_fixed_tuple(par, NPAR)
 
 
