@@ -48,9 +48,9 @@ class Mode:
     * ``states(t)`` -> (z, ż) over an array of times (s), vectorised with the operations of
       ``state``, or ``None`` (the engine then asks ``state`` tick by tick);
     * ``advance(sim, t_end, budget, points)`` -> ``Move``: go on until ``t_end`` (s) or the next
-      event, with at most ``budget`` integrator steps, appending the contact points passed
-      (t, z, ż, F) to ``points``; ``sim`` is the ``DropSimulation`` (contact, mass, gravity,
-      plate, recorder);
+      event, with at most ``budget`` integrator steps, appending the contact points passed to
+      ``points`` (a list, as (n, 4) arrays of rows (t, z, ż, F); ``NO_POINTS``: none
+      gathered); ``sim`` is the ``DropSimulation`` (contact, mass, gravity, plate, recorder);
     * ``event_at_until()``: the event at ``until`` of a closed-form mode that has one (the
       default ``advance`` reports it once ``t_end`` reaches ``until``);
     * ``steps``: integrator steps taken in this mode so far (the engine adds them to the record
@@ -79,10 +79,10 @@ class Mode:
 
 
 class _NoPoints:
-    """A sink for the contact points that nobody reads: ``extend`` drops them."""
+    """A sink for the contact points that nobody reads: ``append`` drops them."""
 
     @staticmethod
-    def extend(points):
+    def append(rows):
         pass
 
 

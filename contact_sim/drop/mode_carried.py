@@ -26,15 +26,22 @@ class Carried(Mode):
     def state(self, t):
         # the acceleration of the carried stretch: at ``until`` its left limit (a knot)
         _, _, acc = self.plate.state(min(t, math.nextafter(self.until, -math.inf)))
-        load = self.mass * max(self.gravity + acc, 0.0)
-        z = self.contact.static_penetration(load)
-        jerk = self.plate.jerk(t)
-        rate = z * jerk / (self.contact.law.n * (self.gravity + acc)) if load > 0.0 else 0.0
-        return z, rate
+        return quasi_static(self.contact, self.mass, self.gravity, acc, self.plate.jerk(t))
 
     def event_at_until(self):
         z, zdot = self.state(self.until)
         return Event('released', self.until, z, zdot)
+
+
+def quasi_static(contact, mass, gravity, acceleration, jerk):
+    """(z_s m, ż_s m/s): the depth at which ``contact`` carries ``mass`` (kg) along a plate
+    accelerating at p̈ (m/s², ``acceleration``) under ``gravity`` (m/s²), and its rate with the
+    plate's ``jerk`` (m/s³); (0, 0) once g + p̈ <= 0.  (``Carried.state``, and ``CarryWatch``'s
+    test before a carried state exists.)"""
+    load = mass * max(gravity + acceleration, 0.0)
+    z = contact.static_penetration(load)
+    rate = z * jerk / (contact.law.n * (gravity + acceleration)) if load > 0.0 else 0.0
+    return z, rate
 
 
 def carried_from(sim, t):
@@ -68,7 +75,10 @@ class CarryWatch:
         p_acc = plate.state(t)[2]
         if p_acc <= -0.25 * g:    # hysteresis: carried from -g/4, released at -g/2
             return None
-        z_s, rate_s = carried_from(sim, t).state(t)
+        # ``carried_from(sim, t).state(t)`` without making the carried state: its stretch ends
+        # after t (p̈ is above -g/2 at t, and a forcing piece holds at its start), so its state at
+        # t is the quasi-static one at t's acceleration
+        z_s, rate_s = quasi_static(sim.contact, sim.mass, g, p_acc, plate.jerk(t))
         z, zdot = phase.state
         law = sim.contact.law
         k_lin = law.n * sim.contact.stiffness * z_s ** (law.n - 1.0)

@@ -4,17 +4,12 @@ acceleration as forcing, until one of its events: ``lift_off`` (the force vanish
 became permanent: the same phase goes on), ``settled`` (the fixed plate's rest took over) or
 ``carried`` (a moving plate carries the sphere).  (The mode is ``InContact``, the model's
 ``Contact`` the law with its k and λ.)"""
-import bisect
 import math
-from operator import itemgetter
 
 from contact_sim.drop.mode import NO_POINTS, Event, Mode, Move
 from contact_sim.drop.mode_carried import CarryWatch
 from contact_sim.drop.mode_rest import RestWatch
 from contact_sim.phase import potential_at
-
-_TIME = itemgetter(0)   # a point's time (points are (t, z, ż, F))
-
 
 def energy_bounded_rate(sim, start, z, zdot):
     """The rate ż (m/s) at a lift-off at (z, ż) on the fixed plate, with the energy above rest
@@ -46,6 +41,9 @@ class InContact(Mode):
 
     in_contact = True
     until = -math.inf
+    first_point, peak, depth = None, 0.0, -math.inf     # no record carried in
+    emitted = 0             # the points handed out (an index into the integrator's)
+    passed = -math.inf      # and the points up to this time (s), passed
 
     def __init__(self, sim, t, z, zdot, resumed=False, record=None):
         plate = sim.plate_motion
@@ -53,12 +51,11 @@ class InContact(Mode):
         phases = sim.phase_factory()
         self.integrator = phase = phases.start(t, z, zdot, forcing=forcing)
         self.start_point = phase.points[0]      # (t, z, ż, F) at the phase's start
-        self.moving = plate.moving
-        self.watch = CarryWatch() if self.moving else RestWatch(phases.energy_floor)
+        self.moving = moving = plate.moving
+        self.watch = CarryWatch() if moving else RestWatch(phases.energy_floor)
         self.resumed = resumed
-        self.first_point, self.peak, self.depth = record or (None, 0.0, -math.inf)
-        self.emitted = 0            # the points handed out (an index into the integrator's)
-        self.passed = -math.inf     # and the points up to this time (s), passed
+        if record is not None:
+            self.first_point, self.peak, self.depth = record
 
     @property
     def steps(self):
@@ -91,54 +88,64 @@ class InContact(Mode):
         return phase.state_at(t)
 
     def hand_out(self, points, t_end):
-        """Append the integrator's points up to ``t_end`` (s) not handed out yet to ``points``;
-        to ``NO_POINTS`` none: they are passed (the integrator's list is then not read)."""
+        """Append the integrator's points up to ``t_end`` (s) not handed out yet to ``points``,
+        as one (n, 4) array of rows (t, z, ż, F); to ``NO_POINTS`` none: they are passed."""
         if points is NO_POINTS:
             if t_end > self.passed:
                 self.passed = t_end
             return
-        pts = self.integrator.points                    # times increase
-        start = bisect.bisect_right(pts, self.passed, lo=self.emitted, key=_TIME)
-        self.emitted = bisect.bisect_right(pts, t_end, lo=start, key=_TIME)
-        points.extend(pts[start:self.emitted])
+        start = self.emitted
+        rows, self.emitted = self.integrator.points_after(start, self.passed, t_end)
+        if self.emitted > start:
+            points.append(rows)
 
     def advance(self, sim, t_end, budget, points):
         phase, knot, watch = self.integrator, self.valid_until, self.watch
         stop = min(t_end, knot)
+        spent = False
         while True:
-            if points is NO_POINTS:         # hand_out's pass, inline (a phase a bounce)
-                if stop > self.passed:
-                    self.passed = stop
-            else:
-                self.hand_out(points, stop)
             # the end within the forcing piece: lift-off, or the switch to rest
             if phase.lifted_off:
                 finish = phase.end[0] if phase.end[0] <= knot else None
             else:
                 finish = watch.settled[0] if watch.settled is not None else None
             if finish is not None:
-                if finish > t_end:
-                    return Move(None, t_end, budget)
-                return Move(self._finish(sim), finish, budget)
+                move = (Move(None, t_end, budget) if finish > t_end
+                        else Move(self._finish(sim), finish, budget))
+                break
             if knot <= t_end and (phase.lifted_off or phase.time >= knot):
                 # the forcing changes at the knot: restart there from the dense output (the last
                 # step integrated the forcing continued smoothly past the knot: exact up to it)
                 z, zdot = phase.state_at(knot)
-                return Move(Event('knot', knot, z, zdot, resumed=self.resumed,
+                move = Move(Event('knot', knot, z, zdot, resumed=self.resumed,
                                   record=self.record_until(knot)), knot, budget)
+                break
             if phase.time >= t_end:
-                return Move(None, t_end, budget)
+                move = Move(None, t_end, budget)
+                break
             if budget <= 0:         # out of budget: stop where the integrator is
-                self.hand_out(points, phase.time)
-                return Move(None, phase.time, budget)
+                move, spent = Move(None, phase.time, budget), True
+                break
             event = watch.before_run(sim, self)
             if event is not None:
-                return Move(event, event.time, budget)
+                move = Move(event, event.time, budget)
+                break
             budget -= watch.run(sim, phase, stop, budget)
             if watch.after_run(sim, self):     # landed for good
-                return Move(Event('landed', phase.time, resumed=self.resumed,
+                move = Move(Event('landed', phase.time, resumed=self.resumed,
                                   record=(self.start_point, phase.peak_force,
                                           phase.max_penetration)), phase.time, budget)
+                break
+        # the points up to ``stop`` handed out once, whatever ended the loop (they are the same
+        # points, in the same order, as handed out before each of its checks)
+        if points is NO_POINTS:             # hand_out's pass, inline (a phase a bounce)
+            if stop > self.passed:
+                self.passed = stop
+        else:
+            self.hand_out(points, stop)
+        if spent:
+            self.hand_out(points, phase.time)
+        return move
 
     def _finish(self, sim):
         """The event at the end of the phase: ``lift_off`` (the rebound's rate bounded by the

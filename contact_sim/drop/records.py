@@ -199,6 +199,18 @@ class ImpactRecord:
         """True for the final, permanent contact (``contact_duration`` is inf)."""
         return math.isinf(self.contact_duration)
 
+    @classmethod
+    def _of_contact(cls, impact_point, rebound_speed, contact_duration, peak_force,
+                    max_penetration):
+        """The record of a contact that began at ``impact_point`` (t s, z m, ż m/s, F N), with
+        the rest of its fields: the one place the drop makes one (``Recorder``), beside the
+        fields it fills."""
+        impact_time, _, impact_rate, _ = impact_point
+        impact_speed = max(impact_rate, 0.0)
+        return cls(impact_time, impact_speed, rebound_speed,
+                   rebound_speed / impact_speed if impact_speed > 0.0 else 0.0,
+                   contact_duration, peak_force, max_penetration)
+
 
 @dataclass(frozen=True)
 class AdvanceResult:
@@ -371,20 +383,15 @@ class Recorder:
         if resumed:
             self.permanent_contact_time = self.settle_time = None
             return
-        impact_time, _, impact_rate, _ = impact_point
-        impact_speed = max(impact_rate, 0.0)
-        rebound = max(-rebound_rate, 0.0)
-        self.impacts.append(ImpactRecord(
-            impact_time, impact_speed, rebound,
-            rebound / impact_speed if impact_speed > 0.0 else 0.0, time - impact_time,
-            peak_force, max_penetration))
+        self.impacts.append(ImpactRecord._of_contact(impact_point, max(-rebound_rate, 0.0),
+                                                     time - impact_point[0], peak_force,
+                                                     max_penetration))
 
-    def _permanent(self, start_point, peak_force, max_penetration):
+    @staticmethod
+    def _permanent(start_point, peak_force, max_penetration):
         """The ``ImpactRecord`` of a permanent contact from ``start_point`` (t, z, ż, F):
         rebound 0, duration inf."""
-        impact_time, _, impact_rate, _ = start_point
-        return ImpactRecord(impact_time, max(impact_rate, 0.0), 0.0, 0.0, math.inf, peak_force,
-                            max_penetration)
+        return ImpactRecord._of_contact(start_point, 0.0, math.inf, peak_force, max_penetration)
 
     def land(self, start_point, peak_force, max_penetration):
         """A contact phase from ``start_point`` (t s, z m, ż m/s, F N) became permanent, its

@@ -30,6 +30,7 @@ import math
 
 import numpy as np
 from numba import njit
+from numba.np.unsafe.ndarray import to_fixed_tuple
 
 from contact_sim.phase.brent import brent_evaluated, brent_next, brent_start
 from contact_sim.phase._dop853_coefficients import A as _A16, B as _B, C as _C16, D as _D, E3 as _E3, E5 as _E5
@@ -55,7 +56,8 @@ P_ENERGY_GRAVITY, P_REST_POTENTIAL = 16, 17    # g (m/s²) and k z₀^(n+1)/(n+1
 P_RTOL, P_ATOL = 18, 19
 P_KIND = 20                                              # the law's short form (ContactLaw.kernel)
 P_LIFT_EVENTS = 21        # 2: lift-off at x = 0 or φ = 0; 1: at x = 0 alone (φ cannot reach 0)
-NPAR = 22
+P_SINE = 22               # sin(Ω·0 + ϕ): the forcing's sine where Ω = 0 (set by ``_values``)
+NPAR = 23
 # (n, p, q) -> kind: the right-hand side of these spends no pow() (sqrt at most)
 
 # -- the integrator state (float64[NSTATE]) -----------------------------------------------------
@@ -99,7 +101,10 @@ def _forcing(s, u, par):
     """The external dimensionless acceleration f(σ, u) (see the module docstring)."""
     f = par[P_GRAVITY] - par[P_DRAG1] * u - par[P_DRAG2] * u * abs(u)
     if par[P_AMPLITUDE] != 0.0:
-        f += par[P_AMPLITUDE] * math.sin(par[P_OMEGA] * s * s + par[P_PHASE])
+        if par[P_OMEGA] == 0.0:     # a constant acceleration (a commanded plate's piece): the
+            f += par[P_AMPLITUDE] * par[P_SINE]     # same sine at every σ, found once
+        else:
+            f += par[P_AMPLITUDE] * math.sin(par[P_OMEGA] * s * s + par[P_PHASE])
     return f
 
 
@@ -311,21 +316,43 @@ def _dimensional(s, x, u, par):
     return par[P_START] + time * s * s, x * length, u * length / time
 
 
-@njit('float64(float64, float64, float64[::1])', **_KW)
-def contact_force(z, zdot, par):
-    """The clamped force (N) of eq. 11, as ``ContactLaw.force``."""
+@njit(**_KW)
+def _values(par):
+    """The parameter vector as a tuple, which the kernels below pass to the functions they call
+    (passed by value: an array would be reference-counted at every call, a stage's ``_accel``
+    and an event's evaluation included, which cost more than the arithmetic); with its
+    ``P_SINE`` slot set first: sin(Ω σ² + ϕ) of a forcing with Ω = ±0, whose Ω σ² is Ω itself
+    at every σ >= 0 (the same double the sine is then taken of)."""
+    par[P_SINE] = math.sin(par[P_OMEGA] + par[P_PHASE])
+    return to_fixed_tuple(par, NPAR)
+
+
+@njit(**_KW)
+def _contact_force(z, zdot, par):
+    """``contact_force`` of the parameters as a tuple.  (A point a step: the powers
+    that are the same double without pow() are taken so: zᵖ = zⁿ when p = n, and |ż|^1 = |ż|,
+    which pow returns exactly.)"""
     if not z > 0.0:
         return 0.0
     sign = 1.0 if zdot > 0.0 else (-1.0 if zdot < 0.0 else 0.0)
-    f = (par[P_STIFFNESS] * z ** par[P_N]
-         + par[P_DAMPING] * z ** par[P_P] * sign * abs(zdot) ** par[P_Q])
+    n, p, q = par[P_N], par[P_P], par[P_Q]
+    zn = z ** n
+    zp = zn if p == n else z ** p
+    rate = abs(zdot) if q == 1.0 else abs(zdot) ** q
+    f = par[P_STIFFNESS] * zn + par[P_DAMPING] * zp * sign * rate
     return f if f > 0.0 else 0.0
+
+
+@njit('float64(float64, float64, float64[::1])', **_KW)
+def contact_force(z, zdot, par):
+    """The clamped force (N) of eq. 11, as ``ContactLaw.force``."""
+    return _contact_force(z, zdot, _values(par))
 
 
 @njit(**_KW)
 def _record(st, s, x, u, par, pts, npts):
     t, z, zdot = _dimensional(s, x, u, par)
-    f = contact_force(z, zdot, par)
+    f = _contact_force(z, zdot, par)
     pts[npts, 0], pts[npts, 1], pts[npts, 2], pts[npts, 3] = t, z, zdot, f
     if f > st[S_PEAK]:
         st[S_PEAK] = f
@@ -399,6 +426,7 @@ def run(st, K, F, par, pts, t_stop, max_steps, stop_energy):
 
     The step's points (t, z, ż, F) go to ``pts`` from row 0.  Returns (reason, points, steps).
     """
+    values = _values(par)
     npts = 0
     taken = 0
     cap = pts.shape[0] - 3
@@ -411,12 +439,13 @@ def run(st, K, F, par, pts, t_stop, max_steps, stop_energy):
             return BUDGET_SPENT, npts, taken
         if npts >= cap:
             return BUFFER_FULL, npts, taken
-        if not _step(st, K, par):
+        if not _step(st, K, values):
             return STEP_TOO_SMALL, npts, taken
         taken += 1
         st[S_STEPS] += 1.0
-        npts = _events(st, K, F, par, pts, npts)
-        if st[S_LIFTED] == 0.0 and _energy_above_rest(st, par) < stop_energy:
+        npts = _events(st, K, F, values, pts, npts)
+        if (stop_energy > -np.inf and st[S_LIFTED] == 0.0
+                and _energy_above_rest(st, values) < stop_energy):
             return ENERGY_BELOW, npts, taken
 
 
@@ -424,12 +453,12 @@ def run(st, K, F, par, pts, t_stop, max_steps, stop_energy):
       'float64)', **_KW)
 def state_in_last_step(st, K, F, par, s):
     """(x, u) at σ within the last step, from its dense output (built on first use)."""
-    _build_dense(st, K, F, par)
+    _build_dense(st, K, F, _values(par))
     return _dense(st, F, s)
 
 
 @njit('float64(float64[::1], float64[::1])', **_KW)
 def energy_above_rest(st, par):
     """The energy above rest (J) at the integrator's state."""
-    return _energy_above_rest(st, par)
+    return _energy_above_rest(st, _values(par))
 

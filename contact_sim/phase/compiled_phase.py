@@ -12,13 +12,15 @@ import numpy as np
 from numba import njit
 
 from contact_sim.phase import compiled
-from contact_sim.phase.compiled import (BUFFER_FULL, MAX_STEPS, NPAR, P_ATOL, P_DAMPING,
-                                        P_ENERGY_GRAVITY, P_GRAVITY, P_KIND, P_LENGTH,
-                                        P_LIFT_EVENTS, P_MASS, P_N, P_P, P_Q, P_REST_POTENTIAL,
-                                        P_RTOL, P_START, P_STIFFNESS, P_TIME, P_ZETA, S_DEPTH,
-                                        S_END_RATE, S_END_T, S_END_Z, S_H, S_LIFTED, S_PEAK,
-                                        S_S, S_STEPS, S_U, S_X, STEP_TOO_SMALL)
+from contact_sim.phase.compiled import (BUFFER_FULL, MAX_STEPS, NPAR, P_AMPLITUDE, P_ATOL,
+                                        P_DAMPING, P_DRAG1, P_DRAG2, P_ENERGY_GRAVITY, P_GRAVITY,
+                                        P_KIND, P_LENGTH, P_LIFT_EVENTS, P_MASS, P_N, P_OMEGA,
+                                        P_P, P_PHASE, P_Q, P_REST_POTENTIAL, P_RTOL, P_START,
+                                        P_STIFFNESS, P_TIME, P_ZETA, S_DEPTH, S_END_RATE,
+                                        S_END_T, S_END_Z, S_H, S_LIFTED, S_PEAK, S_S, S_STEPS,
+                                        S_U, S_X, STEP_TOO_SMALL)
 from contact_sim.phase.compiled import run as _run
+from contact_sim.phase.forcing import NO_FORCING_TERMS
 from contact_sim.phase.lift_off import force_can_vanish_inside
 from contact_sim.phase.scales import (DEFAULT_ATOL, DEFAULT_RTOL, FIRST_STEP, PhaseScales,
                                       phase_scales, scales_of, start_peak)
@@ -44,6 +46,7 @@ def constant_parameters(contact, mass, rtol, atol, lift_events):
     return par
 
 
+TABLE_ROWS = 64     # the rows a phase that keeps its points starts with (doubled when full)
 _SHAPES = (compiled.NSTATE, (compiled.A.shape[0], 2), (compiled.D.shape[0] + 3, 2))
 
 
@@ -53,20 +56,32 @@ def phase_storage(empty=np.empty, shapes=_SHAPES):
     return empty(shapes[0]), empty(shapes[1]), empty(shapes[2])
 
 
-@njit('float64(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], float64, float64, '
-      'float64, float64, float64, float64, float64)', **_KW)
-def start_phase(par, st, K, F, start_time, penetration, penetration_rate, length, time, gamma,
-                zeta):
-    """Start a phase at ``start_time`` (s) from (z, ż) (m, m/s) with the scales (Z m, T s, γ, ζ):
-    fill the per-phase slots of ``par`` (as ``constant_parameters`` left it, its forcing
-    slots set by the caller), set (st, K, F) to the state at σ = 0; returns the phase's first
-    peak force (N), ``scales.start_peak_force`` of the force there.
+_START = ('float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], float64[:, ::1], '
+          'float64, float64, float64, ')     # par, st, K, F, pts, t₀, z, ż
+_TERMS = 'float64, float64, float64, float64, float64'  # ``Forcing.terms``
+
+
+@njit('float64(' + _START + 'float64, float64, float64, float64, ' + _TERMS + ')', **_KW)
+def start_phase(par, st, K, F, pts, start_time, penetration, penetration_rate, length, time,
+                gamma, zeta, amplitude, omega, phase, drag1, drag2):
+    """Start a phase at ``start_time`` (s) from (z, ż) (m, m/s) with the scales (Z m, T s, γ, ζ)
+    and the forcing terms (A m/s², Ω rad/s, ϕ rad, c₁ N·s/m, c₂ N·s²/m², ``Forcing.terms``;
+    zeros: gravity alone): fill the per-phase slots of ``par`` (as ``constant_parameters`` left
+    it), the forcing's made dimensionless (A T²/Z, Ω T, Ω t₀ + ϕ, c₁ T/m, c₂ Z/m), set
+    (st, K, F) to the state at σ = 0, write its first point (t, z, ż, peak) to row 0 of
+    ``pts``; returns the phase's first peak force (N), ``scales.start_peak_force`` of the force
+    there.
 
     The energy of rest is taken at the g the scales give back, m γ Z / T² / m (as the phase's
     energy test uses it)."""
     par[P_ZETA], par[P_GRAVITY] = zeta, gamma
     par[P_START], par[P_TIME], par[P_LENGTH] = start_time, time, length
     mass, k, n = par[P_MASS], par[P_STIFFNESS], par[P_N]
+    par[P_AMPLITUDE] = amplitude * (time * time) / length
+    par[P_OMEGA] = omega * time
+    par[P_PHASE] = omega * start_time + phase
+    par[P_DRAG1] = drag1 * time / mass
+    par[P_DRAG2] = drag2 * length / mass
     mass_g = mass * gamma * length / (time * time)
     g = mass_g / mass
     z0 = (mass_g / k) ** (1.0 / n)
@@ -80,12 +95,13 @@ def start_phase(par, st, K, F, start_time, penetration, penetration_rate, length
     peak = _start_peak(par[P_P], par[P_DAMPING], par[P_Q], penetration, penetration_rate,
                        compiled.contact_force(penetration, penetration_rate, par))
     st[S_PEAK], st[S_DEPTH] = peak, penetration
+    pts[0, 0], pts[0, 1], pts[0, 2], pts[0, 3] = start_time, penetration, penetration_rate, peak
     return peak
 
 
-@njit('UniTuple(float64, 5)(float64[::1], float64[::1], float64[:, ::1], float64[:, ::1], '
-      'float64, float64, float64, float64)', **_KW)
-def start_scaled(par, st, K, F, start_time, penetration, penetration_rate, gravity):
+@njit('UniTuple(float64, 5)(' + _START + 'float64, ' + _TERMS + ')', **_KW)
+def start_scaled(par, st, K, F, pts, start_time, penetration, penetration_rate, gravity,
+                 amplitude, omega, phase, drag1, drag2):
     """``start_phase`` with the phase's scales found here (``scales.scales_of`` of the law, k,
     λ and m in ``par`` and ``gravity`` m/s²): returns (peak force N, Z m, T s, γ, ζ); nothing
     started where Z <= 0 (no motion and no gravity, ``phase_scales`` refuses it)."""
@@ -94,8 +110,8 @@ def start_scaled(par, st, K, F, start_time, penetration, penetration_rate, gravi
                                            penetration_rate)
     if not length > 0.0:
         return math.nan, length, time, gamma, zeta
-    peak = start_phase(par, st, K, F, start_time, penetration, penetration_rate, length, time,
-                       gamma, zeta)
+    peak = start_phase(par, st, K, F, pts, start_time, penetration, penetration_rate, length,
+                       time, gamma, zeta, amplitude, omega, phase, drag1, drag2)
     return peak, length, time, gamma, zeta
 
 
@@ -139,37 +155,37 @@ class CompiledPhase:
                                   2 if force_can_vanish_inside(contact.law, gravity, forcing)
                                   else 1)
         st, k, f = phase_storage()
-        peak = start_phase(par, st, k, f, start_time, penetration, penetration_rate, sc.length,
-                           sc.time, sc.gamma, sc.zeta)
+        table = np.empty((TABLE_ROWS if keep_points else compiled.POINT_BUFFER, 4))
+        peak = start_phase(par, st, k, f, table, start_time, penetration, penetration_rate,
+                           sc.length, sc.time, sc.gamma, sc.zeta,
+                           *(NO_FORCING_TERMS if forcing is None else forcing.terms))
         self._started(contact, mass, par, (st, k, f), start_time, penetration, penetration_rate,
-                      peak, sc, keep_points, forcing)
+                      peak, sc, table if keep_points else None, table)
+
+    # the state of a phase just started (``_started``), until its runs say otherwise
+    lifted_off = False
+    steps = 0
+    end = None          # (t, z, ż) at lift-off
+    _s = 0.0            # σ = sqrt((t - start) / T) reached
+    _count = 1          # the rows of ``_table`` written
 
     def _started(self, contact, mass, par, storage, start_time, penetration, penetration_rate,
-                 peak, scales, keep_points, forcing, buffer=None):
-        """The phase ``start_phase`` started in ``par`` (its own) and ``storage`` (st, K, F), its
-        first ``peak`` force (N), with its ``scales`` (a ``PhaseScales``, or its fields (Z m,
-        T s, γ, ζ) as a tuple): its attributes, and the slots of ``forcing`` (``None``: gravity
-        alone); ``buffer``, the (POINT_BUFFER, 4) rows a run writes its points to, may be shared
-        by phases run one at a time (default: its own)."""
+                 peak, scales, table, buffer=None):
+        """The phase ``start_phase`` started in ``par`` (its own), ``storage`` (st, K, F) and
+        ``table``, its first ``peak`` force (N), with its ``scales`` (a ``PhaseScales``, or its
+        fields (Z m, T s, γ, ζ) as a tuple): its attributes.  ``table``: the rows of its points, the first written by
+        ``start_phase``, the rest by the runs (``None``: no points kept: the runs write to
+        ``buffer``, (POINT_BUFFER, 4) rows that phases run one at a time may share)."""
         self._scales = scales
         self._length_scale, self._time_scale = (scales[:2] if isinstance(scales, tuple)
                                                 else (scales.length, scales.time))
         self.contact, self.mass = contact, mass
         self.start_time = start_time
         self._par, (self._st, self._k, self._f) = par, storage
-        self._buffer = np.empty((compiled.POINT_BUFFER, 4)) if buffer is None else buffer
-        self._keep_points = keep_points
-        self.lifted_off = False
-        self.steps = 0
-        self._s = 0.0           # σ = sqrt((t - start) / T) reached: ``start_phase`` set it to 0
+        self._table, self._buffer = table, buffer
         self.peak_force = peak
         self.max_penetration = penetration
-        self.end = None  # (t, z, ż) at lift-off
-        self._points = [(start_time, penetration, penetration_rate, peak)]
-        self._rows = []     # the rows of points the runs added, not yet in ``_points``
-        if forcing is not None:
-            par[compiled.P_AMPLITUDE:compiled.P_DRAG2 + 1] = forcing.dimensionless(
-                mass, self.scales, start_time)
+        self._points = [(start_time, penetration, penetration_rate, peak)]  # ``points``' cache
 
     @property
     def scales(self):
@@ -182,12 +198,25 @@ class CompiledPhase:
     def points(self):
         """The points (t s, z m, ż m/s, F N) so far, a list of tuples: the start, then each
         step's end and the peak, deepest point and lift-off located in it."""
-        if self._rows:
-            points = self._points
-            for rows in self._rows:
-                points.extend(map(tuple, rows.tolist()))
-            self._rows = []
-        return self._points
+        points = self._points
+        if len(points) < self._count:
+            points.extend(map(tuple, self._table[len(points):self._count].tolist()))
+        return points
+
+    def points_after(self, first, after, until):
+        """(rows, end): the points of index ``first`` on with times in (``after``, ``until``]
+        (s), an (n, 4) array of rows (t, z, ż, F) (a view: rows once written do not change),
+        and the index after the last of them.  (Times increase: the ``bisect_right``s of
+        ``points`` over their times, on the array.)"""
+        n, table = self._count, self._table
+        if table is None:
+            table = np.array(self._points)
+        start = first
+        if start < n and table.item(start, 0) <= after:
+            start += int(table[start:n, 0].searchsorted(after, 'right'))
+        end = (n if table.item(n - 1, 0) <= until
+               else start + int(table[start:n, 0].searchsorted(until, 'right')))
+        return table[start:end], end
 
     def run(self, t_stop=math.inf, max_steps=None, stop_energy=-math.inf):
         """Step until lift-off, until ``time >= t_stop`` (s), for ``max_steps`` steps, or until a
@@ -196,16 +225,23 @@ class CompiledPhase:
         a step before the caller's own test agrees, never after).  Returns the steps taken."""
         budget = MAX_STEPS if max_steps is None else int(min(max_steps, MAX_STEPS))
         stop = self._energy_stop(stop_energy) if stop_energy > -math.inf else -math.inf
-        st, k, f, par, buf = self._st, self._k, self._f, self._par, self._buffer
+        st, k, f, par, table = self._st, self._k, self._f, self._par, self._table
         t_stop = float(t_stop)
         taken = 0
         while True:
-            reason, npts, n = _run(st, k, f, par, buf, t_stop, budget - taken, stop)
+            if table is None:       # no points kept: the shared rows
+                reason, _, n = _run(st, k, f, par, self._buffer, t_stop, budget - taken, stop)
+            else:                   # straight into the rows left (a view)
+                reason, npts, n = _run(st, k, f, par, table[self._count:], t_stop,
+                                       budget - taken, stop)
+                self._count += npts
             taken += n
-            if npts and self._keep_points:
-                self._rows.append(buf[:npts].copy())
             if reason != BUFFER_FULL:
                 break
+            if table is not None:   # twice the rows, those written kept
+                table = np.empty((2 * table.shape[0], 4))
+                table[:self._count] = self._table[:self._count]
+                self._table = table
         values = st.tolist()            # the results of the steps taken
         self._s = values[S_S]
         self.steps = int(values[S_STEPS])
@@ -236,14 +272,11 @@ class CompiledPhase:
         s = self._s             # σ reached (read from the compiled state by ``run``)
         return self.start_time + self._time_scale * s * s
 
-    def _dimensional(self, s, x, u):
-        time, length = self._time_scale, self._length_scale
-        return self.start_time + time * s * s, x * length, u * length / time
-
     @property
     def state(self):
-        st = self._st
-        return self._dimensional(st[S_S], st[S_X], st[S_U])[1:]
+        """(z m, ż m/s) at the integrator's time, as floats."""
+        st, length = self._st, self._length_scale
+        return st.item(S_X) * length, st.item(S_U) * length / self._time_scale
 
     def state_at(self, t):
         """(z, ż) at a time t within the last step, from the dense output."""

@@ -15,9 +15,10 @@ import os
 import numpy as np
 
 from contact_sim.phase import compiled
-from contact_sim.phase.compiled_phase import (CompiledPhase, constant_parameters,
+from contact_sim.phase.compiled_phase import (TABLE_ROWS, CompiledPhase, constant_parameters,
                                               phase_storage, start_phase, start_scaled)
 from contact_sim.phase.energy import lift_off_energy
+from contact_sim.phase.forcing import NO_FORCING_TERMS
 from contact_sim.phase.lift_off import pulls_out
 from contact_sim.phase.reference import PhaseIntegrator
 from contact_sim.phase.scales import DEFAULT_ATOL, DEFAULT_RTOL, phase_scales
@@ -150,9 +151,12 @@ class PhaseFactory:
                 self.contact, self.mass, self.rtol, self.atol, lift_events)
         par = par.copy()
         st, k, f = storage = phase_storage()
+        table = np.empty((TABLE_ROWS, 4)) if keep_points else self._buffer
+        terms = NO_FORCING_TERMS if forcing is None else forcing.terms
         if scales is None:
-            peak, length, time, gamma, zeta = start_scaled(par, st, k, f, start_time, penetration,
-                                                           penetration_rate, self.gravity)
+            peak, length, time, gamma, zeta = start_scaled(par, st, k, f, table, start_time,
+                                                           penetration, penetration_rate,
+                                                           self.gravity, *terms)
             if not length > 0.0:     # no motion and no gravity: phase_scales refuses it
                 phase_scales(self.contact, self.mass, self.gravity, penetration,
                              penetration_rate)
@@ -160,9 +164,10 @@ class PhaseFactory:
                 return None
             scales = (length, time, gamma, zeta)
         else:
-            peak = start_phase(par, st, k, f, start_time, penetration, penetration_rate,
-                               scales.length, scales.time, scales.gamma, scales.zeta)
+            peak = start_phase(par, st, k, f, table, start_time, penetration, penetration_rate,
+                               scales.length, scales.time, scales.gamma, scales.zeta, *terms)
         phase = CompiledPhase.__new__(CompiledPhase)
         phase._started(self.contact, self.mass, par, storage, start_time, penetration,
-                       penetration_rate, peak, scales, keep_points, forcing, self._buffer)
+                       penetration_rate, peak, scales, table if keep_points else None,
+                       self._buffer)
         return phase

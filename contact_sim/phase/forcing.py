@@ -1,4 +1,5 @@
 """Forcing of a contact phase besides gravity and the contact force (the compiled engine's)."""
+import functools
 from dataclasses import dataclass
 
 from contact_sim.validation import require_nonnegative, require_real
@@ -34,12 +35,12 @@ class Forcing:
         return (self.acceleration_amplitude != 0.0 or self.linear_drag != 0.0
                 or self.quadratic_drag != 0.0)
 
-    def dimensionless(self, mass, scales, start_time):
-        """(A T²/Z, Ω T, Ω t₀ + ϕ, c₁ T/m, c₂ Z/m): the slots P_AMPLITUDE ... P_DRAG2 of a phase
-        that starts at t₀ with the scales Z, T."""
-        length, time = scales.length, scales.time
-        return (self.acceleration_amplitude * (time * time) / length,
-                self.angular_frequency * time,
-                self.angular_frequency * start_time + self.phase,
-                self.linear_drag * time / mass,
-                self.quadratic_drag * length / mass)
+    @functools.cached_property
+    def terms(self):
+        """(A m/s², Ω rad/s, ϕ rad, c₁ N·s/m, c₂ N·s²/m²), as the compiled start of a phase takes
+        them (``compiled_phase.start_phase`` makes them dimensionless for its slots)."""
+        return (self.acceleration_amplitude, self.angular_frequency, self.phase,
+                self.linear_drag, self.quadratic_drag)
+
+
+NO_FORCING_TERMS = (0.0, 0.0, 0.0, 0.0, 0.0)    # ``Forcing.terms`` of gravity alone

@@ -6,7 +6,9 @@ the path the compiled engine is tested against.  Heavily damped phases that cree
 under gravity, or out to the surface when the force cannot vanish inside) are stiff: above
 ζ = STIFF_DAMPING they are integrated with scipy's Radau.
 """
+import bisect
 import math
+from operator import itemgetter
 
 import numpy as np
 from scipy.integrate import DOP853, Radau
@@ -17,6 +19,7 @@ from contact_sim.phase.lift_off import force_can_vanish_inside, is_stiff
 from contact_sim.phase.scales import (DEFAULT_ATOL, DEFAULT_RTOL, FIRST_STEP, phase_scales,
                                       start_peak_force)
 
+_TIME = itemgetter(0)   # a point's time (points are (t, z, ż, F))
 STIFF_DAMPING = 30.0   # ζ above which a phase is integrated by Radau instead of DOP853
 
 
@@ -171,6 +174,15 @@ class PhaseIntegrator:
             if not self.lifted_off and self.energy_above_rest() < stop_energy:
                 break
         return taken
+
+    def points_after(self, first, after, until):
+        """(rows, end): the points of index ``first`` on with times in (``after``, ``until``]
+        (s), an (n, 4) array of rows (t, z, ż, F), and the index after the last of them (as
+        ``CompiledPhase.points_after``)."""
+        points = self.points
+        start = bisect.bisect_right(points, after, lo=first, key=_TIME)
+        end = bisect.bisect_right(points, until, lo=start, key=_TIME)
+        return np.array(points[start:end], dtype=float).reshape(-1, 4), end
 
     def _root(self, g, s0, s1):
         """The root of g(y(s)) in [s0, s1] on the dense output, to machine precision."""

@@ -100,11 +100,13 @@ class CommandedPlate(PlateMotion):
         return gap_flight(self, flight, z, zdot, contact, drag_rates, after_lift_off)
 
     def _piece(self, t):
-        starts = self._pieces[0]
-        return max(bisect.bisect_right(starts, t) - 1, 0)
+        i = bisect.bisect_right(self._pieces[0], t) - 1
+        return i if i > 0 else 0
 
     def state(self, t):
-        return piece_state(*self._pieces, self._piece(t), t)
+        pieces = self._pieces       # ``_piece`` inline (a few times a bounce)
+        i = bisect.bisect_right(pieces[0], t) - 1
+        return piece_state(*pieces, i if i > 0 else 0, t)
 
     def jerk(self, t):
         """d p̈ / dt (m/s³): zero inside every piece."""
@@ -151,7 +153,9 @@ class CommandedPlate(PlateMotion):
         return min(values), max(values)
 
     def forcing_piece(self, t):
-        acceleration, until = piece_forcing(self._pieces[0], self._pieces[3], self._piece(t), t)
+        starts = self._pieces[0]
+        i = bisect.bisect_right(starts, t) - 1
+        acceleration, until = piece_forcing(starts, self._pieces[3], i if i > 0 else 0, t)
         return constant_forcing(acceleration), until
 
     def next_acceleration_below(self, t, level):
