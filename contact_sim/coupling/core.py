@@ -108,6 +108,11 @@ class CouplingStep:
         N/s, a ``'continuous'`` host's only (0 otherwise): the force over the step is
         impulse / dt + force_rate (t - t₀ - dt / 2), t₀ the step's start, which moves such a
         host's gap and velocity to the exact ones at the step's end.
+    remainder : float
+        N·s, >= 0, a semi-implicit host's only (0 otherwise): the part of the contact force's
+        impulse inside this step that the next step's impulse carries (the force weighted by
+        (t - t₀) / dt, the second half of the triangle).  An adapter whose contact Jacobian turns
+        within a step applies it along the direction it had in this step.
     """
 
     impulse: float
@@ -117,6 +122,7 @@ class CouplingStep:
     in_contact: bool
     touched: bool
     force_rate: float = 0.0
+    remainder: float = 0.0
 
 
 # flights and contact phases one host step may hold before it is refused as stuck
@@ -240,6 +246,7 @@ class NormalCoupling:
         else:
             self._reconcile(c, zh, vh, a, mass)
         touched = c.mode != 'flight'
+        z_start, zdot_start = c.z, c.zdot
         new_impacts = []
         t_end = time + dt
         t = time
@@ -267,8 +274,11 @@ class NormalCoupling:
             touched = True
             self._start_phase(c, mass, t)
         c.time = t_end
-        rate = 0.0
+        rate = remainder = 0.0
         if self._lead:
+            if touched:     # ∫F (t - t₀)/dt = ∫F - ∫F (t₀ + dt - t)/dt, from the exact states
+                remainder = max(mass * (a * dt + zdot_start - c.zdot) - mass * (
+                    z_start + zdot_start * dt + 0.5 * a * dt * dt - c.z) / dt, 0.0)
             host_v = (c.z - zh) / dt
             impulse = mass * (vh + a * dt - host_v)
             if impulse < 0.0:       # a contact cannot pull: the host goes its own way
@@ -284,7 +294,7 @@ class NormalCoupling:
                 c.host_z, c.host_v = zh + vh * dt + 0.5 * a * dt * dt, vh + a * dt
         self.impacts.extend(new_impacts)
         out = CouplingStep(impulse, tuple(new_impacts), c.z, c.zdot, c.mode != 'flight',
-                           touched, rate)
+                           touched, rate, remainder)
         if c.mode == 'flight' and not touched and math.isinf(
                 touch_time(self.contact, c.z, c.zdot, a, 2.0 * dt)):
             self._carried = None        # out of reach: the host's own flight is exact

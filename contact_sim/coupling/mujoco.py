@@ -52,6 +52,9 @@ _PROBE_SPEED = 1e-3
 # a contact point sliding slower than this (m/s) on a measured pair gets no friction that step
 # (its tangential response is not measured: two trials of MuJoCo's step saved)
 _STILL = 1e-9
+# the last step's push is applied along its own direction when that differs from this step's by
+# more than this (relative): a centred sphere's stays on this step's
+_TURNED = 1e-9
 _SERVED = {int(mujoco.mjtIntegrator.mjINT_EULER), int(mujoco.mjtIntegrator.mjINT_IMPLICIT),
            int(mujoco.mjtIntegrator.mjINT_IMPLICITFAST)}
 
@@ -80,6 +83,11 @@ class _Pair:
         self.exact_rate = None      # the exact gap rate at the step's start, m/s, if carried
         self.pending = 0.0          # the damping's correction of the gap rate due at lift-off
         self.along_normal = None    # (n J, n J M⁻¹, n J M⁻¹ Jᵀ n) of the step's push
+        # (N·s, normal, the contact point's offsets from the bodies' centres of mass) the last
+        # step's contact force leaves to this step, with the direction it had then
+        self.held = None
+        self.jac_held = np.zeros((3, nv))
+        self.solved = np.zeros((1, nv))
 
 
 class CoupledContacts:
@@ -203,7 +211,7 @@ class CoupledContacts:
             dist = mujoco.mj_geomDistance(m, d, pair.sphere, pair.other, self.reach,
                                           pair.fromto)
             if dist >= self.reach and not pair.coupling.carrying:
-                pair.far = True
+                pair.far, pair.held = True, None
                 continue
             if pair.far and dist < 0.0:
                 refuse_tunnel(pair.index, dist, self.reach)
@@ -334,12 +342,26 @@ class CoupledContacts:
                 pair.exact_rate = -step.penetration_rate + correction
             else:
                 pair.exact_rate, pair.pending = None, 0.0
-        if step.impulse == 0.0 and extra == 0.0:
+        held, pair.held = pair.held, None
+        if base is None and step.remainder > 0.0:
+            pair.held = (step.remainder, normal, point - d.xipos[pair.body_s],
+                         point - d.xipos[pair.body_o])
+        turned = None           # the last step's remainder along the direction it had then
+        if held is not None and base is None and (step.impulse > 0.0 or not step.touched):
+            turned = self._turned(pair, held, row, w_n, step, jac, along)
+        if turned is None and step.impulse == 0.0 and extra == 0.0:
             return False
         pair.along_normal = (row, moved, w_n)
         impulse = (step.impulse + extra) * normal
-        if self.friction > 0.0 and step.impulse > 0.0:  # Coulomb's, from the velocity
-            free = velocity + dt * acceleration + step.impulse * along  # without friction
+        normal_impulse = step.impulse
+        if turned is None:
+            kick = step.impulse * along         # the contact point's velocity change
+        else:
+            push, kick, normal_impulse = turned
+            impulse = np.zeros(3)
+            applied += push / dt
+        if self.friction > 0.0 and normal_impulse > 0.0:    # Coulomb's, from the velocity
+            free = velocity + dt * acceleration + kick  # without friction
             if base is not None:
                 slide = free - float(free @ normal) * normal
                 sliding = float(slide @ slide) > _STILL * _STILL
@@ -347,10 +369,39 @@ class CoupledContacts:
                     inverse = self._measured_inverse(jac, normal, along,
                                                      self.friction * step.impulse)
             if base is None or sliding:
-                impulse = impulse + tangential_impulse(step.impulse, free, normal, inverse,
+                impulse = impulse + tangential_impulse(normal_impulse, free, normal, inverse,
                                                        self.friction)
         applied += jac.T @ (impulse / dt)
         return step.impulse > 0.0
+
+    def _turned(self, pair, held, row, w_n, step, jac, along):
+        """The step's normal push (a generalized impulse, N·s) and the contact point's velocity
+        change when the part the last step's contact force leaves to it (``held``) is applied as
+        the momentum it made then: the last step's force along its normal, at its contact
+        point's offset from each body's centre of mass held in the world (a spinning body's
+        Jacobian turns within a step); the rest along this step's n J, so the gap's change is
+        the coupling's.  None when that direction is this step's (a centred sphere)."""
+        m, d = self.model, self.data
+        remainder, normal, offset_s, offset_o = held
+        mujoco.mj_jac(m, d, pair.jac_held, None, d.xipos[pair.body_s] + offset_s, pair.body_s)
+        direction = normal @ pair.jac_held
+        if pair.body_o:
+            mujoco.mj_jac(m, d, pair.jac_held, None, d.xipos[pair.body_o] + offset_o,
+                          pair.body_o)
+            direction = direction - normal @ pair.jac_held
+        if not np.max(np.abs(direction - row)) > _TURNED * np.max(np.abs(row)):
+            return None
+        mujoco.mj_solveM(m, d, pair.solved, direction.reshape(1, -1))
+        cross = float(row @ pair.solved[0])     # the gap's rate per unit held impulse
+        if not cross > 0.0:
+            return None
+        kick = jac @ pair.solved[0]             # the point's velocity per unit held impulse
+        if not step.touched:    # in flight all the step: the last impact's remainder alone (the
+            return remainder * direction, remainder * kick, remainder   # gap's acceleration
+        carried = min(remainder, step.impulse * w_n / cross)   # changed with the spin the
+        fresh = step.impulse - cross * carried / w_n            # impact gave)
+        return (carried * direction + fresh * row, carried * kick + fresh * along,
+                step.impulse)
 
     def _measured_inverse(self, jac, normal, along, probe):
         """The contact point's 3 x 3 velocity per unit impulse (1/kg) on MuJoCo's own step, from
