@@ -35,6 +35,7 @@ import mujoco
 import numpy as np
 
 from contact_sim.coupling.core import NormalCoupling
+from contact_sim.coupling.mujoco_model import damped, moves, normal_damping
 from contact_sim.coupling.rows import (pair_rows, refuse_repeated, refuse_stack,
                                        refuse_tunnel, tangential_impulse, tangents)
 from contact_sim.model import require_contact
@@ -77,7 +78,7 @@ class _Pair:
         self.far = False            # out of reach at the last step
         self.trees = [int(model.body_treeid[b]) for b in (self.body_s, self.body_o)
                       if model.body_treeid[b] >= 0]
-        self.damped = _damped(model, self.trees)
+        self.damped = damped(model, self.trees)
         self.damping = np.array([model.dof_damping[i] if int(model.dof_treeid[i]) in self.trees
                                  else 0.0 for i in range(nv)])
         self.exact_rate = None      # the exact gap rate at the step's start, m/s, if carried
@@ -187,7 +188,7 @@ class CoupledContacts:
                 model.geom_bodyid[ids[0]]] == 0:
             sphere, other = ids[1], ids[0]
         dofs = [int(model.body_dofnum[model.geom_bodyid[g]]) for g in ids]
-        moving = [_moves(model, int(model.geom_bodyid[g])) for g in ids]
+        moving = [moves(model, int(model.geom_bodyid[g])) for g in ids]
         if not any(moving):
             raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value}: neither geom\'s body '
                              'has a degree of freedom (body dofs %s): allowed a pair that can '
@@ -314,7 +315,7 @@ class CoupledContacts:
             acceleration = jac @ ((base - d.qvel) / dt)
             gap_acceleration = float(normal @ acceleration)
             probe = max(abs(gap_rate), abs(gap_acceleration) * dt, _PROBE_SPEED) / w_n
-            damping = _normal_damping(pair, normal @ response, w_n)
+            damping = normal_damping(pair, normal @ response, w_n)
             moved = self._trial_response(row, probe)
             along = jac @ moved
             w_n = float(normal @ along)
@@ -431,42 +432,6 @@ def _refuse_coupled(pushing):
         for second in pushing[k + 1:]:
             _, moved, w_second = second.along_normal
             refuse_stack(first.index, second.index, float(row @ moved), w_first, w_second)
-
-
-def _normal_damping(pair, rate, w_n):
-    """The joint damping's rate (1/s) on the gap's rate along the normal: c = rᵀ D r / w with
-    r = M⁻¹ Jᵀ n (``rate``) and w = n J M⁻¹ Jᵀ n."""
-    return float(rate @ (pair.damping * rate)) / w_n if pair.damped else 0.0
-
-
-def _damped(model, trees):
-    """Whether MuJoCo's integrator takes velocity-dependent forces on these kinematic trees
-    implicitly (its velocity update is then not M⁻¹ of the forces): joint damping (Euler,
-    implicit, implicitfast), and under implicit and implicitfast tendon damping, fluid forces
-    and actuators whose force depends on velocity; implicit's Coriolis derivatives too."""
-    dofs = [i for i in range(model.nv) if int(model.dof_treeid[i]) in trees]
-    if any(model.dof_damping[i] > 0.0 for i in dofs):
-        return True
-    integrator = int(model.opt.integrator)
-    if integrator == int(mujoco.mjtIntegrator.mjINT_EULER):
-        return False
-    if integrator == int(mujoco.mjtIntegrator.mjINT_IMPLICIT):
-        return True
-    velocity_gain = (model.actuator_gaintype == int(mujoco.mjtGain.mjGAIN_AFFINE)) & (
-        model.actuator_gainprm[:, 2] != 0.0)
-    velocity_bias = (model.actuator_biastype == int(mujoco.mjtBias.mjBIAS_AFFINE)) & (
-        model.actuator_biasprm[:, 2] != 0.0)
-    return bool(np.any(velocity_gain | velocity_bias) or np.any(model.tendon_damping > 0.0)
-                or model.opt.density > 0.0 or model.opt.viscosity > 0.0)
-
-
-def _moves(model, body):
-    """Whether the body or one of its ancestors has a degree of freedom."""
-    while body > 0:
-        if model.body_dofnum[body] > 0:
-            return True
-        body = int(model.body_parentid[body])
-    return False
 
 
 def coupled_restitution(contact, radius, mass, speeds, timestep, integrator='implicitfast'):
