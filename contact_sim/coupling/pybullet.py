@@ -20,8 +20,11 @@ base, the other a plane, box, mesh or sphere (a static body, mass 0, or a free o
 PyBullet steps velocities, then positions with the new velocities (semi-implicit Euler), as the
 coupling assumes.  Its default linear and angular damping (0.04) change velocities outside the
 coupling: set them to 0 (``changeDynamics``) for the exact figures.  The pair's own collision is
-switched off (``setCollisionFilterPair``).  Articulated links are not coupled here: bases only
-(a moving body with links is refused; a static one may be the other side, its base only).  The
+switched off (``setCollisionFilterPair``).  A side may name a link, ``(body, link)``, of a
+fixed-base multibody with joints: its response comes from ``calculateJacobian``,
+``calculateMassMatrix`` and ``calculateInverseDynamics`` (``contact_sim.coupling.pybullet_links``;
+its joint motors must be off).  A moving body with links named by its id alone is refused (its
+base alone is not its response; a static one may be the other side, its base only).  The
 sphere's centre is its collision frame's, which may sit off the base's centre of mass.
 
 Cost: a pair out of reach costs one ``getClosestPoints`` a step, beside the step's one
@@ -143,8 +146,10 @@ class CoupledContacts:
     ----------
     client : int
         The physics client (``pybullet.connect``).
-    pairs : sequence of (int, int, Contact)
-        (body, body, contact): one of the two with a sphere as its base's collision shape.
+    pairs : sequence of (side, side, Contact)
+        (side, side, contact), a side a body id (its base) or ``(body id, link index)`` (a link
+        of a fixed-base multibody, -1 the base): one of the two with a sphere as its collision
+        shape.
     friction : float, optional
         Coulomb's μ of every pair, >= 0 (default 0).
     reach : float, optional
@@ -154,8 +159,9 @@ class CoupledContacts:
     Raises
     ------
     InputError
-        Keyed ``pairs`` (a body id that is not a body, no sphere in a pair, two bodies without
-        mass, a moving body with links, one body twice, a pair named twice), ``friction`` or
+        Keyed ``pairs`` (a body id that is not a body, a link it does not have, a link of a
+        floating-base multibody, no sphere in a pair, two static sides, a moving body with links
+        named by its id, one body twice, a pair named twice), ``friction`` or
         ``reach``; at ``step``, keyed ``pairs`` when two pairs push at once on a body along
         lines that move each other's gap (a stack), and ``numSubSteps`` > 1.
 
