@@ -25,7 +25,7 @@ class _Link:
     the step's joint state, centre-of-mass pose, M⁻¹ and q̈₀ (numpy)."""
 
     __slots__ = ('body', 'link', 'mass', 'moves', 'joints', 'position', 'orientation', 'q',
-                 'qdot', 'zeros', 'inverse', 'rest', 'origin')
+                 'qdot', 'zeros', 'inverse', 'rest', 'origin', 'rotation', 'velocity')
 
     def __init__(self, client, body, link, index):
         self.body, self.link = body, link
@@ -51,38 +51,40 @@ class _Link:
                                  % index)
         self.position, self.orientation = (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)
         self.q = self.qdot = self.zeros
-        self.inverse = self.rest = None
+        self.inverse = self.rest = self.rotation = self.velocity = None
 
     def read(self, client):
         """Take this step's joint state, the link's centre-of-mass pose, M⁻¹ and q̈₀."""
         state = pybullet.getLinkState(self.body, self.link, computeForwardKinematics=True,
                                       physicsClientId=client)
         self.position, self.orientation = state[0], state[1]
+        self.rotation = np.reshape(pybullet.getMatrixFromQuaternion(state[1]), (3, 3))
         if not self.moves:
             return
         states = pybullet.getJointStates(self.body, self.joints, physicsClientId=client)
         self.q = [s[0] for s in states]
         self.qdot = [s[1] for s in states]
+        self.velocity = np.array(self.qdot)
         mass = np.array(pybullet.calculateMassMatrix(self.body, self.q, physicsClientId=client))
-        self.inverse = np.linalg.inv(mass)
+        self.inverse = np.linalg.inv(mass) if len(self.q) > 1 else 1.0 / mass
         bias = pybullet.calculateInverseDynamics(self.body, self.q, self.qdot, self.zeros,
                                                  physicsClientId=client)
         self.rest = -self.inverse @ np.array(bias)
 
     def jacobian(self, client, point):
         """The linear Jacobian (3 x joints) of the world ``point`` fixed on the link."""
-        rotation = np.reshape(pybullet.getMatrixFromQuaternion(self.orientation), (3, 3))
-        local = rotation.T @ (np.asarray(point) - np.asarray(self.position)) + self.origin
+        local = self.rotation.T @ (np.asarray(point) - np.asarray(self.position)) + self.origin
         return np.array(pybullet.calculateJacobian(
             self.body, self.link, local.tolist(), self.q, self.qdot, self.zeros,
             physicsClientId=client)[0])
 
     def response(self, client, point, gravity):
-        """(velocity, acceleration of the rest of the system, W = J M⁻¹ Jᵀ) at ``point``."""
+        """(velocity, acceleration of the rest of the system, W = J M⁻¹ Jᵀ) at ``point``, or
+        ``None`` for a link without joints."""
         if not self.moves:
-            return np.zeros(3), np.zeros(3), np.zeros((3, 3))
+            return None
         jac = self.jacobian(client, point)
-        return jac @ np.array(self.qdot), jac @ self.rest, jac @ self.inverse @ jac.T
+        return jac @ self.velocity, jac @ self.rest, jac @ self.inverse @ jac.T
 
     def cross(self, client, first, second, other):
         """The velocity at ``first`` on this link per unit impulse at ``second`` on ``other``
@@ -116,9 +118,10 @@ def check_link(client, body, link, index):
 
 
 def response_of_base(base, point, gravity):
-    """(velocity, acceleration of the rest of the system, W) of a free base at ``point``."""
+    """(velocity, acceleration of the rest of the system, W) of a free base at ``point``, or
+    ``None`` for a static one."""
     if base.mass == 0.0:
-        return np.zeros(3), np.zeros(3), np.zeros((3, 3))
+        return None
     r = np.asarray(point) - np.asarray(base.position)
     velocity = np.asarray(base.linear) + np.cross(base.angular, r)
     return velocity, np.asarray(gravity), base.cross(point, point)
@@ -148,7 +151,8 @@ def couple_links(coupled, pair, points, dt, params):
                 side.body, physicsClientId=client)
     centre = np.asarray(sphere.position, dtype=float)
     if offset is not None:
-        rotation = np.reshape(pybullet.getMatrixFromQuaternion(sphere.orientation), (3, 3))
+        rotation = sphere.rotation if isinstance(sphere, _Link) else np.reshape(
+            pybullet.getMatrixFromQuaternion(sphere.orientation), (3, 3))
         centre = centre + rotation @ np.asarray(offset)
     point = centre - radius * normal
     total = [np.zeros(3), np.zeros(3), np.zeros((3, 3))]
@@ -157,6 +161,8 @@ def couple_links(coupled, pair, points, dt, params):
             parts = side.response(client, point, gravity)
         else:
             parts = response_of_base(side, point, gravity)
+        if parts is None:
+            continue
         total[0] += sign * parts[0]
         total[1] += sign * parts[1]
         total[2] += parts[2]

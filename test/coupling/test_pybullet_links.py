@@ -233,3 +233,19 @@ def test_bad_links_are_refused(client, tmp_path):
     assert 'floating-base' in str(refused.value)
     # a plain id is the base: a fixed base with links is static, and (body, -1) is the same
     CoupledContacts(client, [((arm_body, 1), (wall, -1), STEEL)])
+
+
+def test_friction_on_a_link_bounds_the_tangential_impulse(client):
+    """A ball thrown obliquely (0.5 m/s along the paddle, 1 m/s down) on the hinged paddle with
+    μ = 0.1: it slips, and Coulomb's impulse takes μ times the normal one off its tangential
+    velocity, against the sliding."""
+    body, ball = paddle(client, 1e-3)
+    pybullet.resetBaseVelocity(ball, (0.5, 0.0, -1.0), physicsClientId=client)
+    coupled = CoupledContacts(client, [(ball, (body, 0), STEEL)], friction=0.1)
+    for _ in range(6):
+        coupled.step()
+    assert len(coupled.impacts) == 1
+    (vx, vy, vz), spin = pybullet.getBaseVelocity(ball, physicsClientId=client)
+    assert vz > 0.0 and vx < 0.5 and abs(vy) < 1e-12
+    assert 0.5 - vx == pytest.approx(0.1 * (vz + 1.0), rel=0.02)
+    assert spin[1] > 0.0            # the friction at its bottom spins it forward
