@@ -249,3 +249,18 @@ def test_friction_on_a_link_bounds_the_tangential_impulse(client):
     assert vz > 0.0 and vx < 0.5 and abs(vy) < 1e-12
     assert 0.5 - vx == pytest.approx(0.1 * (vz + 1.0), rel=0.02)
     assert spin[1] > 0.0            # the friction at its bottom spins it forward
+
+
+def test_two_balls_pushing_on_one_link_at_once_are_refused(client):
+    """Two balls striking the paddle in the same step push along lines the joint couples (a
+    stack): refused, naming ``pairs``."""
+    body, ball = paddle(client, 1e-3)
+    second = pybullet.createMultiBody(MASS, pybullet.createCollisionShape(
+        pybullet.GEOM_SPHERE, radius=R, physicsClientId=client),
+        basePosition=(0.15, 0.0, 0.005 + R + 0.002), physicsClientId=client)
+    pybullet.resetBaseVelocity(second, (0.0, 0.0, -1.0), physicsClientId=client)
+    coupled = CoupledContacts(client, [(ball, (body, 0), STEEL), (second, (body, 0), STEEL)])
+    with pytest.raises(cs.InputError) as refused:
+        for _ in range(10):
+            coupled.step()
+    assert refused.value.field == 'pairs'
