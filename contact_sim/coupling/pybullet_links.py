@@ -36,9 +36,14 @@ class _Link:
         # centre-of-mass frame is R_iᵀ p_i, (p_i, R_i) the inertial frame in the link frame
         inertial = np.reshape(pybullet.getMatrixFromQuaternion(info[4]), (3, 3))
         self.origin = inertial.T @ np.asarray(info[3], dtype=float)
-        self.joints = [j for j in range(pybullet.getNumJoints(body, physicsClientId=client))
-                       if pybullet.getJointInfo(body, j, physicsClientId=client)[2]
-                       != pybullet.JOINT_FIXED]
+        kinds = [pybullet.getJointInfo(body, j, physicsClientId=client)[2]
+                 for j in range(pybullet.getNumJoints(body, physicsClientId=client))]
+        if any(k not in (pybullet.JOINT_REVOLUTE, pybullet.JOINT_PRISMATIC,
+                         pybullet.JOINT_FIXED) for k in kinds):
+            raise InputError('pairs', (body, link), '{n[pairs]}[%d] = {value}: a multibody with '
+                             'a spherical or planar joint: allowed revolute, prismatic and fixed '
+                             'joints' % index)
+        self.joints = [j for j, k in enumerate(kinds) if k != pybullet.JOINT_FIXED]
         count = len(self.joints)
         self.zeros = [0.0] * count
         self.moves = count > 0
