@@ -47,9 +47,10 @@ class _Link:
         count = len(self.joints)
         self.zeros = [0.0] * count
         self.moves = count > 0
-        if self.moves:
+        floating = pybullet.getDynamicsInfo(body, -1, physicsClientId=client)[0] > 0.0
+        if self.moves or floating:
             size = len(pybullet.calculateMassMatrix(body, self.zeros, physicsClientId=client))
-            if size != count:
+            if floating or size != count:
                 raise InputError('pairs', (body, link), '{n[pairs]}[%d] = {value}: a link of a '
                                  'floating-base multibody (its mass matrix holds the base\'s 6 '
                                  'degrees of freedom): allowed links of a fixed-base multibody'

@@ -238,6 +238,17 @@ def test_bad_links_are_refused(client, tmp_path):
     with pytest.raises(cs.InputError) as refused:
         CoupledContacts(client, [((spherical, 0), wall, STEEL)])
     assert refused.value.field == 'pairs' and 'spherical' in str(refused.value)
+    welded = pybullet.createMultiBody(
+        1.0, -1, basePosition=(3.0, 0.0, 1.0), linkMasses=[MASS], linkCollisionShapeIndices=[ball],
+        linkVisualShapeIndices=[-1], linkPositions=[(0, 0, -0.3)],
+        linkOrientations=[(0, 0, 0, 1)], linkInertialFramePositions=[(0, 0, 0)],
+        linkInertialFrameOrientations=[(0, 0, 0, 1)], linkParentIndices=[0],
+        linkJointTypes=[pybullet.JOINT_FIXED], linkJointAxis=[(0, 1, 0)],
+        physicsClientId=client)
+    for body in (floating, welded):     # a free body's link moves with it, joints or not
+        with pytest.raises(cs.InputError) as refused:
+            CoupledContacts(client, [((body, 0), wall, STEEL)])
+        assert refused.value.field == 'pairs' and 'floating-base' in str(refused.value)
     with pytest.raises(cs.InputError) as refused:
         CoupledContacts(client, [((floating, 0), wall, STEEL)])
     assert 'floating-base' in str(refused.value)
