@@ -20,8 +20,11 @@ base, the other a plane, box, mesh or sphere (a static body, mass 0, or a free o
 PyBullet steps velocities, then positions with the new velocities (semi-implicit Euler), as the
 coupling assumes.  Its default linear and angular damping (0.04) change velocities outside the
 coupling: set them to 0 (``changeDynamics``) for the exact figures.  The pair's own collision is
-switched off (``setCollisionFilterPair``).  Articulated links are not coupled here: bases only
-(a moving body with links is refused; a static one may be the other side, its base only).  The
+switched off (``setCollisionFilterPair``).  A side may name a link, ``(body, link)``, of a
+fixed-base multibody with joints: its response comes from ``calculateJacobian``,
+``calculateMassMatrix`` and ``calculateInverseDynamics`` (``contact_sim.coupling.pybullet_links``;
+its joint motors must be off).  A moving body with links named by its id alone is refused (its
+base alone is not its response; a static one may be the other side, its base only).  The
 sphere's centre is its collision frame's, which may sit off the base's centre of mass.
 
 Cost: a pair out of reach costs one ``getClosestPoints`` a step, beside the step's one
@@ -35,6 +38,7 @@ import numpy as np
 import pybullet
 
 from contact_sim.coupling.core import NormalCoupling
+from contact_sim.coupling.pybullet_links import _Link, check_link, couple_links, link_sides
 from contact_sim.coupling.rows import (pair_rows, refuse_repeated, refuse_stack,
                                        refuse_tunnel, tangential_impulse)
 from contact_sim.model import require_contact
@@ -49,12 +53,12 @@ class _Base:
     arithmetic on 3-vectors).  PyBullet's base pose is its inertial frame's (measured: the
     response to an impulse matches I⁻¹ turned by that orientation alone, to 1e-16)."""
 
-    __slots__ = ('body', 'mass', 'inverse_mass', 'inverse_inertia', 'isotropic', 'position',
+    __slots__ = ('body', 'link', 'mass', 'inverse_mass', 'inverse_inertia', 'isotropic', 'position',
                  'orientation', 'linear', 'angular', '_rotation')
 
     def __init__(self, client, body):
         info = pybullet.getDynamicsInfo(body, -1, physicsClientId=client)
-        self.body, self.mass = body, float(info[0])
+        self.body, self.link, self.mass = body, -1, float(info[0])
         self.inverse_mass = 1.0 / self.mass if self.mass > 0.0 else 0.0
         self.inverse_inertia = tuple(1.0 / float(i) if i > 0.0 and self.mass > 0.0 else 0.0
                                      for i in info[2])
@@ -142,8 +146,10 @@ class CoupledContacts:
     ----------
     client : int
         The physics client (``pybullet.connect``).
-    pairs : sequence of (int, int, Contact)
-        (body, body, contact): one of the two with a sphere as its base's collision shape.
+    pairs : sequence of (side, side, Contact)
+        (side, side, contact), a side a body id (its base) or ``(body id, link index)`` (a link
+        of a fixed-base multibody, -1 the base): one of the two with a sphere as its collision
+        shape.
     friction : float, optional
         Coulomb's μ of every pair, >= 0 (default 0).
     reach : float, optional
@@ -153,8 +159,9 @@ class CoupledContacts:
     Raises
     ------
     InputError
-        Keyed ``pairs`` (a body id that is not a body, no sphere in a pair, two bodies without
-        mass, a moving body with links, one body twice, a pair named twice), ``friction`` or
+        Keyed ``pairs`` (a body id that is not a body, a link it does not have, a link of a
+        floating-base multibody, no sphere in a pair, two static sides, a moving body with links
+        named by its id, one body twice, a pair named twice), ``friction`` or
         ``reach``; at ``step``, keyed ``pairs`` when two pairs push at once on a body along
         lines that move each other's gap (a stack), and ``numSubSteps`` > 1.
 
@@ -189,7 +196,7 @@ class CoupledContacts:
         self.reach = require_positive('reach', reach)
         rows = pair_rows(pairs, '(body, body, Contact)')
         self.pairs = [self._pair(row, i) for i, row in enumerate(rows)]
-        refuse_repeated([frozenset((p[0].body, p[1].body)) for p in self.pairs], rows)
+        refuse_repeated([frozenset(((p[5], p[7]), (p[6], p[8]))) for p in self.pairs], rows)
         self._time = 0.0
         self._far = set()           # the pairs out of reach at the last step
 
@@ -198,37 +205,47 @@ class CoupledContacts:
         if len(row) != 3:
             raise InputError('pairs', row, '{n[pairs]}[%d] = {value}: allowed a (body, body, '
                              'Contact) triple' % index)
+        sides = link_sides(client, row, index)
         count = pybullet.getNumBodies(physicsClientId=client)
         known = {pybullet.getBodyUniqueId(i, physicsClientId=client) for i in range(count)}
-        for body in row[:2]:
+        for body, _ in sides:
             if isinstance(body, bool) or not isinstance(body, (int, np.integer)) \
                     or int(body) not in known:
                 raise InputError('pairs', body, '{n[pairs]}[%d] names body {value}, which is no '
                                  'body of the client: allowed the ids of its bodies' % index)
+        sides = [(int(body), link) for body, link in sides]
+        for body, link in sides:
+            check_link(client, body, link, index)
         contact = require_contact(row[2], 'pairs')
-        if int(row[0]) == int(row[1]):
+        if sides[0][0] == sides[1][0]:
             raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value} names the same body '
                              'twice: allowed two bodies' % index)
-        radii = [_sphere_radius(client, int(b)) for b in row[:2]]
+        radii = [_sphere_radius(client, body, link) for body, link in sides]
         if radii[0] is None and radii[1] is None:
-            raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value} has no body whose base '
-                             'is a sphere: allowed a sphere against a plane, box, mesh or sphere'
-                             % index)
+            raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value} has no side whose '
+                             'collision shape is a sphere: allowed a sphere against a plane, box, '
+                             'mesh or sphere' % index)
         sphere, other = (0, 1) if radii[0] is not None else (1, 0)
-        bases = [_Base(client, int(row[sphere])), _Base(client, int(row[other]))]
-        if bases[0].mass == 0.0 and bases[1].mass == 0.0:
-            raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value}: both bodies have mass '
-                             '0 (static, no degree of freedom): allowed a pair that can move'
-                             % index)
-        for base in bases:
-            if base.mass > 0.0 and pybullet.getNumJoints(base.body, physicsClientId=client):
-                raise InputError('pairs', base.body, '{n[pairs]}[%d]: body {value} moves and has '
+        links = any(link >= 0 for _, link in sides)
+        ends = [_Link(client, *sides[k], index) if sides[k][1] >= 0 else _Base(client, sides[k][0])
+                for k in (sphere, other)]
+        if not any(end.moves if isinstance(end, _Link) else end.mass > 0.0 for end in ends):
+            raise InputError('pairs', row[:2], '{n[pairs]}[%d] = {value}: both sides are static '
+                             '(mass 0 or no joint, no degree of freedom): allowed a pair that can '
+                             'move' % index)
+        for end in ends:
+            if isinstance(end, _Base) and end.mass > 0.0 \
+                    and pybullet.getNumJoints(end.body, physicsClientId=client):
+                raise InputError('pairs', end.body, '{n[pairs]}[%d]: body {value} moves and has '
                                  'links (its base alone is not its response to a push): allowed '
-                                 'bodies without links, or a static base (mass 0)' % index)
-        pybullet.setCollisionFilterPair(int(row[0]), int(row[1]), -1, -1, 0,
+                                 'bodies without links, a static base (mass 0), or a link of a '
+                                 'fixed-base multibody as (body, link)' % index)
+        (body_a, link_a), (body_b, link_b) = sides[sphere], sides[other]
+        pybullet.setCollisionFilterPair(body_a, body_b, link_a, link_b, 0,
                                         physicsClientId=client)
-        return (bases[0], bases[1], radii[sphere], NormalCoupling(contact), index,
-                bases[0].body, bases[1].body)
+        return (ends[0], ends[1], radii[sphere], NormalCoupling(contact), index, body_a, body_b,
+                link_a, link_b, (lambda *args: couple_links(self, *args)) if links
+                else self._couple)
 
     @property
     def impacts(self):
@@ -250,21 +267,21 @@ class CoupledContacts:
         dt = params['fixedTimeStep']
         pushing, reach, far = None, self.reach, self._far
         for pair in self.pairs:
-            points = pybullet.getClosestPoints(pair[5], pair[6], reach, -1, -1,
+            points = pybullet.getClosestPoints(pair[5], pair[6], reach, pair[7], pair[8],
                                                physicsClientId=client)
             if not points:      # out of reach (a state carried is dropped at the next call:
                 far.add(pair[4])    # the clock moved on)
                 continue
-            push = self._couple(pair, points, dt, params)
+            push = pair[9](pair, points, dt, params)
             if push is not None:
                 pushing = [push] if pushing is None else pushing + [push]
         if pushing is not None:
             if len(pushing) > 1:
-                _refuse_coupled(pushing)
+                _refuse_coupled(pushing, client)
             for push in pushing:
                 for base, force, point in push[3]:
-                    pybullet.applyExternalForce(base.body, -1, force, point, pybullet.WORLD_FRAME,
-                                                physicsClientId=client)
+                    pybullet.applyExternalForce(base.body, base.link, force, point,
+                                                pybullet.WORLD_FRAME, physicsClientId=client)
         pybullet.stepSimulation(physicsClientId=client)
         self._time += dt
 
@@ -362,17 +379,17 @@ class CoupledContacts:
         return tuple(total.tolist())
 
 
-def _sphere_radius(client, body):
-    """(The radius (m) of the body's base sphere, its centre in the base's frame (m) or ``None``
-    at the origin), or ``None``."""
-    shapes = pybullet.getCollisionShapeData(body, -1, physicsClientId=client)
+def _sphere_radius(client, body, link=-1):
+    """(The radius (m) of the sphere of the body's base or ``link``, its centre in that link's
+    centre-of-mass frame (m) or ``None`` at the origin), or ``None``."""
+    shapes = pybullet.getCollisionShapeData(body, link, physicsClientId=client)
     if len(shapes) == 1 and shapes[0][2] == pybullet.GEOM_SPHERE:
         offset = tuple(float(x) for x in shapes[0][5])
         return float(shapes[0][3][0]), (offset if any(offset) else None)
     return None
 
 
-def _refuse_coupled(pushing):
+def _refuse_coupled(pushing, client=None):
     """Refuse two pairs pushing in one step on a common body along lines that move each
     other's gap: each is integrated alone, and together they would pump energy in (a stack)."""
     for k, (first, n_first, w_first, on_first) in enumerate(pushing):
@@ -380,9 +397,13 @@ def _refuse_coupled(pushing):
             cross = 0.0
             for base, _, p_first in on_first:
                 for other, _, p_second in on_second:
-                    if other is base or other.body == base.body:
-                        cross += float(np.asarray(n_first) @ base.cross(p_first, p_second)
-                                       @ np.asarray(n_second))
+                    if isinstance(base, _Link):
+                        response = base.cross(client, p_first, p_second, other)
+                    elif other is base or other.body == base.body:
+                        response = base.cross(p_first, p_second)
+                    else:
+                        continue
+                    cross += float(np.asarray(n_first) @ response @ np.asarray(n_second))
             refuse_stack(first, second, cross, w_first, w_second)
 
 
