@@ -35,7 +35,7 @@ import mujoco
 import numpy as np
 
 from contact_sim.coupling.core import NormalCoupling
-from contact_sim.coupling.mujoco_model import damped, moves, normal_damping
+from contact_sim.coupling.mujoco_model import damped, moves, normal_damping, turns
 from contact_sim.coupling.rows import (pair_rows, refuse_repeated, refuse_stack,
                                        refuse_tunnel, tangential_impulse, tangents)
 from contact_sim.model import require_contact
@@ -79,6 +79,8 @@ class _Pair:
         self.trees = [int(model.body_treeid[b]) for b in (self.body_s, self.body_o)
                       if model.body_treeid[b] >= 0]
         self.damped = damped(model, self.trees)
+        # whether the last step's push may be due along another direction than this step's
+        self.turns = turns(model, sphere) or turns(model, other)
         self.damping = np.array([model.dof_damping[i] if int(model.dof_treeid[i]) in self.trees
                                  else 0.0 for i in range(nv)])
         self.exact_rate = None      # the exact gap rate at the step's start, m/s, if carried
@@ -344,7 +346,7 @@ class CoupledContacts:
             else:
                 pair.exact_rate, pair.pending = None, 0.0
         held, pair.held = pair.held, None
-        if base is None and step.remainder > 0.0:
+        if base is None and step.remainder > 0.0 and pair.turns:
             pair.held = (step.remainder, normal, point - d.xipos[pair.body_s],
                          point - d.xipos[pair.body_o])
         turned = None           # the last step's remainder along the direction it had then

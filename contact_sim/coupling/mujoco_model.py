@@ -1,6 +1,7 @@
 """Helpers of the MuJoCo coupling (``contact_sim.coupling.mujoco``) on a model's bodies and
-damping: whether a body can move, whether the integrator takes velocity-dependent forces on a
-pair's kinematic trees implicitly, and the joint damping's rate along a pair's normal.  Units: SI.
+damping: whether a body can move, whether a geom's contact direction can turn with its body,
+whether the integrator takes velocity-dependent forces on a pair's kinematic trees implicitly,
+and the joint damping's rate along a pair's normal.  Units: SI.
 """
 import mujoco
 import numpy as np
@@ -40,3 +41,18 @@ def moves(model, body):
             return True
         body = int(model.body_parentid[body])
     return False
+
+
+def turns(model, geom):
+    """Whether the generalized direction n J of a contact on ``geom`` can turn with its body:
+    False for a geom on a body that does not move, and for a sphere centred on the centre of mass
+    of a free body (its contact point's offset from the centre of mass lies along the normal, so
+    a push there gives the same momenta at any orientation)."""
+    body = int(model.geom_bodyid[geom])
+    if not moves(model, body):
+        return False
+    joint = int(model.body_jntadr[body])
+    free = (int(model.body_jntnum[body]) == 1 and int(model.body_parentid[body]) == 0
+            and int(model.jnt_type[joint]) == int(mujoco.mjtJoint.mjJNT_FREE))
+    centred = bool(np.all(model.geom_pos[geom] == model.body_ipos[body]))
+    return not (free and centred and int(model.geom_type[geom]) == int(mujoco.mjtGeom.mjGEOM_SPHERE))

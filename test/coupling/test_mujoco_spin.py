@@ -103,3 +103,19 @@ def test_an_impact_that_sets_the_body_spinning_gives_naive_forces_momentum(body,
         got_linear, got_angular = coupled(body, dt, monkeypatch)
         assert np.linalg.norm(got_linear - linear) <= 2e-3 * np.linalg.norm(linear), dt
         assert np.linalg.norm(got_angular - angular) <= 2e-3 * np.linalg.norm(angular), dt
+
+
+def test_only_a_contact_whose_direction_can_turn_carries_the_last_steps_push_in_its_own():
+    # a sphere centred on a free body's centre of mass, or on a body that cannot move, gives
+    # the same momenta along any step's n J: it keeps the step's own direction (and its cost)
+    from contact_sim.coupling.mujoco_model import turns
+    hinged = f'''<body pos="0 0 0.3"><joint type="hinge" axis="0 1 0"/>
+      <geom name="arm" type="sphere" pos="0.3 0 0" size="{R!r}" mass="{MASS!r}"/></body>'''
+    centred = f'''<body pos="0.5 0 0.3"><freejoint/><geom name="free" type="sphere"
+      size="{R!r}" mass="{MASS!r}"/></body>'''
+    xml = f'''<mujoco><worldbody><geom name="floor" type="plane" size="1 1 0.1"/>
+      {ECCENTRIC}{hinged}{centred}{BOX.replace('name="ball"', 'name="corner"')}</worldbody></mujoco>'''
+    model = mujoco.MjModel.from_xml_string(xml)
+    found = {name: turns(model, mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name))
+             for name in ('floor', 'free', 'ball', 'arm', 'corner')}
+    assert found == {'floor': False, 'free': False, 'ball': True, 'arm': True, 'corner': True}
