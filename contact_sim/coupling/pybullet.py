@@ -285,21 +285,29 @@ class CoupledContacts:
         pybullet.stepSimulation(physicsClientId=client)
         self._time += dt
 
+    def _reached(self, pair, points):
+        """The unit normal (towards the sphere) and the gap (m) of a pair in reach, from its
+        ``getClosestPoints``; one found penetrating right after a step out of reach is refused
+        (``InputError`` keyed ``reach``)."""
+        nearest = points[0] if len(points) == 1 else min(points, key=lambda p: p[8])
+        nx, ny, nz = nearest[7]
+        if nearest[1] != pair[0].body:          # Bullet's A is the sphere unless it swapped
+            nx, ny, nz = -nx, -ny, -nz
+        gap = float(nearest[8])
+        index = pair[4]
+        if index in self._far:
+            if gap < 0.0:
+                refuse_tunnel(index, gap, self.reach)
+            self._far.discard(index)
+        return (nx, ny, nz), gap
+
     def _couple(self, pair, points, dt, params):
         """The push of the step of a pair in reach (``points``: its ``getClosestPoints``),
         (index, normal, w_n, [(base, force, point)]), or ``None`` (no impulse)."""
         client = self.client
         sphere, other, (radius, offset), coupling, index = pair[0], pair[1], pair[2], pair[3], \
             pair[4]
-        nearest = points[0] if len(points) == 1 else min(points, key=lambda p: p[8])
-        nx, ny, nz = nearest[7]
-        if nearest[1] != sphere.body:           # Bullet's A is the sphere unless it swapped
-            nx, ny, nz = -nx, -ny, -nz
-        gap = float(nearest[8])
-        if index in self._far:
-            if gap < 0.0:
-                refuse_tunnel(index, gap, self.reach)
-            self._far.discard(index)
+        (nx, ny, nz), gap = self._reached(pair, points)
         # the contact point: the sphere's own centre (its collision frame's) less r n
         if sphere.mass == 0.0:
             cx, cy, cz = pybullet.getBasePositionAndOrientation(sphere.body,

@@ -16,7 +16,7 @@ base's 6 degrees of freedom and ``calculateInverseDynamics`` does not serve it).
 import numpy as np
 import pybullet
 
-from contact_sim.coupling.rows import refuse_tunnel, tangential_impulse
+from contact_sim.coupling.rows import tangential_impulse
 from contact_sim.validation import InputError
 
 
@@ -138,15 +138,8 @@ def couple_links(coupled, pair, points, dt, params):
     or ``None`` (no impulse)."""
     client = coupled.client
     sphere, other, (radius, offset), coupling, index = pair[:5]
-    nearest = points[0] if len(points) == 1 else min(points, key=lambda p: p[8])
-    normal = np.array(nearest[7], dtype=float)
-    if nearest[1] != sphere.body:
-        normal = -normal
-    gap = float(nearest[8])
-    if index in coupled._far:
-        if gap < 0.0:
-            refuse_tunnel(index, gap, coupled.reach)
-        coupled._far.discard(index)
+    normal, gap = coupled._reached(pair, points)
+    normal = np.array(normal, dtype=float)
     gravity = (params['gravityAccelerationX'], params['gravityAccelerationY'],
                params['gravityAccelerationZ'])
     for side in (sphere, other):
