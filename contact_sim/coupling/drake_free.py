@@ -60,14 +60,15 @@ class FreeBody:
         return velocity, (gravity - cross @ alpha).tolist(), inverse.tolist()
 
 
-def free_terms(sides, x, point, centres, gravity):
+def free_terms(sides, x, point, origins, gravity):
     """A pair's terms (as ``CoupledContacts._terms``) from the state ``x`` and the plant's
-    ``gravity`` vector alone: each side is a ``FreeBody`` or the world."""
+    ``gravity`` vector alone: each side is a ``FreeBody`` (its origin, m, world, in ``origins``)
+    or the world."""
     sphere, other = sides
     velocity, acceleration, inverse = sphere.terms(
-        x, [p - c for p, c in zip(point, centres[0])], gravity)
+        x, [p - c for p, c in zip(point, origins[0])], gravity)
     if other is not WORLD:
-        v, a, w = other.terms(x, [p - c for p, c in zip(point, centres[1])], gravity)
+        v, a, w = other.terms(x, [p - c for p, c in zip(point, origins[1])], gravity)
         velocity = [p - q for p, q in zip(velocity, v)]
         acceleration = [p - q for p, q in zip(acceleration, a)]
         inverse = [[p + q for p, q in zip(r, s)] for r, s in zip(inverse, w)]
